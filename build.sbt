@@ -1,0 +1,39 @@
+// Reducer-load calculator generator: Chisel 6 + chiseltest, pinned versions.
+// The Chisel compiler plugin is published per exact Scala version: keep 2.13.15.
+ThisBuild / scalaVersion := "2.13.15"
+ThisBuild / version := "0.1.0"
+ThisBuild / organization := "io.reducerload"
+
+val chiselVersion = "6.7.0"
+
+lazy val root = (project in file("."))
+  .settings(
+    name := "reducer-load",
+    libraryDependencies ++= Seq(
+      "org.chipsalliance" %% "chisel" % chiselVersion,
+      "edu.berkeley.cs" %% "chiseltest" % "6.0.0" % Test,
+      "org.scalatest" %% "scalatest" % "3.2.19" % Test,
+      "com.typesafe" % "config" % "1.4.3"
+    ),
+    addCompilerPlugin(("org.chipsalliance" % "chisel-plugin" % chiselVersion).cross(CrossVersion.full)),
+    scalacOptions ++= Seq(
+      "-language:reflectiveCalls",
+      "-deprecation",
+      "-feature",
+      "-unchecked",
+      "-Xcheckinit",
+      "-Xfatal-warnings",
+      "-Ymacro-annotations"
+    ),
+    // Each test suite elaborates and compiles its own simulators; run suites one at a time
+    // so two Verilator builds do not fight over 2 cores and memory.
+    Test / parallelExecution := false,
+    Test / fork := true,
+    Test / javaOptions ++= Seq("-Xss8m", "-Xmx4g"),
+    run / fork := true,
+    run / connectInput := true,
+    run / javaOptions ++= Seq("-Xss8m", "-Xmx4g"),
+    // The user's working directory, so relative --input/--output paths mean what they say.
+    run / baseDirectory := file("."),
+    Test / testOptions += Tests.Argument(TestFrameworks.ScalaTest, "-oD")
+  )

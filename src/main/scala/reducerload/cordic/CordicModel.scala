@@ -1,0 +1,68 @@
+package reducerload.cordic
+
+import reducerload.fixedpoint.FixedFormat
+
+/** One pipeline state: vector (x, y), residual angle z, and the quadrant riding beside them. */
+final case class CordicState(x: BigInt, y: BigInt, z: BigInt, quadrant: Int)
+
+/**
+ * Bit-accurate integer model of [[CordicSinCos]]: same operations, same order, same widths.
+ * Every intermediate is checked against the range the hardware format was derived from, so a
+ * wrong range proof fails a test instead of wrapping silently.
+ */
+final class CordicModel(val p: CordicParams) {
+
+  private def check(raw: BigInt, fmt: FixedFormat, what: String): BigInt = {
+    require(fmt.contains(raw), s"CordicModel ${p.tag}: $what = $raw outside $fmt")
+    raw
+  }
+
+  /** Equation (10): split the binary angle into quadrant and z1 = residual - 45 degrees. */
+  def preprocess(angle: BigInt): CordicState = {
+    require(angle >= 0 && angle.bitLength <= p.angleBits, s"CordicModel: angle code $angle is not a ${p.angleBits}-bit code")
+    val quadrant = (angle >> p.residualBits).toInt
+    val residual = angle & ((BigInt(1) << p.residualBits) - 1)
+    val z1 = (residual << p.angleGuardBits) - p.atanTable(0)
+    CordicState(p.startRaw, p.startRaw, check(z1, p.zFormat(1), "z1"), quadrant)
+  }
+
+  /** Equation (8): one micro-rotation by +-atan(2^-i), direction from the sign of z. */
+  def rotate(s: CordicState, i: Int): CordicState = {
+    val positive = s.z >= 0
+    val dx = s.y >> i // arithmetic shift = floor, as the hardware wires it
+    val dy = s.x >> i
+    val x = if (positive) s.x - dx else s.x + dx
+    val y = if (positive) s.y + dy else s.y - dy
+    val z = if (positive) s.z - p.atanTable(i) else s.z + p.atanTable(i)
+    val zNext = if (i + 1 <= p.iterations) check(z, p.zFormat(i + 1), s"z after iteration $i") else z
+    CordicState(check(x, p.xyFormat, s"x after iteration $i"), check(y, p.xyFormat, s"y after iteration $i"), zNext, s.quadrant)
+  }
+
+  /** Equation (11) and output rounding: returns raw (cos, sin) in p.outputFormat. */
+  def postprocess(s: CordicState): (BigInt, BigInt) = {
+    val (c, sn) = s.quadrant match {
+      case 0 => (s.x, s.y)
+      case 1 => (-s.y, s.x)
+      case 2 => (-s.x, -s.y)
+      case _ => (s.y, -s.x)
+    }
+    def round(v: BigInt) = check(FixedFormat.shiftRound(v, p.guardBits, p.outputRounding), p.outputFormat, "output")
+    (round(c), round(sn))
+  }
+
+  /** All states from z1 to the last iteration, for debugging and tests. */
+  def trace(angle: BigInt): Seq[CordicState] =
+    (1 until p.iterations).scanLeft(preprocess(angle))(rotate)
+
+  /** Raw (cos, sin) for an angle code. */
+  def sinCosRaw(angle: BigInt): (BigInt, BigInt) = postprocess(trace(angle).last)
+
+  /** (cos, sin) as doubles. */
+  def sinCos(angle: BigInt): (Double, Double) = {
+    val (c, s) = sinCosRaw(angle)
+    (p.outputFormat.toDouble(c), p.outputFormat.toDouble(s))
+  }
+
+  /** The exact angle, in radians, that a code stands for. */
+  def angleOf(code: BigInt): Double = 2 * math.Pi * code.toDouble / math.pow(2.0, p.angleBits)
+}

@@ -1,0 +1,150 @@
+package reducerload.cordic
+
+import reducerload.fixedpoint.{FixedFormat, Rounding}
+
+/**
+ * Parameters of the pipelined circular-rotation CORDIC (SPEC.md "The CORDIC unit"; paper section 1.2).
+ *
+ * The angle enters as a binary angle: an unsigned `angleBits`-bit code, one full turn = 2^angleBits,
+ * so the quadrant is the top two bits and angle sums wrap for free. Outputs are cos and sin in
+ * `outputFormat` = Q1.(outputBits-2).
+ *
+ * @param angleBits          width of the binary-angle input
+ * @param outputBits         width of each output (sign + 1 integer bit + fraction)
+ * @param iterations         micro-rotations i = 0 .. iterations-1; i = 0 (45 degrees) is always
+ *                           positive after quadrant folding, so it is folded into the start vector
+ * @param guardBits          extra fraction bits in x and y beyond the output's
+ * @param angleGuardBits     extra fraction bits in the angle accumulator z beyond the input's
+ * @param outputRounding     how x and y lose their guard bits at the output
+ * @param iterationsPerStage micro-rotations between pipeline registers (latency against Fmax)
+ */
+final case class CordicParams(
+  angleBits: Int = 26,
+  outputBits: Int = 26,
+  iterations: Int = 26,
+  guardBits: Int = 5,
+  angleGuardBits: Int = 5,
+  outputRounding: Rounding = Rounding.HalfUp,
+  iterationsPerStage: Int = 1) {
+
+  require(angleBits >= 6 && angleBits <= 48, s"CordicParams.angleBits must be in 6..48, got $angleBits")
+  require(outputBits >= 6 && outputBits <= 48, s"CordicParams.outputBits must be in 6..48, got $outputBits")
+  require(guardBits >= 0 && guardBits <= 16, s"CordicParams.guardBits must be in 0..16, got $guardBits")
+  require(angleGuardBits >= 0 && angleGuardBits <= 16, s"CordicParams.angleGuardBits must be in 0..16, got $angleGuardBits")
+  require(iterations >= 2, s"CordicParams.iterations must be >= 2 (i = 0 is folded into the start vector), got $iterations")
+  require(iterationsPerStage >= 1, s"CordicParams.iterationsPerStage must be >= 1, got $iterationsPerStage")
+
+  /** Output format of cos and sin: values in [-1, 1] need one integer bit for +1.0. */
+  val outputFormat: FixedFormat = FixedFormat(1, outputBits - 2)
+
+  /** x and y inside the pipeline: |x|, |y| <= 1 plus rounding, so Q1 with guard bits. */
+  val xyFormat: FixedFormat = FixedFormat(1, outputFormat.fracBits + guardBits)
+
+  require(
+    iterations - 1 <= xyFormat.fracBits,
+    s"CordicParams.iterations ($iterations) is more than the bits can use: stage i shifts by i bits and x/y have " +
+      s"${xyFormat.fracBits} fraction bits (outputBits - 2 + guardBits), so iterations must be <= ${xyFormat.fracBits + 1}"
+  )
+
+  /** z counts turns with this many fraction bits: the input code plus guard bits. */
+  val zFracBits: Int = angleBits + angleGuardBits
+
+  /** atan(2^-i) in z units (turns * 2^zFracBits), rounded half up; index i = 0 .. iterations-1. */
+  val atanTable: IndexedSeq[BigInt] = (0 until iterations).map { i =>
+    FixedFormat(0, zFracBits).quantize(math.atan(math.pow(2.0, -i)) / (2 * math.Pi), Rounding.HalfUp)
+  }
+
+  require(
+    atanTable(iterations - 1) >= 2,
+    s"CordicParams.iterations ($iterations) is more than the angle bits can use: atan(2^-${iterations - 1}) rounds to " +
+      s"${atanTable(iterations - 1)} LSB of a $zFracBits-bit angle (angleBits + angleGuardBits); use fewer iterations or more angle bits"
+  )
+
+  /** Product of the micro-rotation gains over all iterations: start at (K, 0) and the result has length 1. */
+  val gainK: Double = (0 until iterations).map(i => 1.0 / math.sqrt(1.0 + math.pow(2.0, -2.0 * i))).product
+
+  /** The start vector after the folded iteration 0: x1 = y1 = K (45 degrees, length K * sqrt 2). */
+  val startRaw: BigInt = xyFormat.quantize(gainK, Rounding.HalfUp)
+
+  /**
+   * Bound on |z| entering iteration i (raw units), for i = 1 .. iterations: |z_1| <= atan(1) and
+   * |z_{i+1}| <= atan(2^-i) + 2 LSB (table rounding can break the exact halving by up to 1.5 LSB).
+   */
+  def zBoundRaw(i: Int): BigInt = {
+    require(i >= 1 && i <= iterations, s"zBoundRaw: iteration $i out of 1..$iterations")
+    if (i == 1) atanTable(0) else atanTable(i - 1) + 2
+  }
+
+  /** Narrowest z format entering iteration i: z shrinks as the rotation converges. */
+  def zFormat(i: Int): FixedFormat = FixedFormat.forRawRange(zBoundRaw(i), zFracBits)
+
+  /** Width of the folded quadrant residual: the angle code without its two quadrant bits. */
+  val residualBits: Int = angleBits - 2
+
+  /** Rotation iterations in hardware (1 .. iterations-1), grouped per pipeline stage. */
+  val stageIterations: Seq[Seq[Int]] = (1 until iterations).grouped(iterationsPerStage).map(_.toSeq).toSeq
+
+  /** Input register + rotation stages + output stage (rounding and quadrant mapping). */
+  val latency: Int = 1 + stageIterations.size + 1
+
+  // ---- Analytic error budget (checked against double precision by the exhaustive/dense sweep tests) ----
+
+  private val turnsPerZLsb: Double = math.pow(2.0, -zFracBits)
+
+  /** Residual angle left in z after the last iteration plus table rounding, in radians. */
+  val angleErrorBound: Double =
+    2 * math.Pi * turnsPerZLsb * ((atanTable(iterations - 1) + 2).toDouble + 0.5 * (iterations - 1))
+
+  /** Largest gain the remaining micro-rotations apply to an error injected after iteration 1. */
+  val remainingGain: Double = (1 until iterations).map(i => math.sqrt(1.0 + math.pow(2.0, -2.0 * i))).product
+
+  /** Rounding of the start vector and the floor of each shifted operand, as an error vector length. */
+  val rotationRoundingBound: Double =
+    remainingGain * math.sqrt(2.0) * xyFormat.lsb * (0.5 + (iterations - 1) * Rounding.maxErrorLsb(Rounding.Truncate))
+
+  val outputRoundingBound: Double = Rounding.maxErrorLsb(outputRounding) * outputFormat.lsb
+
+  /** Worst-case |error| of cos or sin against the exact value at the input code's angle. */
+  val errorBound: Double = angleErrorBound + rotationRoundingBound + outputRoundingBound
+
+  /** Parameter-bearing name for emitted modules. */
+  def tag: String =
+    s"a${angleBits}_o${outputBits}_n${iterations}_g$guardBits" + (if (iterationsPerStage > 1) s"_r$iterationsPerStage" else "")
+
+  /** The arctan table with its meaning, for reports and the emitted header. */
+  def atanTableLines: Seq[String] = atanTable.zipWithIndex.map { case (raw, i) =>
+    val hexDigits = (zFracBits + 3) / 4
+    val degrees = raw.toDouble * turnsPerZLsb * 360.0
+    f"i=$i%2d  atan(2^-$i%-2d) = 0x${raw.toString(16).reverse.padTo(hexDigits, '0').reverse} = $degrees%.9f deg" +
+      (if (i == 0) "  (folded into the start vector)" else "")
+  }
+
+  def report: String = {
+    val lines = Seq(
+      s"CORDIC sin/cos $tag",
+      s"  angle input        : unsigned $angleBits-bit binary angle (full turn = 2^$angleBits), quadrant = top 2 bits",
+      s"  output cos, sin    : ${outputFormat.describe}, rounding $outputRounding",
+      s"  x, y datapath      : ${xyFormat.describe}",
+      s"  z accumulator      : turns * 2^$zFracBits, ${zFormat(1).width} bits at iteration 1 down to ${zFormat(iterations).width} at the end",
+      f"  gain K             : $gainK%.15f (start vector x1 = y1 = 0x${startRaw.toString(16)})",
+      s"  iterations         : $iterations ($iterationsPerStage per stage), latency $latency cycles, one angle per clock",
+      f"  error bound        : $errorBound%.3e (2^${math.log(errorBound) / math.log(2)}%.1f) (angle $angleErrorBound%.3e, rotation rounding $rotationRoundingBound%.3e, output rounding $outputRoundingBound%.3e)",
+      "  arctan table (turns * 2^" + zFracBits + "):"
+    )
+    (lines ++ atanTableLines.map("    " + _)).mkString("\n")
+  }
+}
+
+object CordicParams {
+
+  /** The paper's unit: 10 iterations, 16-bit angle and outputs. */
+  val paper: CordicParams = CordicParams(angleBits = 16, outputBits = 16, iterations = 10, guardBits = 2, angleGuardBits = 2)
+
+  /** Precise default: sin/cos error near 2^-23, what the load targets in SPEC.md need. */
+  val precise: CordicParams = CordicParams()
+
+  /** A small unit whose every angle code can be simulated. */
+  val small: CordicParams = CordicParams(angleBits = 10, outputBits = 12, iterations = 10, guardBits = 2, angleGuardBits = 4)
+
+  val presets: Map[String, CordicParams] = Map("paper" -> paper, "precise" -> precise, "small" -> small)
+}

@@ -1,0 +1,41 @@
+package reducerload.cordic
+
+import chisel3._
+import chisel3.util._
+
+/**
+ * Pipelined CORDIC sin/cos: a `Valid` binary angle in, a `Valid` (cos, sin) out exactly `latency`
+ * cycles later, one angle per clock with no stall. Gain K is folded into the start vector.
+ * Stages: input register, `p.stageIterations.size` rotation stages, output stage.
+ */
+class CordicSinCos(val p: CordicParams) extends Module {
+  override def desiredName = s"CordicSinCos_${p.tag}"
+  val io = IO(new Bundle {
+    val in = Flipped(Valid(UInt(p.angleBits.W)))
+    val out = Valid(new SinCos(p))
+  })
+
+  /** Cycles from an angle on `io.in` to its (cos, sin) on `io.out`. */
+  val latency: Int = p.latency
+
+  // Input register: the angle usually arrives from an adder or from pins.
+  private val angle = RegNext(io.in.bits)
+  private val angleValid = RegNext(io.in.valid, false.B)
+
+  private val pre = Module(new QuadrantPreprocessor(p))
+  pre.io.angle := angle
+
+  private val start = Wire(Valid(new CordicStateBundle(p, p.zFormat(1).width)))
+  start.valid := angleValid
+  start.bits := pre.io.state
+
+  private val rotated = p.stageIterations.foldLeft(start) { (in, iterations) =>
+    val stage = Module(new CordicStage(p, iterations))
+    stage.io.in := in
+    stage.io.out
+  }
+
+  private val post = Module(new QuadrantPostprocessor(p))
+  post.io.in := rotated
+  io.out := post.io.out
+}

@@ -1,0 +1,59 @@
+package reducerload.cordic
+
+import org.scalatest.flatspec.AnyFlatSpec
+import reducerload.testutil.Seeds
+
+import scala.util.Random
+
+/** The bit-accurate model against double precision: dense sweeps, no simulator needed. */
+class CordicModelSpec extends AnyFlatSpec {
+  behavior of "CordicModel"
+
+  private def sweep(label: String, p: CordicParams, codes: Iterable[BigInt]): Unit = {
+    val model = new CordicModel(p)
+    val err = CordicChecks.maxError(p, codes.map(c => c -> model.sinCosRaw(c)))
+    println(f"[cordic-model] $label ${p.tag}: ${codes.size} codes, max |error| $err%.3e, bound ${p.errorBound}%.3e (${p.errorBound / err}%.1fx margin)")
+    assert(err <= p.errorBound, s"$label: max error $err exceeds the derived bound ${p.errorBound}")
+  }
+
+  it should "stay within the derived bound on every code of the paper and small presets" in {
+    Seq(CordicParams.small, CordicParams.paper).foreach { p =>
+      sweep("exhaustive", p, (0 until (1 << p.angleBits)).map(BigInt(_)))
+    }
+  }
+
+  it should "stay within the derived bound on a dense sweep of the precise preset" in {
+    val p = CordicParams.precise
+    val rng = new Random(Seeds("precise-dense", 11L))
+    val step = BigInt(1) << (p.angleBits - 18) // 2^18 evenly spaced codes
+    val dense = (0 until (1 << 18)).map(i => BigInt(i) * step + BigInt(p.angleBits - 18, rng.self))
+    sweep("dense", p, dense ++ CordicChecks.quadrantCrossers(p))
+  }
+
+  it should "be exact at the quadrant boundaries: cos 0 = 1, sin 90 deg = 1, and so on within the bound" in {
+    val p = CordicParams.precise
+    val model = new CordicModel(p)
+    val quarter = BigInt(1) << (p.angleBits - 2)
+    val expect = Seq((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0))
+    expect.zipWithIndex.foreach { case ((c, s), q) =>
+      val (mc, ms) = model.sinCos(quarter * q)
+      assert(math.abs(mc - c) <= p.errorBound && math.abs(ms - s) <= p.errorBound, s"quadrant $q: got ($mc, $ms)")
+    }
+  }
+
+  it should "reject invalid parameters at elaboration, naming the parameter" in {
+    def refused(p: => CordicParams, word: String): Unit = {
+      val e = intercept[IllegalArgumentException](p)
+      assert(e.getMessage.contains(word), s"message '${e.getMessage}' does not name $word")
+    }
+    refused(CordicParams(iterations = 0), "iterations")
+    refused(CordicParams(iterations = 1), "iterations")
+    refused(CordicParams(outputBits = 12, guardBits = 0, iterations = 20), "iterations")
+    refused(CordicParams(angleBits = 12, angleGuardBits = 0, iterations = 14), "iterations")
+    refused(CordicParams(angleBits = 4), "angleBits")
+    refused(CordicParams(outputBits = 3), "outputBits")
+    refused(CordicParams(guardBits = -1), "guardBits")
+    refused(CordicParams(angleGuardBits = 40), "angleGuardBits")
+    refused(CordicParams(iterationsPerStage = 0), "iterationsPerStage")
+  }
+}

@@ -1,0 +1,52 @@
+package reducerload.cordic
+
+import chiseltest._
+import org.scalatest.flatspec.AnyFlatSpec
+import reducerload.testutil.{Seeds, SimBackend}
+
+import scala.util.Random
+
+class CordicSinCosSpec extends AnyFlatSpec with ChiselScalatestTester {
+  behavior of "CordicSinCos"
+
+  /** One simulation per design: stream the angles with bubbles and resets, check bits, timing and error. */
+  private def streamAndCheck(label: String, p: CordicParams, angles: Random => IndexedSeq[BigInt], seed: Long, resets: Int): Unit = {
+    val rng = new Random(Seeds(label, seed))
+    val stim = CordicChecks.stimulus(p, angles(rng), rng, resets)
+    test(new CordicSinCos(p)).withAnnotations(SimBackend.annotations) { dut =>
+      assert(dut.latency == p.latency)
+      val verdict = CordicChecks.check(p, stim, CordicDriver.run(dut, stim))
+      println(f"[cordic] $label ${p.tag}: ${verdict.checked} outputs equal to the model, max |error| ${verdict.maxError}%.3e <= bound ${p.errorBound}%.3e, latency ${p.latency}")
+      assert(verdict.mismatches.isEmpty, verdict.mismatches.mkString("RTL differs from the model:\n", "\n", ""))
+      assert(verdict.checked > 0)
+      assert(verdict.maxError <= p.errorBound, s"max error ${verdict.maxError} exceeds the derived bound ${p.errorBound}")
+    }
+  }
+
+  it should "equal the model on every angle code of a small unit, streamed with bubbles and resets" in {
+    val p = CordicParams.small
+    val all = (0 until (1 << p.angleBits)).map(BigInt(_))
+    streamAndCheck("small-exhaustive", p, rng => rng.shuffle(all) ++ CordicChecks.quadrantCrossers(p), 1L, resets = 3)
+  }
+
+  it should "equal the model with three iterations per register stage" in {
+    val p = CordicParams.small.copy(iterationsPerStage = 3)
+    assert(p.latency == 1 + 3 + 1)
+    val all = (0 until (1 << p.angleBits)).map(BigInt(_))
+    streamAndCheck("small-3-per-stage", p, rng => rng.shuffle(all), 2L, resets = 2)
+  }
+
+  it should "equal the model and meet its bound on every angle code of the paper preset" in {
+    val p = CordicParams.paper
+    val all = (0 until (1 << p.angleBits)).map(BigInt(_))
+    streamAndCheck("paper-exhaustive", p, rng => {
+      val codes = rng.shuffle(all)
+      CordicChecks.quadrantCrossers(p) ++ codes.take(SimBackend.scale(codes.size))
+    }, 3L, resets = 4)
+  }
+
+  it should "equal the model and meet its bound on seeded random angles of the precise preset" in {
+    val p = CordicParams.precise
+    streamAndCheck("precise-random", p, rng => CordicChecks.quadrantCrossers(p) ++ CordicChecks.randomAngles(p, rng, SimBackend.scale(20000)), 4L, resets = 4)
+  }
+}
