@@ -78,7 +78,7 @@ final case class FixedFormat(intBits: Int, fracBits: Int) {
   override def toString: String = s"Q$intBits.$fracBits"
 
   /** Human-readable description for reports. */
-  def describe: String = f"$toString (signed, $width bits, lsb 2^-$fracBits, range [$minValue%.6g, $maxValue%.6g])"
+  def describe: String = f"$toString (signed, $width bits, lsb 2^-$fracBits, range [$minValue%.10g, $maxValue%.10g])"
 }
 
 object FixedFormat {

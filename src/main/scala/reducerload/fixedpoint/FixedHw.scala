@@ -6,6 +6,19 @@ import chisel3.util._
 /** Hardware counterparts of the integer operations in [[FixedFormat]]; each has the same name there. */
 object FixedHw {
 
+  /**
+   * `n` registers in a row, without reset, keeping `x`'s width (chisel3.util.ShiftRegister leaves the
+   * width to inference, which elaboration-time width checks cannot read).
+   */
+  def delay[T <: Data](x: T, n: Int): T = {
+    require(n >= 0, s"delay: cannot delay by $n cycles")
+    (0 until n).foldLeft(x) { (v, _) =>
+      val r = Reg(chiselTypeOf(x))
+      r := v
+      r
+    }
+  }
+
   /** Arithmetic right shift by `drop` bits with rounding; the result keeps the input width. */
   def shiftRound(x: SInt, drop: Int, rounding: Rounding): SInt = {
     require(drop >= 0, s"shiftRound: cannot drop $drop bits")

@@ -1,6 +1,6 @@
 package reducerload.cordic
 
-import reducerload.testutil.{Cycle, Stream}
+import reducerload.sim.{Cycle, Stream}
 
 import scala.util.Random
 

@@ -1,12 +1,4 @@
-package reducerload.testutil
-
-/** One clock cycle of stimulus for a streaming pipeline. */
-sealed trait Cycle[+A]
-object Cycle {
-  final case class Sample[A](value: A) extends Cycle[A]
-  case object Bubble extends Cycle[Nothing]
-  case object Reset extends Cycle[Nothing]
-}
+package reducerload.sim
 
 /**
  * What a pipeline of fixed latency must show, cycle by cycle, for a stimulus: the output observed in

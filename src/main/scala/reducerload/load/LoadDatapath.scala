@@ -1,0 +1,105 @@
+package reducerload.load
+
+import chisel3._
+import chisel3.util._
+import reducerload.cordic.CordicSinCos
+import reducerload.fixedpoint.{FixedHw, Rounding}
+
+/**
+ * Joint-3 reducer load every clock: `Valid` sample in, `Valid` load out exactly `latency` cycles
+ * later, no stall. Three CORDIC pipelines compute sin/cos of t3, t2+t3 and t1+t2+t3 (angle sums in
+ * the binary-angle domain wrap modulo one turn, as they should); the velocity and acceleration
+ * products run beside them and are delayed to meet the sin/cos values.
+ *
+ * Inputs beyond the declared ranges are clamped to the range and raise `outOfRange` on that
+ * sample's output; nothing downstream can overflow (formats are derived from the ranges).
+ */
+class LoadDatapath(val p: LoadParams) extends Module {
+  override def desiredName = s"LoadDatapath_${p.model.name}"
+  val io = IO(new Bundle {
+    val in = Flipped(Valid(new LoadInput(p)))
+    val out = Valid(new LoadOutput(p))
+  })
+
+  // Cycle 1: input registers.
+  private val in = RegNext(io.in.bits)
+  private val inValid = RegNext(io.in.valid, false.B)
+
+  // Cycle 2: clamp to the declared ranges; first angle sum.
+  private def clamp(x: SInt, limit: BigInt): (SInt, Bool) = {
+    val high = x > limit.S
+    val low = x < (-limit).S
+    (Mux(high, limit.S(x.getWidth.W), Mux(low, (-limit).S(x.getWidth.W), x)), high || low)
+  }
+  private val velocities = Seq(in.d1, in.d2, in.d3).zip(p.velocityLimitRaw).map { case (x, l) => clamp(x, l) }
+  private val accelerations = Seq(in.dd1, in.dd2, in.dd3).zip(p.accelerationLimitRaw).map { case (x, l) => clamp(x, l) }
+  private val d = velocities.map(v => FixedHw.delay(v._1, 1))
+  private val dd = accelerations.map(a => FixedHw.delay(a._1, 1))
+  private val outOfRange = RegNext((velocities ++ accelerations).map(_._2).reduce(_ || _))
+  private val t1 = RegNext(in.t1)
+  private val t3 = RegNext(in.t3)
+  private val t23 = RegNext(in.t2 +% in.t3) // modulo one turn: wrap is the angle arithmetic, not an overflow
+  private val valid2 = RegNext(inValid, false.B)
+
+  // Cycle 2 -> CORDIC inputs (each CORDIC registers its input): t1+t2+t3 = (t2+t3) + t1.
+  private val angles = Seq(t3, t23, t23 +% t1)
+  private val cordics = angles.map { angle =>
+    val c = Module(new CordicSinCos(p.cordic))
+    c.io.in.valid := valid2
+    c.io.in.bits := angle
+    c
+  }
+  private val trigAt = 2 + p.cordic.latency
+  private def trig(out: SInt) = Timed(out, Some(trigAt))
+  private val Seq(cs3, cs23, cs123) = cordics.map(_.io.out.bits)
+
+  private val total = LoadRecipe(
+    p,
+    new TimedArith(p.multiplierLatency),
+    RecipeInputs(
+      d1 = Timed(d(0), Some(2)),
+      d2 = Timed(d(1), Some(2)),
+      dd1 = Timed(dd(0), Some(2)),
+      dd2 = Timed(dd(1), Some(2)),
+      dd3 = Timed(dd(2), Some(2)),
+      c23 = trig(cs23.cos),
+      c3 = trig(cs3.cos),
+      s23 = trig(cs23.sin),
+      s3 = trig(cs3.sin),
+      s123 = trig(cs123.sin)
+    )
+  )
+  private val totalAt = total.at.getOrElse(throw new IllegalStateException("the load cannot be a constant"))
+
+  // Output stage: round half up to the output format; the range proof makes saturation unreachable.
+  private val rounded = FixedHw.shiftRound(total.value, p.internalFracBits - p.outputFracBits, Rounding.HalfUp)
+  private val (load, saturated) = FixedHw.saturate(rounded, p.outputFormat)
+
+  /** Cycles from a sample on `io.in` to its load on `io.out`. */
+  val latency: Int = totalAt + 1
+  require(latency == LoadDatapath.latency(p), s"LoadDatapath: built latency $latency differs from the predicted ${LoadDatapath.latency(p)}")
+
+  private val outBits = Reg(new LoadOutput(p))
+  outBits.load := load
+  outBits.outOfRange := FixedHw.delay(outOfRange, totalAt - 2) || saturated
+  io.out.bits := outBits
+  io.out.valid := ShiftRegister(valid2, latency - 2, false.B, true.B)
+
+}
+
+object LoadDatapath {
+
+  /**
+   * Latency without elaborating: input register, clamp, CORDIC, then the recipe's depth (sin/cos
+   * products, multiplier registers, three adder levels), then the output register.
+   */
+  def latency(p: LoadParams): Int = {
+    val mul = p.multiplierLatency + (if (p.productRounding == Rounding.Truncate) 0 else 1)
+    val trigAt = 2 + p.cordic.latency
+    // Velocity side: u3/u4 need add (v12) + two multiplies from cycle 2; sin/cos side: one multiply.
+    val velocitySide = 2 + 1 + 2 * mul
+    val productsAt = math.max(trigAt, velocitySide) + mul
+    // s56 = p6 + u5 meets the others at the same level; three adder levels, then the output register.
+    productsAt + 3 + 1
+  }
+}

@@ -1,0 +1,159 @@
+package reducerload.load
+
+import reducerload.cordic.CordicParams
+import reducerload.fixedpoint.{Bounded, FixedFormat, Rounding}
+
+/**
+ * Generator parameters of [[LoadDatapath]]. Every format below is derived from the declared ranges
+ * in `robot` with [[Bounded]]; nothing is hard-coded. The derived `errorBound` covers input
+ * quantization (round to nearest), CORDIC error, constant quantization and every rounding.
+ *
+ * @param velocityFracBits     fraction bits of the velocity inputs (rad/s)
+ * @param accelerationFracBits fraction bits of the acceleration inputs (rad/s^2)
+ * @param constantFracBits     fraction bits of the folded robot constants m3 l1 l3, m3 l2 l3, ...
+ * @param internalFracBits     fraction bits (N·m and friends) of products and sums
+ * @param outputFracBits       fraction bits of the load output (N·m)
+ * @param productRounding      how products drop to `internalFracBits` (truncate costs no adder)
+ * @param multiplierLatency    registers after each multiplier (>= 1; more lets Quartus retime into the DSP)
+ */
+final case class LoadParams(
+  robot: RobotParams = RobotParams(),
+  model: LoadModel = LoadModel.Exact,
+  cordic: CordicParams = CordicParams.precise,
+  velocityFracBits: Int = 20,
+  accelerationFracBits: Int = 20,
+  constantFracBits: Int = 24,
+  internalFracBits: Int = 20,
+  outputFracBits: Int = 20,
+  productRounding: Rounding = Rounding.Truncate,
+  multiplierLatency: Int = 1) {
+
+  Seq(
+    "velocityFracBits" -> velocityFracBits,
+    "accelerationFracBits" -> accelerationFracBits,
+    "constantFracBits" -> constantFracBits,
+    "internalFracBits" -> internalFracBits,
+    "outputFracBits" -> outputFracBits
+  ).foreach { case (name, bits) => require(bits >= 1 && bits <= 40, s"LoadParams.$name must be in 1..40, got $bits") }
+  require(outputFracBits <= internalFracBits,
+    s"LoadParams.outputFracBits ($outputFracBits) must not exceed internalFracBits ($internalFracBits)")
+  require(2 * velocityFracBits >= internalFracBits,
+    s"LoadParams.internalFracBits ($internalFracBits) must not exceed 2 * velocityFracBits (${2 * velocityFracBits})")
+  require(multiplierLatency >= 1 && multiplierLatency <= 4, s"LoadParams.multiplierLatency must be in 1..4, got $multiplierLatency")
+
+  private val F = internalFracBits
+  private val lsbF = math.pow(2.0, -F)
+
+  // ---- inputs ----
+  val angleBits: Int = cordic.angleBits
+  val velocityFormats: Seq[FixedFormat] = robot.maxVelocity.map(v => FixedFormat.forRange(v, velocityFracBits))
+  val accelerationFormats: Seq[FixedFormat] = robot.maxAcceleration.map(a => FixedFormat.forRange(a, accelerationFracBits))
+
+  /** Declared limits as the codes a value at the limit converts to: codes beyond them are clamped and flagged. */
+  val velocityLimitRaw: Seq[BigInt] = robot.maxVelocity.zip(velocityFormats).map { case (v, f) => f.quantize(v, Rounding.HalfUp) }
+  val accelerationLimitRaw: Seq[BigInt] =
+    robot.maxAcceleration.zip(accelerationFormats).map { case (a, f) => f.quantize(a, Rounding.HalfUp) }
+
+  /** Half a code: inputs are converted to codes by rounding to nearest. */
+  private val angleError: Double = math.Pi / math.pow(2.0, angleBits)
+  private val vIn = robot.maxVelocity.map(v => Bounded(v, 0.5 * math.pow(2.0, -velocityFracBits)))
+  private val aIn = robot.maxAcceleration.map(a => Bounded(a, 0.5 * math.pow(2.0, -accelerationFracBits)))
+
+  // ---- folded constants ----
+  private def quantizeConst(k: Double): BigInt = FixedFormat(0, constantFracBits).quantize(k, Rounding.HalfUp)
+  val constA: BigInt = quantizeConst(robot.a)
+  val constB: BigInt = quantizeConst(robot.b)
+  val constC: BigInt = quantizeConst(robot.c)
+  val constD: BigInt = quantizeConst(robot.d)
+  private def boundedConst(k: Double, raw: BigInt) = Bounded.constant(k, FixedFormat.scaleDown(raw, constantFracBits))
+  require(Seq(constA, constB, constC).forall(_ > 0),
+    s"LoadParams.constantFracBits ($constantFracBits) is too few: a robot constant rounds to zero")
+
+  // ---- the datapath, node by node (names as in LoadRecipe) ----
+  private def product(x: Bounded, y: Bounded) = (x * y).rounded(lsbF, productRounding)
+
+  val v12: Bounded = vIn(0) + vIn(1)
+  val a2: Bounded = aIn(0) + aIn(1).scale(model.dd2Weight)
+  val a12: Bounded = aIn(0) + aIn(1)
+  val a3: Bounded = a12 + aIn(2)
+  val sq1: Bounded = product(vIn(0), vIn(0))
+  val sq12: Bounded = product(v12, v12)
+  val u1: Bounded = product(boundedConst(robot.a, constA), aIn(0))
+  val u2: Bounded = product(boundedConst(robot.b, constB), a2)
+  val u3: Bounded = product(boundedConst(robot.a, constA), sq1)
+  val u4: Bounded = product(boundedConst(robot.b, constB), sq12)
+  val u5: Bounded = product(boundedConst(robot.c, constC), a3)
+  /** sin/cos of an angle built from `n` rounded input angles. */
+  private def trig(n: Int) = Bounded(1.0, cordic.errorBound + n * angleError)
+  val p1: Bounded = product(u1, trig(2)) // A dd1 cos(t2+t3)
+  val p2: Bounded = product(u2, trig(1)) // B (dd1 + k dd2) cos t3
+  val p3: Bounded = product(u3, trig(2)) // A d1^2 sin(t2+t3)
+  val p4: Bounded = product(u4, trig(1)) // B (d1+d2)^2 sin t3
+  val p6: Bounded = product(boundedConst(robot.d, constD), trig(3)) // D sin(t1+t2+t3)
+  val s12: Bounded = p1 + p2
+  val s34: Bounded = p3 + p4
+  val s56: Bounded = p6 + u5
+  val s1234: Bounded = s12 + s34
+  val total: Bounded = s1234 + s56
+  val output: Bounded = total.rounded(math.pow(2.0, -outputFracBits), Rounding.HalfUp)
+
+  /** Fixed-point format of every internal node, in datapath order, for the recipe and the report. */
+  val formats: Map[String, FixedFormat] = Map(
+    "v12" -> v12.format(velocityFracBits),
+    "a2" -> a2.format(accelerationFracBits),
+    "a12" -> a12.format(accelerationFracBits),
+    "a3" -> a3.format(accelerationFracBits),
+    "sq1" -> sq1.format(F),
+    "sq12" -> sq12.format(F),
+    "u1" -> u1.format(F),
+    "u2" -> u2.format(F),
+    "u3" -> u3.format(F),
+    "u4" -> u4.format(F),
+    "u5" -> u5.format(F),
+    "p1" -> p1.format(F),
+    "p2" -> p2.format(F),
+    "p3" -> p3.format(F),
+    "p4" -> p4.format(F),
+    "p6" -> p6.format(F),
+    "s12" -> s12.format(F),
+    "s34" -> s34.format(F),
+    "s56" -> s56.format(F),
+    "s1234" -> s1234.format(F),
+    "total" -> total.format(F)
+  )
+  def fmt(node: String): FixedFormat = formats.getOrElse(node, throw new NoSuchElementException(s"no format for node $node"))
+
+  val constantFormat: FixedFormat = FixedFormat.forRawRange(Seq(constA, constB, constC, constD).max, constantFracBits)
+
+  /** Load output, N·m. */
+  val outputFormat: FixedFormat = output.format(outputFracBits)
+
+  /** Worst-case |load - exact double torque at the unquantized inputs|, N·m, for inputs in range. */
+  val errorBound: Double = output.error
+
+  /** Largest |load| the declared ranges allow (sum of the six term maxima). */
+  val loadRange: Double = total.maxAbs
+
+  require(outputFormat.width <= 64, s"LoadParams: the declared ranges need a ${outputFormat.width}-bit output; narrow the ranges")
+
+  def tag: String = s"${model.name}_${cordic.tag}_f$F"
+}
+
+object LoadParams {
+
+  /** Exact model, error well under 1e-4 N·m for the typical arm (SPEC.md). */
+  val default: LoadParams = LoadParams()
+
+  /** The paper's equation (6), sized for the paper's accuracy (1e-3 N·m). */
+  val paper: LoadParams = LoadParams(
+    model = LoadModel.PaperEq6,
+    cordic = CordicParams(angleBits = 23, outputBits = 23, iterations = 20, guardBits = 3, angleGuardBits = 4),
+    velocityFracBits = 17,
+    accelerationFracBits = 17,
+    constantFracBits = 20,
+    internalFracBits = 17,
+    outputFracBits = 17
+  )
+
+  val presets: Map[String, LoadParams] = Map("default" -> default, "paper" -> paper)
+}

@@ -1,0 +1,42 @@
+package reducerload.load
+
+/**
+ * The arm, in SI units, and the declared input ranges the fixed-point formats are derived from.
+ * Joint angles have no range: binary angles wrap, so every angle is in range.
+ *
+ * @param m3              point mass at the end of link 3, kg
+ * @param l1              link lengths, m
+ * @param g               gravitational acceleration, m/s^2 (0 for an arm moving in a horizontal plane)
+ * @param maxVelocity     declared max |d_i| per joint, rad/s
+ * @param maxAcceleration declared max |dd_i| per joint, rad/s^2
+ */
+final case class RobotParams(
+  m3: Double = 10.0,
+  l1: Double = 0.4,
+  l2: Double = 0.35,
+  l3: Double = 0.3,
+  g: Double = 9.81,
+  maxVelocity: Seq[Double] = Seq(3.0, 3.0, 3.0),
+  maxAcceleration: Seq[Double] = Seq(10.0, 10.0, 10.0)) {
+
+  private def finite(x: Double) = !x.isNaN && !x.isInfinite
+  require(finite(m3) && m3 > 0 && m3 <= 1e4, s"RobotParams.m3 must be a mass in (0, 10000] kg, got $m3")
+  Seq("l1" -> l1, "l2" -> l2, "l3" -> l3).foreach { case (name, l) =>
+    require(finite(l) && l > 0 && l <= 100, s"RobotParams.$name must be a length in (0, 100] m, got $l")
+  }
+  require(finite(g) && g >= 0 && g <= 100, s"RobotParams.g must be in [0, 100] m/s^2, got $g")
+  require(maxVelocity.size == 3, s"RobotParams.maxVelocity needs 3 values (one per joint), got ${maxVelocity.size}")
+  require(maxAcceleration.size == 3, s"RobotParams.maxAcceleration needs 3 values (one per joint), got ${maxAcceleration.size}")
+  maxVelocity.zipWithIndex.foreach { case (v, i) =>
+    require(finite(v) && v > 0 && v <= 1000, s"RobotParams.maxVelocity(${i + 1}) must be in (0, 1000] rad/s, got $v")
+  }
+  maxAcceleration.zipWithIndex.foreach { case (a, i) =>
+    require(finite(a) && a > 0 && a <= 1e5, s"RobotParams.maxAcceleration(${i + 1}) must be in (0, 100000] rad/s^2, got $a")
+  }
+
+  /** Products of robot constants, folded at elaboration (SPEC.md's tau3 in these four). */
+  val a: Double = m3 * l1 * l3 // multiplies dd1 cos(t2+t3) and d1^2 sin(t2+t3)
+  val b: Double = m3 * l2 * l3 // multiplies (dd1+dd2) cos t3 and (d1+d2)^2 sin t3
+  val c: Double = m3 * l3 * l3 // multiplies dd1+dd2+dd3
+  val d: Double = m3 * g * l3 // multiplies sin(t1+t2+t3)
+}

@@ -1,0 +1,46 @@
+package reducerload.load
+
+import chisel3._
+import reducerload.fixedpoint.{FixedFormat, FixedHw, Rounding}
+
+/** A signal and the cycle at which it holds the current sample (constants hold every sample). */
+final case class Timed(value: SInt, at: Option[Int]) {
+  /** The value delayed to `cycle`: pipeline balancing by construction. */
+  def alignedTo(cycle: Int): SInt = at match {
+    case None => value
+    case Some(t) =>
+      require(cycle >= t, s"Timed: cannot read a value of cycle $t at earlier cycle $cycle")
+      FixedHw.delay(value, cycle - t)
+  }
+}
+
+/**
+ * Hardware semantics of [[LoadArith]]: every operation is registered, operands are delayed to meet
+ * (ASAP schedule), and each multiplier has registers on both sides so Quartus packs them into the
+ * 18x18 blocks. Data registers have no reset: `valid` travels beside them and resets to low.
+ */
+final class TimedArith(multiplierLatency: Int) extends LoadArith[Timed] {
+  private def meet(a: Timed, b: Timed): Int = (a.at.toSeq ++ b.at.toSeq).maxOption.getOrElse(0)
+
+  def add(a: Timed, aFmt: FixedFormat, b: Timed, bFmt: FixedFormat, bShift: Int, out: FixedFormat): Timed = {
+    require(aFmt.fracBits == bFmt.fracBits && out.fracBits == aFmt.fracBits, s"add: fraction bits differ ($aFmt, $bFmt -> $out)")
+    val t = meet(a, b)
+    val sum = a.alignedTo(t).pad(out.width) + (b.alignedTo(t) << bShift).asSInt.pad(out.width)
+    Timed(FixedHw.delay(sum(out.width - 1, 0).asSInt, 1), Some(t + 1))
+  }
+
+  def mul(a: Timed, aFmt: FixedFormat, b: Timed, bFmt: FixedFormat, out: FixedFormat, rounding: Rounding): Timed = {
+    val t = meet(a, b)
+    val drop = aFmt.fracBits + bFmt.fracBits - out.fracBits
+    require(drop >= 0, s"mul: product has fewer fraction bits than $out")
+    val product = FixedHw.delay(a.alignedTo(t) * b.alignedTo(t), multiplierLatency)
+    val rounded = FixedHw.shiftRound(product, drop, rounding)
+    val fitted = rounded(out.width - 1, 0).asSInt // proven range: the dropped top bits repeat the sign
+    rounding match {
+      case Rounding.Truncate => Timed(fitted, Some(t + multiplierLatency)) // bit selection only: no logic to register
+      case _                 => Timed(FixedHw.delay(fitted, 1), Some(t + multiplierLatency + 1))
+    }
+  }
+
+  def constant(raw: BigInt, fmt: FixedFormat): Timed = Timed(raw.S(fmt.width.W), None)
+}

@@ -1,0 +1,45 @@
+package reducerload.sim
+
+import chisel3._
+import chiseltest._
+import reducerload.load.{LoadDatapath, LoadInputCodes, LoadOutputCodes}
+
+/** One clock cycle of stimulus for a streaming pipeline. */
+sealed trait Cycle[+A]
+object Cycle {
+  final case class Sample[A](value: A) extends Cycle[A]
+  case object Bubble extends Cycle[Nothing]
+  case object Reset extends Cycle[Nothing]
+}
+
+/** The only code that talks to the simulator for LoadDatapath: drive a stimulus, record the outputs. */
+object LoadDriver {
+  def run(dut: LoadDatapath, stimulus: Iterator[Cycle[LoadInputCodes]], onOutput: (Long, Option[LoadOutputCodes]) => Unit): Long = {
+    dut.clock.setTimeout(0)
+    stimulus.zipWithIndex.foldLeft(0L) { case (_, (c, cycle)) =>
+      c match {
+        case Cycle.Reset  => dut.reset.poke(true.B); dut.io.in.valid.poke(false.B)
+        case Cycle.Bubble => dut.io.in.valid.poke(false.B)
+        case Cycle.Sample(s) =>
+          dut.io.in.valid.poke(true.B)
+          dut.io.in.bits.t1.poke(s.t1.U)
+          dut.io.in.bits.t2.poke(s.t2.U)
+          dut.io.in.bits.t3.poke(s.t3.U)
+          dut.io.in.bits.d1.poke(s.d(0).S)
+          dut.io.in.bits.d2.poke(s.d(1).S)
+          dut.io.in.bits.d3.poke(s.d(2).S)
+          dut.io.in.bits.dd1.poke(s.dd(0).S)
+          dut.io.in.bits.dd2.poke(s.dd(1).S)
+          dut.io.in.bits.dd3.poke(s.dd(2).S)
+      }
+      val out =
+        if (dut.io.out.valid.peek().litToBoolean)
+          Some(LoadOutputCodes(dut.io.out.bits.load.peek().litValue, dut.io.out.bits.outOfRange.peek().litToBoolean))
+        else None
+      onOutput(cycle.toLong, out)
+      dut.clock.step()
+      dut.reset.poke(false.B)
+      cycle.toLong + 1
+    }
+  }
+}
