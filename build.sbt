@@ -11,7 +11,8 @@ lazy val root = (project in file("."))
     name := "reducer-load",
     libraryDependencies ++= Seq(
       "org.chipsalliance" %% "chisel" % chiselVersion,
-      "edu.berkeley.cs" %% "chiseltest" % "6.0.0" % Test,
+      // Compile scope: `run simulate` drives the generated RTL on Verilator through it.
+      "edu.berkeley.cs" %% "chiseltest" % "6.0.0",
       "org.scalatest" %% "scalatest" % "3.2.19" % Test,
       "com.typesafe" % "config" % "1.4.3"
     ),
@@ -35,5 +36,6 @@ lazy val root = (project in file("."))
     run / javaOptions ++= Seq("-Xss8m", "-Xmx4g"),
     // The user's working directory, so relative --input/--output paths mean what they say.
     run / baseDirectory := file("."),
+    Compile / mainClass := Some("reducerload.app.Main"),
     Test / testOptions += Tests.Argument(TestFrameworks.ScalaTest, "-oD")
   )

@@ -1,0 +1,94 @@
+package reducerload.app
+
+import com.typesafe.config.{Config, ConfigFactory}
+import reducerload.config.Settings
+import reducerload.load.LoadParams
+import reducerload.trace.InputError
+
+import java.nio.file.{Files, Path, Paths}
+import scala.util.Try
+
+/** A command-line option of a command (settings flags are added to every command that builds a design). */
+final case class Opt(name: String, arg: String, help: String, default: String = "")
+
+/** Parsed command line: the command word, option values, and the setting overrides in order. */
+final case class Cli(command: String, options: Map[String, String], overrides: Seq[(String, String)], args: Seq[String]) {
+  def get(name: String): Option[String] = options.get(name)
+  def has(name: String): Boolean = options.contains(name)
+
+  def path(name: String): Option[Path] = options.get(name).map(Paths.get(_))
+
+  /** The design parameters: a preset or a complete config file, then flag overrides. */
+  def params: LoadParams = {
+    if (has("preset") && has("config")) throw new InputError("command line: --preset and --config are exclusive (a config file is complete)")
+    val (base, source) = get("config") match {
+      case Some(file) =>
+        val p = Paths.get(file)
+        if (!Files.isRegularFile(p)) throw new InputError(s"$file: no such configuration file")
+        val parsed = Try(ConfigFactory.parseFile(p.toFile, Cli.strictParse)).recover { case e: com.typesafe.config.ConfigException =>
+          throw new InputError(s"$file: not a valid HOCON/JSON configuration: ${e.getMessage.split('\n').head}")
+        }.get
+        (parsed, file)
+      case None =>
+        val name = get("preset").getOrElse("default")
+        val preset = LoadParams.presets.getOrElse(name,
+          throw new InputError(s"command line: --preset '$name' is not a preset (${LoadParams.presets.keys.toSeq.sorted.mkString(", ")})"))
+        (ConfigFactory.parseString(Settings.render(preset, Nil)), s"preset $name")
+    }
+    val merged = overrides.foldLeft(base: Config) { case (c, (key, value)) =>
+      val setting = Settings.byKey(key)
+      val text = setting match {
+        case _: reducerload.config.Setting.PerJoint if value.contains(",") && !value.trim.startsWith("[") => s"[$value]"
+        case _: reducerload.config.Setting.Choice => "\"" + value.replace("\"", "") + "\""
+        case _ => value
+      }
+      val one = Try(ConfigFactory.parseString(s"$key = $text")).getOrElse(
+        throw new InputError(s"command line: --$key: '$value' is not a valid value (${setting.typeName})"))
+      setting.read(one, s"command line --$key")
+      one.withFallback(c)
+    }
+    val where = if (overrides.isEmpty) source else s"$source with command-line overrides"
+    Settings.toParams(merged.resolve(), where)
+  }
+}
+
+object Cli {
+  private[app] val strictParse =
+    com.typesafe.config.ConfigParseOptions.defaults().setAllowMissing(false)
+
+  /** Options every design-building command accepts. */
+  val designOptions: Seq[Opt] = Seq(
+    Opt("preset", "NAME", s"start from a shipped preset: ${LoadParams.presets.keys.toSeq.sorted.mkString(", ")}", "default"),
+    Opt("config", "FILE", "a complete configuration file (HOCON or JSON, see configs/); exclusive with --preset")
+  )
+
+  /** Parse `args` for `command`, accepting its own options, the design options and the settings flags. */
+  def parse(command: String, args: Seq[String], own: Seq[Opt], flags: Seq[String] = Nil, design: Boolean = true): Cli = {
+    val valued = (own ++ (if (design) designOptions else Nil)).map(o => o.name -> o).toMap
+    @annotation.tailrec
+    def loop(rest: List[String], opts: Map[String, String], ovr: Vector[(String, String)], pos: Vector[String]): Cli = rest match {
+      case Nil => Cli(command, opts, ovr, pos)
+      case flag :: tail if flag.startsWith("--") =>
+        val (name, inline) = flag.drop(2).split("=", 2) match {
+          case Array(n, v) => (n, Some(v))
+          case Array(n)    => (n, None)
+        }
+        def value(): (String, List[String]) = inline match {
+          case Some(v) => (v, tail)
+          case None =>
+            tail match {
+              case v :: t if !v.startsWith("--") => (v, t)
+              case _                             => throw new InputError(s"command line: --$name needs a value")
+            }
+        }
+        if (flags.contains(name)) loop(tail, opts + (name -> "true"), ovr, pos)
+        else if (valued.contains(name)) { val (v, t) = value(); loop(t, opts + (name -> v), ovr, pos) }
+        else if (design && Settings.byFlag.contains(name)) {
+          val (v, t) = value()
+          loop(t, opts, ovr :+ (Settings.byFlag(name).key -> v), pos)
+        } else throw new InputError(s"command line: unknown option --$name for '$command' (see: ./sbt \"run --help\")")
+      case word :: _ => throw new InputError(s"command line: unexpected argument '$word' for '$command' (see: ./sbt \"run --help\")")
+    }
+    loop(args.toList, Map.empty, Vector.empty, Vector.empty)
+  }
+}

@@ -1,0 +1,193 @@
+package reducerload.config
+
+import com.typesafe.config.{Config, ConfigException, ConfigValueType}
+import reducerload.cordic.CordicParams
+import reducerload.fixedpoint.Rounding
+import reducerload.load.{LoadModel, LoadParams, RobotParams}
+import reducerload.trace.InputError
+
+import scala.jdk.CollectionConverters._
+
+/** One configuration key: its HOCON path, unit, meaning, type, and where it lives in [[LoadParams]]. */
+sealed abstract class Setting(val key: String, val unit: String, val help: String, val aliases: Seq[String]) {
+
+  /** The value in `p`, as HOCON text. */
+  def render(p: LoadParams): String
+
+  /** Read and type-check the value at `key`; `source` names the file or flag for errors. */
+  def read(c: Config, source: String): Any
+
+  /** The type, for --help. */
+  def typeName: String
+
+  protected def wrongType(source: String, expected: String, c: Config): Nothing =
+    throw new InputError(s"$source: key '$key' must be $expected, got ${Setting.show(c, key)}")
+}
+
+object Setting {
+  private[config] def show(c: Config, key: String): String = {
+    val v = c.getValue(key)
+    s"${v.valueType().name().toLowerCase} ${v.render(com.typesafe.config.ConfigRenderOptions.concise())}"
+  }
+
+  final class Real(key: String, unit: String, help: String, aliases: Seq[String], val get: LoadParams => Double)
+      extends Setting(key, unit, help, aliases) {
+    def render(p: LoadParams): String = get(p).toString
+    def typeName = "number"
+    def read(c: Config, source: String): Any =
+      if (c.getValue(key).valueType() != ConfigValueType.NUMBER) wrongType(source, "a number", c) else c.getDouble(key)
+  }
+
+  final class Natural(key: String, unit: String, help: String, aliases: Seq[String], val get: LoadParams => Int)
+      extends Setting(key, unit, help, aliases) {
+    def render(p: LoadParams): String = get(p).toString
+    def typeName = "integer"
+    def read(c: Config, source: String): Any = {
+      val ok = c.getValue(key).valueType() == ConfigValueType.NUMBER && {
+        val d = c.getDouble(key); d == math.rint(d) && math.abs(d) < 1e9
+      }
+      if (!ok) wrongType(source, "an integer", c) else c.getDouble(key).toInt
+    }
+  }
+
+  final class Choice(key: String, unit: String, help: String, aliases: Seq[String], val choices: Seq[String], val get: LoadParams => String)
+      extends Setting(key, unit, help, aliases) {
+    def render(p: LoadParams): String = get(p)
+    def typeName: String = choices.mkString("|")
+    def read(c: Config, source: String): Any = {
+      if (c.getValue(key).valueType() != ConfigValueType.STRING) wrongType(source, s"one of ${choices.mkString(", ")}", c)
+      val s = c.getString(key)
+      if (!choices.contains(s)) throw new InputError(s"$source: key '$key' must be one of ${choices.mkString(", ")}, got '$s'")
+      s
+    }
+  }
+
+  /** One value per joint; a single number stands for all three. */
+  final class PerJoint(key: String, unit: String, help: String, aliases: Seq[String], val get: LoadParams => Seq[Double])
+      extends Setting(key, unit, help, aliases) {
+    def render(p: LoadParams): String = get(p).mkString("[", ", ", "]")
+    def typeName = "number or [n1, n2, n3]"
+    def read(c: Config, source: String): Any = c.getValue(key).valueType() match {
+      case ConfigValueType.NUMBER => Seq.fill(3)(c.getDouble(key))
+      case ConfigValueType.LIST =>
+        val items = c.getList(key).asScala.toSeq
+        if (items.size != 3 || items.exists(_.valueType() != ConfigValueType.NUMBER))
+          wrongType(source, "a list of 3 numbers (one per joint)", c)
+        items.map(_.unwrapped().asInstanceOf[Number].doubleValue())
+      case _ => wrongType(source, "a number or a list of 3 numbers", c)
+    }
+  }
+}
+
+/** Every key of a configuration, with units and defaults: the single source of --help and the docs table. */
+object Settings {
+  import Setting._
+  private val roundings = Rounding.all.map(_.name)
+
+  val all: Seq[Setting] = Seq(
+    new Real("robot.m3", "kg", "point mass at the end of link 3", Seq("m3"), _.robot.m3),
+    new Real("robot.l1", "m", "length of link 1", Seq("l1"), _.robot.l1),
+    new Real("robot.l2", "m", "length of link 2", Seq("l2"), _.robot.l2),
+    new Real("robot.l3", "m", "length of link 3", Seq("l3"), _.robot.l3),
+    new Real("robot.g", "m/s^2", "gravitational acceleration (t1 = 0 points link 1 down)", Seq("g"), _.robot.g),
+    new PerJoint("robot.max-velocity", "rad/s", "declared max |d1|, |d2|, |d3|", Seq("max-velocity"), _.robot.maxVelocity),
+    new PerJoint("robot.max-acceleration", "rad/s^2", "declared max |dd1|, |dd2|, |dd3|", Seq("max-acceleration"), _.robot.maxAcceleration),
+    new Choice("model", "", "load formula: exact (SPEC.md tau3) or paper (equation (6) as published)", Nil,
+      LoadModel.all.map(_.name), _.model.name),
+    new Natural("cordic.angle-bits", "bits", "binary-angle width (full turn = 2^bits)", Nil, _.cordic.angleBits),
+    new Natural("cordic.output-bits", "bits", "sin/cos width, format Q1.(bits-2)", Nil, _.cordic.outputBits),
+    new Natural("cordic.iterations", "", "CORDIC micro-rotations (iteration 0 folded)", Nil, _.cordic.iterations),
+    new Natural("cordic.guard-bits", "bits", "extra fraction bits in x, y", Nil, _.cordic.guardBits),
+    new Natural("cordic.angle-guard-bits", "bits", "extra fraction bits in the angle accumulator", Nil, _.cordic.angleGuardBits),
+    new Choice("cordic.output-rounding", "", "sin/cos output rounding", Nil, roundings, _.cordic.outputRounding.name),
+    new Natural("cordic.iterations-per-stage", "", "micro-rotations between pipeline registers", Nil, _.cordic.iterationsPerStage),
+    new Natural("datapath.velocity-frac-bits", "bits", "fraction bits of velocity inputs (rad/s)", Nil, _.velocityFracBits),
+    new Natural("datapath.acceleration-frac-bits", "bits", "fraction bits of acceleration inputs (rad/s^2)", Nil, _.accelerationFracBits),
+    new Natural("datapath.constant-frac-bits", "bits", "fraction bits of folded robot constants", Nil, _.constantFracBits),
+    new Natural("datapath.internal-frac-bits", "bits", "fraction bits of products and sums", Nil, _.internalFracBits),
+    new Natural("datapath.output-frac-bits", "bits", "fraction bits of the load output (N·m)", Nil, _.outputFracBits),
+    new Choice("datapath.product-rounding", "", "rounding of products to internal-frac-bits", Nil, roundings, _.productRounding.name),
+    new Natural("datapath.multiplier-latency", "cycles", "registers after each multiplier", Nil, _.multiplierLatency)
+  )
+
+  val byKey: Map[String, Setting] = all.map(s => s.key -> s).toMap
+
+  /** Flag name (without --) -> setting: the key itself and its short aliases. */
+  val byFlag: Map[String, Setting] = all.flatMap(s => (s.key +: s.aliases).map(_ -> s)).toMap
+
+  /** Edit distance, for "did you mean" hints. */
+  private def distance(a: String, b: String): Int =
+    b.indices.foldLeft((0 to a.length).toVector) { (prev, j) =>
+      a.indices.foldLeft(Vector(j + 1)) { (row, i) =>
+        row :+ Seq(prev(i + 1) + 1, row(i) + 1, prev(i) + (if (a(i) == b(j)) 0 else 1)).min
+      }
+    }.last
+
+  /** Build parameters from a complete, type-checked configuration. */
+  def toParams(c: Config, source: String): LoadParams = {
+    val known = all.map(_.key).toSet
+    val present = c.entrySet().asScala.map(_.getKey).toSeq.sorted
+    present.find(k => !known.contains(k)).foreach { k =>
+      val hint = all.map(_.key).minByOption(distance(_, k)).filter(distance(_, k) <= 3).map(s => s" (did you mean '$s'?)").getOrElse("")
+      throw new InputError(s"$source: unknown key '$k'$hint")
+    }
+    all.find(s => !c.hasPath(s.key)).foreach(s => throw new InputError(s"$source: missing key '${s.key}' (${s.help})"))
+    val v: Map[String, Any] = all.map(s => s.key -> s.read(c, source)).toMap
+    def real(k: String) = v(k).asInstanceOf[Double]
+    def int(k: String) = v(k).asInstanceOf[Int]
+    def str(k: String) = v(k).asInstanceOf[String]
+    def joints(k: String) = v(k).asInstanceOf[Seq[Double]]
+    def rounding(k: String) = Rounding.parse(str(k)).get
+    try {
+      LoadParams(
+        robot = RobotParams(
+          m3 = real("robot.m3"),
+          l1 = real("robot.l1"),
+          l2 = real("robot.l2"),
+          l3 = real("robot.l3"),
+          g = real("robot.g"),
+          maxVelocity = joints("robot.max-velocity"),
+          maxAcceleration = joints("robot.max-acceleration")
+        ),
+        model = LoadModel.parse(str("model")).get,
+        cordic = CordicParams(
+          angleBits = int("cordic.angle-bits"),
+          outputBits = int("cordic.output-bits"),
+          iterations = int("cordic.iterations"),
+          guardBits = int("cordic.guard-bits"),
+          angleGuardBits = int("cordic.angle-guard-bits"),
+          outputRounding = rounding("cordic.output-rounding"),
+          iterationsPerStage = int("cordic.iterations-per-stage")
+        ),
+        velocityFracBits = int("datapath.velocity-frac-bits"),
+        accelerationFracBits = int("datapath.acceleration-frac-bits"),
+        constantFracBits = int("datapath.constant-frac-bits"),
+        internalFracBits = int("datapath.internal-frac-bits"),
+        outputFracBits = int("datapath.output-frac-bits"),
+        productRounding = rounding("datapath.product-rounding"),
+        multiplierLatency = int("datapath.multiplier-latency")
+      )
+    } catch {
+      case e: IllegalArgumentException => throw new InputError(s"$source: ${e.getMessage.stripPrefix("requirement failed: ")}")
+    }
+  }
+
+  /** A complete HOCON file for `p`, grouped by section, with units and meanings as comments. */
+  def render(p: LoadParams, header: Seq[String]): String = {
+    val order = Seq("", "robot", "cordic", "datapath")
+    val body = order.flatMap { section =>
+      val settings = all.filter(s => (if (s.key.contains('.')) s.key.takeWhile(_ != '.') else "") == section)
+      if (settings.isEmpty) Nil
+      else {
+        def line(s: Setting, indent: String) = {
+          val name = if (section.isEmpty) s.key else s.key.stripPrefix(section + ".")
+          val unit = if (s.unit.nonEmpty) s" [${s.unit}]" else ""
+          s"$indent$name = ${s.render(p)}  # ${s.help}$unit"
+        }
+        if (section.isEmpty) settings.map(line(_, ""))
+        else (s"$section {" +: settings.map(line(_, "  "))) :+ "}"
+      }
+    }
+    (header.map("# " + _) ++ body).mkString("", "\n", "\n")
+  }
+}
