@@ -39,7 +39,10 @@ object Simulate {
 
   /** Run the RTL: returns outputs in sample order and the wall-clock samples per second of the simulation. */
   def simulate(p: LoadParams, codes: IndexedSeq[LoadInputCodes]): (IndexedSeq[LoadOutputCodes], Double) = {
-    val dir = Files.createTempDirectory("reducer-load-sim-")
+    // chiseltest wants a relative build directory: a scratch folder under target/, removed afterwards.
+    val scratch = java.nio.file.Paths.get("target", "simulate")
+    Files.createDirectories(scratch)
+    val dir = java.nio.file.Paths.get("").toAbsolutePath.relativize(Files.createTempDirectory(scratch.toAbsolutePath, "run-"))
     val outputs = Vector.newBuilder[LoadOutputCodes]
     val rate = try {
       val annotations = Seq(VerilatorBackendAnnotation, firrtl2.options.TargetDirAnnotation(dir.toString))
@@ -57,7 +60,8 @@ object Simulate {
     (outputs.result(), rate)
   }
 
-  def run(cli: Cli): Unit = {
+  /** Every check of the command line and the input file, before any simulation: (params, rows, output). */
+  def prepare(cli: Cli): (LoadParams, IndexedSeq[(Int, JointSample)], Path) = {
     val input = cli.path("input").getOrElse(throw new InputError("command line: simulate needs --input FILE"))
     val output = cli.path("output").getOrElse(throw new InputError("command line: simulate needs --output FILE"))
     val p = cli.params
@@ -68,6 +72,11 @@ object Simulate {
       throw new InputError(s"$input:$line: column '$col': $v is beyond the declared range |$col| <= $lim " +
         s"(${beyond.size} value(s) in all; --saturate clamps and counts them, or widen the range)")
     }
+    (p, rows, output)
+  }
+
+  def run(cli: Cli): Unit = {
+    val (p, rows, output) = prepare(cli)
     if (Try(Seq("verilator", "--version").!!(ProcessLogger(_ => ()))).isFailure)
       throw new InputError("simulate needs Verilator on the PATH (Debian: apt-get install verilator)")
     val model = new LoadDatapathModel(p)

@@ -172,6 +172,13 @@ object Settings {
     }
   }
 
+  /** The settings table of the README (tested to match). */
+  def markdownTable: String =
+    ("| key | flag | type | unit | default | meaning |" +: "| --- | --- | --- | --- | --- | --- |" +: all.map { s =>
+      val flags = (s.key +: s.aliases.filterNot(_ == s.key)).map(f => s"`--$f`").mkString(" ")
+      s"| `${s.key}` | $flags | ${s.typeName.replace("|", " \\| ")} | ${s.unit} | ${s.render(LoadParams.default)} | ${s.help} |"
+    }).mkString("\n")
+
   /** A complete HOCON file for `p`, grouped by section, with units and meanings as comments. */
   def render(p: LoadParams, header: Seq[String]): String = {
     val order = Seq("", "robot", "cordic", "datapath")

@@ -51,3 +51,17 @@ class SettingsSpec extends AnyFlatSpec {
     refused(defaultText + "\nrobot.units = imperial\n", "unknown key 'robot.units'")
   }
 }
+
+class ReadmeSpec extends AnyFlatSpec {
+  behavior of "README.md"
+
+  private val readme = new String(Files.readAllBytes(Paths.get("README.md")), "UTF-8")
+
+  it should "carry the settings table exactly as the code defines it" in {
+    assert(readme.contains(Settings.markdownTable), "README settings table is stale: paste Settings.markdownTable")
+  }
+
+  it should "show the two commands and the simulator switch" in {
+    Seq("./sbt run", "./sbt test", "REDUCERLOAD_SIM").foreach(w => assert(readme.contains(w), s"README lacks $w"))
+  }
+}

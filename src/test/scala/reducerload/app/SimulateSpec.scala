@@ -1,0 +1,85 @@
+package reducerload.app
+
+import org.scalatest.flatspec.AnyFlatSpec
+import reducerload.testutil.Seeds
+import reducerload.trace.InputError
+
+import java.nio.charset.StandardCharsets
+import java.nio.file.{Files, Path}
+import scala.sys.process._
+import scala.util.{Random, Try}
+
+class SimulateSpec extends AnyFlatSpec {
+  behavior of "simulate"
+
+  private val header = "t1,t2,t3,d1,d2,d3,dd1,dd2,dd3"
+  private val good = "0.1,0.2,0.3,1,-1,0.5,2,3,-4"
+
+  private def file(content: Array[Byte]): Path = {
+    val f = Files.createTempFile("traj-", ".csv")
+    Files.write(f, content)
+    f
+  }
+  private def text(s: String) = file(s.getBytes(StandardCharsets.UTF_8))
+
+  /** A malformed input: one line naming the file, a non-zero exit (InputError), and no output file. */
+  private def refused(input: Path, words: String*): Unit = {
+    val out = Files.createTempDirectory("sim-out-").resolve("loads.csv")
+    val e = intercept[InputError](Main.run(Seq("simulate", "--input", input.toString, "--output", out.toString)))
+    assert(!e.getMessage.contains("\n"), s"error spans lines: ${e.getMessage}")
+    (input.toString +: words).foreach(w => assert(e.getMessage.contains(w), s"'${e.getMessage}' does not mention '$w'"))
+    assert(!Files.exists(out), "an output file was written for a bad input")
+  }
+
+  it should "refuse malformed trajectory files with one line naming file, row and column" in {
+    refused(text(""), "empty")
+    refused(text("# only a comment\n"), "empty")
+    refused(text(header + "\n"), "no data rows")
+    refused(text(s"$header\n$good\n0.1,0.2\n"), ":3:", "2 values")
+    refused(text(s"t1,t2,t3,v1,d2,d3,dd1,dd2,dd3\n$good\n"), "missing column", "'d1'")
+    refused(text(s"$good\n$good\n"), "header")
+    refused(text(s"$header\n$good\n0.1,0.2,0.3,abc,0,0,0,0,0\n"), ":3:", "'d1'", "not a number")
+    refused(text(s"$header\n0.1,0.2,0.3,1,-1,0.5,2,NaN,-4\n"), ":2:", "'dd2'", "not a finite number")
+    refused(text(s"$header\n0.1,0.2,0.3,1,-1,0.5,2,3,-Infinity\n"), "'dd3'", "not a finite number")
+    refused(text(s"$header\n1e400,0.2,0.3,1,-1,0.5,2,3,4\n"), "'t1'", "not a number")
+    refused(text(s"$header\n0.1,0.2,0.3,1e30,-1,0.5,2,3,4\n"), "'d1'", "beyond the declared range")
+    refused(text(s"$header\n0.1,0.2,0.3,1,-1,0.5,2,3,-11\n"), "'dd3'", "beyond the declared range")
+    refused(text(s"$header,t1\n$good,1\n"), "appears twice")
+    refused(file(Array[Byte](0x7f, 'E', 'L', 'F', 0, 0, 1, 2, -1, -2)), "not a text file")
+    refused(Files.createTempDirectory("not-a-file"), "no such file")
+  }
+
+  it should "survive seeded random corruptions of a valid file with a one-line error" in {
+    val rng = new Random(Seeds("csv-fuzz", 41L))
+    val valid = (header +: Seq.fill(5)(good)).mkString("\n")
+    val cases = 200
+    (0 until cases).foreach { _ =>
+      val chars = valid.toCharArray
+      val junk = "x,.-e9\n\u0000;\u00ff"
+      (0 until 1 + rng.nextInt(4)).foreach(_ => chars(rng.nextInt(chars.length)) = junk(rng.nextInt(junk.length)))
+      val f = text(new String(chars))
+      val out = Files.createTempDirectory("sim-fuzz-").resolve("o.csv")
+      // Every check runs before the simulation; a corruption that leaves a valid file is accepted.
+      Try(Simulate.prepare(Cli.parse("simulate", Seq("--input", f.toString, "--output", out.toString), Simulate.options, Simulate.flags))).failed.foreach {
+        case e: InputError => assert(!e.getMessage.contains("\n"), e.getMessage); assert(!Files.exists(out))
+        case other         => fail(s"corrupted input gave ${other.getClass.getName}: ${other.getMessage}")
+      }
+    }
+    println(s"[fuzz] simulate: $cases corrupted trajectory files, each accepted or refused with one line")
+  }
+
+  it should "stream a hand-written trajectory through the RTL and write idx,load_hw,load_ref,error" in {
+    assume(Try(Seq("verilator", "--version").!!).isSuccess, "verilator is not installed")
+    val in = text(s"$header\n$good\n1.5,-0.7,2.9,2.5,0.5,-1,-9,9,1\n0,0,0,0,0,0,0,0,0\n4,5,6,3,-3,3,-10,10,-10\n")
+    val out = Files.createTempDirectory("sim-ok-").resolve("loads.csv")
+    Main.run(Seq("simulate", "--input", in.toString, "--output", out.toString, "--model", "paper"))
+    val lines = new String(Files.readAllBytes(out), StandardCharsets.UTF_8).trim.split("\n").toSeq
+    assert(lines.head == "idx,load_hw,load_ref,error,out_of_range")
+    assert(lines.size == 5)
+    lines.tail.foreach { l =>
+      val cells = l.split(",")
+      assert(math.abs(cells(1).toDouble - cells(2).toDouble - cells(3).toDouble) < 1e-9)
+      assert(math.abs(cells(3).toDouble) < 1e-3)
+    }
+  }
+}
