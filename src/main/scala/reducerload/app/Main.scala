@@ -10,9 +10,10 @@ import reducerload.trace.InputError
  */
 object Main {
   val commands: Seq[(String, String, Seq[Opt], Seq[String])] = Seq(
-    ("emit", "emit SystemVerilog, report.md, report.json and config.conf", Emit.options, Nil),
+    ("emit", "emit SystemVerilog, report.md, report.json and config.conf", Emit.options, Emit.flags),
     ("simulate", "stream a trajectory CSV through the RTL on Verilator and compare with the reference", Simulate.options, Simulate.flags),
-    ("config", "print the effective configuration as a complete HOCON file (a starting point for --config)", Nil, Nil)
+    ("config", "print the effective configuration as a complete HOCON file (a starting point for --config)", Nil, Nil),
+    ("settings-table", "print the README's settings table (markdown)", Nil, Nil)
   )
 
   /** The header of a shipped preset file: how to regenerate it. */
@@ -36,7 +37,7 @@ object Main {
     ) ++ commands.map { case (n, h, _, _) => f"  $n%-10s $h" } ++ Seq("  help       this text", "") ++
       commands.flatMap { case (n, _, opts, flags) =>
         s"$n options:" +: (opts.map(o => f"  ${s"--${o.name} ${o.arg}"}%-34s ${o.help}" + (if (o.default.nonEmpty) s" (default ${o.default})" else "")) ++
-          flags.map(f => f"  ${"--" + f}%-34s ${Simulate.flagHelp.getOrElse(f, "")}")) :+ ""
+          flags.map(f => f"  ${"--" + f}%-34s ${(Simulate.flagHelp ++ Emit.flagHelp).getOrElse(f, "")}")) :+ ""
       } ++ Seq("design options (every command):") ++ Cli.designOptions.map(o => f"  ${s"--${o.name} ${o.arg}"}%-34s ${o.help}") ++
       Seq("", "settings (override the preset or config file):") ++ settings).mkString("\n")
   }
@@ -51,8 +52,9 @@ object Main {
     val commandLine = "./sbt \"run " + (command +: rest.map(a => if (a.exists(_.isWhitespace)) s"'$a'" else a)).mkString(" ") + "\""
     command match {
       case "help"     => println(help)
-      case "emit"     => Emit.run(Cli.parse("emit", rest, Emit.options), commandLine)
+      case "emit"     => Emit.run(Cli.parse("emit", rest, Emit.options, Emit.flags), commandLine)
       case "simulate" => Simulate.run(Cli.parse("simulate", rest, Simulate.options, Simulate.flags))
+      case "settings-table" => Cli.parse("settings-table", rest, Nil, design = false); println(Settings.markdownTable)
       case "config" =>
         val cli = Cli.parse("config", rest, Nil)
         val header =

@@ -7,7 +7,7 @@ import reducerload.load.LoadParams
 import scala.jdk.CollectionConverters._
 
 /** The report of one emission, computed from the same parameters that built the hardware. */
-final case class Report(p: LoadParams, top: Top, moduleName: String, latency: Int, command: String) {
+final case class Report(p: LoadParams, top: Top, moduleName: String, latency: Int, command: String, estimate: Option[Estimate] = None) {
   private val c = p.cordic
 
   /** (port, direction, format description). */
@@ -48,7 +48,9 @@ final case class Report(p: LoadParams, top: Top, moduleName: String, latency: In
     ("D = m3 g l3", p.robot.d, p.constD)
   )
 
-  def summaryLines: Seq[String] = top match {
+  def summaryLines: Seq[String] = estimate.toSeq.flatMap(_.lines) ++ designLines
+
+  private def designLines: Seq[String] = top match {
     case Top.Load =>
       Seq(
         s"Model: ${p.model.description}",
@@ -114,6 +116,7 @@ final case class Report(p: LoadParams, top: Top, moduleName: String, latency: In
       "node_formats" -> p.formats.map { case (k, f) => k -> fmt(f) }.asJava,
       "constants" -> constants.map { case (n, v, raw) => Map("name" -> n, "value" -> v, "raw_hex" -> raw.toString(16), "frac_bits" -> p.constantFracBits).asJava }.asJava
     ) else Map.empty[String, Any]
-    ConfigValueFactory.fromMap((common ++ load).asJava).render(ConfigRenderOptions.concise().setJson(true).setFormatted(true)) + "\n"
+    val est = Map[String, Any]("estimate" -> estimate.map(_.toMap.asJava).orNull)
+    ConfigValueFactory.fromMap((common ++ load ++ est).asJava).render(ConfigRenderOptions.concise().setJson(true).setFormatted(true)) + "\n"
   }
 }

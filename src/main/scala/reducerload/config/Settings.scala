@@ -107,7 +107,8 @@ object Settings {
     new Natural("datapath.internal-frac-bits", "bits", "fraction bits of products and sums", Nil, _.internalFracBits),
     new Natural("datapath.output-frac-bits", "bits", "fraction bits of the load output (N·m)", Nil, _.outputFracBits),
     new Choice("datapath.product-rounding", "", "rounding of products to internal-frac-bits", Nil, roundings, _.productRounding.name),
-    new Natural("datapath.multiplier-latency", "cycles", "registers after each multiplier", Nil, _.multiplierLatency)
+    new Natural("datapath.multiplier-latency", "cycles", "registers after each multiplier", Nil, _.multiplierLatency),
+    new Natural("datapath.memory-delay-min-cycles", "cycles", "delays this long or longer use block RAM (0: registers only)", Nil, _.memoryDelayMinCycles)
   )
 
   val byKey: Map[String, Setting] = all.map(s => s.key -> s).toMap
@@ -165,7 +166,8 @@ object Settings {
         internalFracBits = int("datapath.internal-frac-bits"),
         outputFracBits = int("datapath.output-frac-bits"),
         productRounding = rounding("datapath.product-rounding"),
-        multiplierLatency = int("datapath.multiplier-latency")
+        multiplierLatency = int("datapath.multiplier-latency"),
+        memoryDelayMinCycles = int("datapath.memory-delay-min-cycles")
       )
     } catch {
       case e: IllegalArgumentException => throw new InputError(s"$source: ${e.getMessage.stripPrefix("requirement failed: ")}")

@@ -50,18 +50,18 @@ class LoadDatapath(val p: LoadParams) extends Module {
     c
   }
   private val trigAt = 2 + p.cordic.latency
-  private def trig(out: SInt) = Timed(out, Some(trigAt))
+  private def trig(out: SInt) = Timed(out, Some(trigAt), p.memoryDelayMinCycles)
   private val Seq(cs3, cs23, cs123) = cordics.map(_.io.out.bits)
 
   private val total = LoadRecipe(
     p,
-    new TimedArith(p.multiplierLatency),
+    new TimedArith(p.multiplierLatency, p.memoryDelayMinCycles),
     RecipeInputs(
-      d1 = Timed(d(0), Some(2)),
-      d2 = Timed(d(1), Some(2)),
-      dd1 = Timed(dd(0), Some(2)),
-      dd2 = Timed(dd(1), Some(2)),
-      dd3 = Timed(dd(2), Some(2)),
+      d1 = Timed(d(0), Some(2), p.memoryDelayMinCycles),
+      d2 = Timed(d(1), Some(2), p.memoryDelayMinCycles),
+      dd1 = Timed(dd(0), Some(2), p.memoryDelayMinCycles),
+      dd2 = Timed(dd(1), Some(2), p.memoryDelayMinCycles),
+      dd3 = Timed(dd(2), Some(2), p.memoryDelayMinCycles),
       c23 = trig(cs23.cos),
       c3 = trig(cs3.cos),
       s23 = trig(cs23.sin),

@@ -15,6 +15,8 @@ import reducerload.fixedpoint.{Bounded, FixedFormat, Rounding}
  * @param outputFracBits       fraction bits of the load output (N·m)
  * @param productRounding      how products drop to `internalFracBits` (truncate costs no adder)
  * @param multiplierLatency    registers after each multiplier (>= 1; more lets Quartus retime into the DSP)
+ * @param memoryDelayMinCycles pipeline-balancing delays of at least this many cycles use block RAM
+ *                             (M9K) instead of registers; 0 keeps every delay in registers
  */
 final case class LoadParams(
   robot: RobotParams = RobotParams(),
@@ -26,7 +28,8 @@ final case class LoadParams(
   internalFracBits: Int = 20,
   outputFracBits: Int = 20,
   productRounding: Rounding = Rounding.Truncate,
-  multiplierLatency: Int = 1) {
+  multiplierLatency: Int = 1,
+  memoryDelayMinCycles: Int = 4) {
 
   Seq(
     "velocityFracBits" -> velocityFracBits,
@@ -40,6 +43,8 @@ final case class LoadParams(
   require(2 * velocityFracBits >= internalFracBits,
     s"LoadParams.internalFracBits ($internalFracBits) must not exceed 2 * velocityFracBits (${2 * velocityFracBits})")
   require(multiplierLatency >= 1 && multiplierLatency <= 4, s"LoadParams.multiplierLatency must be in 1..4, got $multiplierLatency")
+  require(memoryDelayMinCycles == 0 || (memoryDelayMinCycles >= 2 && memoryDelayMinCycles <= 1024),
+    s"LoadParams.memoryDelayMinCycles must be 0 (registers only) or in 2..1024, got $memoryDelayMinCycles")
 
   private val F = internalFracBits
   private val lsbF = math.pow(2.0, -F)

@@ -2,15 +2,21 @@ package reducerload.load
 
 import chisel3._
 import reducerload.fixedpoint.{FixedFormat, FixedHw, Rounding}
+import reducerload.pipeline.MemoryDelay
 
-/** A signal and the cycle at which it holds the current sample (constants hold every sample). */
-final case class Timed(value: SInt, at: Option[Int]) {
+/**
+ * A signal and the cycle at which it holds the current sample (constants hold every sample).
+ * `memoryDelayMinCycles`: delays at least this long go to block RAM (0: registers only).
+ */
+final case class Timed(value: SInt, at: Option[Int], memoryDelayMinCycles: Int = 0) {
+
   /** The value delayed to `cycle`: pipeline balancing by construction. */
   def alignedTo(cycle: Int): SInt = at match {
     case None => value
     case Some(t) =>
       require(cycle >= t, s"Timed: cannot read a value of cycle $t at earlier cycle $cycle")
-      FixedHw.delay(value, cycle - t)
+      val n = cycle - t
+      if (memoryDelayMinCycles > 0 && n >= memoryDelayMinCycles) MemoryDelay(value, n) else FixedHw.delay(value, n)
   }
 }
 
@@ -19,14 +25,16 @@ final case class Timed(value: SInt, at: Option[Int]) {
  * (ASAP schedule), and each multiplier has registers on both sides so Quartus packs them into the
  * 18x18 blocks. Data registers have no reset: `valid` travels beside them and resets to low.
  */
-final class TimedArith(multiplierLatency: Int) extends LoadArith[Timed] {
+final class TimedArith(multiplierLatency: Int, memoryDelayMinCycles: Int) extends LoadArith[Timed] {
+  private def timed(v: SInt, at: Int) = Timed(v, Some(at), memoryDelayMinCycles)
+
   private def meet(a: Timed, b: Timed): Int = (a.at.toSeq ++ b.at.toSeq).maxOption.getOrElse(0)
 
   def add(a: Timed, aFmt: FixedFormat, b: Timed, bFmt: FixedFormat, bShift: Int, out: FixedFormat): Timed = {
     require(aFmt.fracBits == bFmt.fracBits && out.fracBits == aFmt.fracBits, s"add: fraction bits differ ($aFmt, $bFmt -> $out)")
     val t = meet(a, b)
     val sum = a.alignedTo(t).pad(out.width) + (b.alignedTo(t) << bShift).asSInt.pad(out.width)
-    Timed(FixedHw.delay(sum(out.width - 1, 0).asSInt, 1), Some(t + 1))
+    timed(FixedHw.delay(sum(out.width - 1, 0).asSInt, 1), t + 1)
   }
 
   def mul(a: Timed, aFmt: FixedFormat, b: Timed, bFmt: FixedFormat, out: FixedFormat, rounding: Rounding): Timed = {
@@ -37,8 +45,8 @@ final class TimedArith(multiplierLatency: Int) extends LoadArith[Timed] {
     val rounded = FixedHw.shiftRound(product, drop, rounding)
     val fitted = rounded(out.width - 1, 0).asSInt // proven range: the dropped top bits repeat the sign
     rounding match {
-      case Rounding.Truncate => Timed(fitted, Some(t + multiplierLatency)) // bit selection only: no logic to register
-      case _                 => Timed(FixedHw.delay(fitted, 1), Some(t + multiplierLatency + 1))
+      case Rounding.Truncate => timed(fitted, t + multiplierLatency) // bit selection only: no logic to register
+      case _                 => timed(FixedHw.delay(fitted, 1), t + multiplierLatency + 1)
     }
   }
 

@@ -1,0 +1,57 @@
+package reducerload.app
+
+import com.typesafe.config.ConfigFactory
+import reducerload.trace.InputError
+
+import java.nio.charset.StandardCharsets
+import java.nio.file.{Files, Path, Paths}
+import scala.sys.process._
+
+/** Figures from tools/estimate/estimate.py (see its README for the method and its limits). */
+final case class Estimate(les: Int, lesArith: Int, lesLogic: Int, registers: Int, mult18x18: Int, memoryBits: Int,
+  fmaxEcp5Mhz: Option[Double], criticalPath: Option[String]) {
+
+  def lines: Seq[String] = Seq(
+    s"Estimated Cyclone IV E resources (open-tool estimate, tools/estimate/README.md; not a Quartus fit):",
+    s"  logic elements ~$les ($lesArith in adders on carry chains, $lesLogic in LUTs, the rest unpacked registers)",
+    s"  registers $registers, 18x18 multipliers $mult18x18, memory bits $memoryBits",
+    fmaxEcp5Mhz match {
+      case Some(f) => f"  Fmax proxy: $f%.1f MHz on a Lattice ECP5-85F speed 6 (nextpnr; compares designs, not a Cyclone IV figure)" +
+          criticalPath.map(c => s", critical path $c").getOrElse("")
+      case None => "  Fmax proxy: not run (emit --fmax)"
+    }
+  )
+
+  def toMap: Map[String, Any] = Map(
+    "les" -> les, "les_arith" -> lesArith, "les_logic" -> lesLogic, "registers" -> registers,
+    "mult18x18" -> mult18x18, "memory_bits" -> memoryBits,
+    "fmax_ecp5_mhz" -> fmaxEcp5Mhz.map(Double.box).orNull, "critical_path" -> criticalPath.orNull,
+    "method" -> "tools/estimate/estimate.py"
+  )
+}
+
+object Estimate {
+  val script: Path = Paths.get("tools", "estimate", "estimate.py")
+
+  /** Run the estimator on Verilog held in memory. */
+  def run(verilog: String, top: String, fmax: Boolean): Estimate = {
+    if (!Files.isRegularFile(script)) throw new InputError(s"$script not found: run from the repository root")
+    val dir = Files.createTempDirectory("estimate-")
+    try {
+      val sv = dir.resolve(s"$top.sv")
+      val json = dir.resolve("estimate.json")
+      Files.write(sv, verilog.getBytes(StandardCharsets.UTF_8))
+      val log = new StringBuilder
+      val cmd = Seq("python3", script.toString, "--top", top, "--json", json.toString) ++ (if (fmax) Nil else Seq("--no-fmax")) :+ sv.toString
+      val status = cmd.!(ProcessLogger(l => log.append(l).append('\n'), l => log.append(l).append('\n')))
+      if (status != 0) throw new InputError(s"the resource estimate failed (${cmd.mkString(" ")}): ${log.toString.trim.linesIterator.toSeq.lastOption.getOrElse("")}")
+      val c = ConfigFactory.parseFile(json.toFile)
+      def opt[T](k: String, f: String => T) = if (c.hasPath(k)) Some(f(k)) else None
+      Estimate(c.getInt("les"), c.getInt("les_arith"), c.getInt("les_logic"), c.getInt("registers"), c.getInt("mult18x18"),
+        c.getInt("memory_bits"), opt("fmax_ecp5_mhz", c.getDouble), opt("critical_path", c.getString))
+    } finally {
+      Files.list(dir).forEach(f => Files.deleteIfExists(f))
+      Files.deleteIfExists(dir)
+    }
+  }
+}

