@@ -1,7 +1,7 @@
 package reducerload.config
 
 import com.typesafe.config.{Config, ConfigException, ConfigValueType}
-import reducerload.cordic.CordicParams
+import reducerload.cordic.{CordicArchitecture, CordicParams}
 import reducerload.fixedpoint.Rounding
 import reducerload.load.{LoadModel, LoadParams, RobotParams}
 import reducerload.trace.InputError
@@ -101,6 +101,8 @@ object Settings {
     new Natural("cordic.angle-guard-bits", "bits", "extra fraction bits in the angle accumulator", Nil, _.cordic.angleGuardBits),
     new Choice("cordic.output-rounding", "", "sin/cos output rounding", Nil, roundings, _.cordic.outputRounding.name),
     new Natural("cordic.iterations-per-stage", "", "micro-rotations between pipeline registers", Nil, _.cordic.iterationsPerStage),
+    new Choice("cordic.architecture", "", "classic (shift-add only) or residual (shift-add, then one multiply-based rotation)", Nil,
+      CordicArchitecture.all.map(_.name), _.cordic.architecture.name),
     new Natural("datapath.velocity-frac-bits", "bits", "fraction bits of velocity inputs (rad/s)", Nil, _.velocityFracBits),
     new Natural("datapath.acceleration-frac-bits", "bits", "fraction bits of acceleration inputs (rad/s^2)", Nil, _.accelerationFracBits),
     new Natural("datapath.constant-frac-bits", "bits", "fraction bits of folded robot constants", Nil, _.constantFracBits),
@@ -158,7 +160,8 @@ object Settings {
           guardBits = int("cordic.guard-bits"),
           angleGuardBits = int("cordic.angle-guard-bits"),
           outputRounding = rounding("cordic.output-rounding"),
-          iterationsPerStage = int("cordic.iterations-per-stage")
+          iterationsPerStage = int("cordic.iterations-per-stage"),
+          architecture = CordicArchitecture.parse(str("cordic.architecture")).get
         ),
         velocityFracBits = int("datapath.velocity-frac-bits"),
         accelerationFracBits = int("datapath.acceleration-frac-bits"),

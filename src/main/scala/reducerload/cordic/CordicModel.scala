@@ -38,6 +38,16 @@ final class CordicModel(val p: CordicParams) {
     CordicState(check(x, p.xyFormat, s"x after iteration $i"), check(y, p.xyFormat, s"y after iteration $i"), zNext, s.quadrant)
   }
 
+  /** The multiply-based residual rotation (architecture = residual), as [[ResidualRotation]] computes it. */
+  def residualRotate(s: CordicState): CordicState = {
+    val zr = check((s.z * p.twoPiRaw) >> (p.zFracBits + p.twoPiFracBits - p.xyFormat.fracBits), p.zrFormat, "zr")
+    val drop = p.xyFormat.fracBits - p.residualOperandFracBits
+    val (xt, yt) = (s.x >> drop, s.y >> drop)
+    val x = s.x - ((yt * zr) >> p.residualOperandFracBits)
+    val y = s.y + ((xt * zr) >> p.residualOperandFracBits)
+    CordicState(check(x, p.xyFormat, "x after the residual rotation"), check(y, p.xyFormat, "y after the residual rotation"), 0, s.quadrant)
+  }
+
   /** Equation (11) and output rounding: returns raw (cos, sin) in p.outputFormat. */
   def postprocess(s: CordicState): (BigInt, BigInt) = {
     val (c, sn) = s.quadrant match {
@@ -55,7 +65,10 @@ final class CordicModel(val p: CordicParams) {
     (1 until p.iterations).scanLeft(preprocess(angle))(rotate)
 
   /** Raw (cos, sin) for an angle code. */
-  def sinCosRaw(angle: BigInt): (BigInt, BigInt) = postprocess(trace(angle).last)
+  def sinCosRaw(angle: BigInt): (BigInt, BigInt) = {
+    val rotated = trace(angle).last
+    postprocess(if (p.residual) residualRotate(rotated) else rotated)
+  }
 
   /** (cos, sin) as doubles. */
   def sinCos(angle: BigInt): (Double, Double) = {

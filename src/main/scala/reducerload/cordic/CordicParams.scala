@@ -2,6 +2,26 @@ package reducerload.cordic
 
 import reducerload.fixedpoint.{FixedFormat, Rounding}
 
+/** How the rotation is finished. */
+sealed abstract class CordicArchitecture(val name: String) {
+  override def toString: String = name
+}
+object CordicArchitecture {
+
+  /** The paper's scheme: every micro-rotation is a shift-add stage. */
+  case object Classic extends CordicArchitecture("classic")
+
+  /**
+   * After the shift-add iterations the residual angle z is below atan(2^-(n-1)), so one
+   * multiply-based rotation x' = x - y zr, y' = y + x zr (zr = 2 pi z in radians) finishes the job
+   * on 18x18 multipliers: about half the stages for the same accuracy.
+   */
+  case object ResidualRotation extends CordicArchitecture("residual")
+
+  val all: Seq[CordicArchitecture] = Seq(Classic, ResidualRotation)
+  def parse(s: String): Option[CordicArchitecture] = all.find(_.name == s)
+}
+
 /**
  * Parameters of the pipelined circular-rotation CORDIC (SPEC.md "The CORDIC unit"; paper section 1.2).
  *
@@ -17,6 +37,7 @@ import reducerload.fixedpoint.{FixedFormat, Rounding}
  * @param angleGuardBits     extra fraction bits in the angle accumulator z beyond the input's
  * @param outputRounding     how x and y lose their guard bits at the output
  * @param iterationsPerStage micro-rotations between pipeline registers (latency against Fmax)
+ * @param architecture       classic shift-add only, or shift-add followed by one multiply-based residual rotation
  */
 final case class CordicParams(
   angleBits: Int = 26,
@@ -25,7 +46,8 @@ final case class CordicParams(
   guardBits: Int = 5,
   angleGuardBits: Int = 5,
   outputRounding: Rounding = Rounding.HalfUp,
-  iterationsPerStage: Int = 1) {
+  iterationsPerStage: Int = 1,
+  architecture: CordicArchitecture = CordicArchitecture.Classic) {
 
   require(angleBits >= 6 && angleBits <= 48, s"CordicParams.angleBits must be in 6..48, got $angleBits")
   require(outputBits >= 6 && outputBits <= 48, s"CordicParams.outputBits must be in 6..48, got $outputBits")
@@ -84,16 +106,65 @@ final case class CordicParams(
   /** Rotation iterations in hardware (1 .. iterations-1), grouped per pipeline stage. */
   val stageIterations: Seq[Seq[Int]] = (1 until iterations).grouped(iterationsPerStage).map(_.toSeq).toSeq
 
-  /** Input register + rotation stages + output stage (rounding and quadrant mapping). */
-  val latency: Int = 1 + stageIterations.size + 1
+  val residual: Boolean = architecture == CordicArchitecture.ResidualRotation
+
+  // ---- residual rotation (architecture = residual) ----
+
+  /** 2 pi in 18 bits (Q3.14): one 18x18 multiplier turns z (turns) into radians. */
+  val twoPiFracBits: Int = 14
+  val twoPiRaw: BigInt = FixedFormat(3, twoPiFracBits).quantize(2 * math.Pi, Rounding.HalfUp)
+
+  /** zr in radians, on the x/y scale; its range follows from z's proven range after the last iteration. */
+  private val zResidualMaxTurns: Double = zBoundRaw(iterations).toDouble * math.pow(2.0, -zFracBits)
+  val zrMaxAbs: Double = 2 * math.Pi * zResidualMaxTurns * (1 + 1e-6) + xyFormat.lsb
+  val zrFormat: FixedFormat =
+    FixedFormat.forRawRange(BigDecimal(zrMaxAbs * math.pow(2.0, xyFormat.fracBits)).setScale(0, BigDecimal.RoundingMode.CEILING).toBigInt, xyFormat.fracBits)
+
+  /**
+   * x and y keep only the fraction bits that matter against |zr| < 2^e before they multiply:
+   * the truncation then costs at most 2^-(F-e) * |zr| <= about one LSB of the product.
+   */
+  val residualOperandFracBits: Int = math.max(1, xyFormat.fracBits + math.getExponent(zrMaxAbs))
+  val residualOperandFormat: FixedFormat = FixedFormat(1, residualOperandFracBits)
+
+  if (residual) {
+    require(iterations >= 4, s"CordicParams.iterations must be >= 4 with the residual rotation, got $iterations")
+    require(zFormat(iterations).width <= 18,
+      s"CordicParams.iterations ($iterations) is too few for the residual rotation: z needs ${zFormat(iterations).width} bits " +
+        "after the last iteration and its multiply by 2 pi must fit 18 bits; use more iterations or fewer angle bits")
+    require(residualOperandFormat.width <= 18 && zrFormat.width <= 18,
+      s"CordicParams.iterations ($iterations) is too few for outputBits $outputBits + guardBits $guardBits: the residual " +
+        s"products are ${residualOperandFormat.width} x ${zrFormat.width} bits, more than one 18x18 multiplier")
+  }
+
+  /** Registers of the residual rotation: 2 pi multiply, x zr and y zr products, the final add. */
+  val residualLatency: Int = if (residual) 3 else 0
+
+  /** Input register + rotation stages (+ residual rotation) + output stage (rounding and quadrant mapping). */
+  val latency: Int = 1 + stageIterations.size + residualLatency + 1
 
   // ---- Analytic error budget (checked against double precision by the exhaustive/dense sweep tests) ----
 
   private val turnsPerZLsb: Double = math.pow(2.0, -zFracBits)
 
-  /** Residual angle left in z after the last iteration plus table rounding, in radians. */
-  val angleErrorBound: Double =
-    2 * math.Pi * turnsPerZLsb * ((atanTable(iterations - 1) + 2).toDouble + 0.5 * (iterations - 1))
+  /**
+   * Angle error in radians. Classic: the residual left in z plus table rounding. Residual rotation:
+   * table rounding, the conversion of z to radians (constant rounding, truncation), and the
+   * first-order rotation's angle error atan(zr) - zr <= zr^3 / 3.
+   */
+  val angleErrorBound: Double = {
+    val table = 2 * math.Pi * turnsPerZLsb * 0.5 * (iterations - 1)
+    if (!residual) 2 * math.Pi * turnsPerZLsb * (atanTable(iterations - 1) + 2).toDouble + table
+    else {
+      val twoPiError = math.abs(2 * math.Pi - twoPiRaw.toDouble * math.pow(2.0, -twoPiFracBits))
+      table + zResidualMaxTurns * twoPiError + xyFormat.lsb + math.pow(zrMaxAbs, 3) / 3
+    }
+  }
+
+  /** Residual rotation: its gain sqrt(1 + zr^2) and the truncations of its operands and products. */
+  val residualRoundingBound: Double =
+    if (!residual) 0.0
+    else math.pow(zrMaxAbs, 2) / 2 + math.sqrt(2.0) * (xyFormat.lsb + residualOperandFormat.lsb * zrMaxAbs)
 
   /** Largest gain the remaining micro-rotations apply to an error injected after iteration 1. */
   val remainingGain: Double = (1 until iterations).map(i => math.sqrt(1.0 + math.pow(2.0, -2.0 * i))).product
@@ -105,11 +176,12 @@ final case class CordicParams(
   val outputRoundingBound: Double = Rounding.maxErrorLsb(outputRounding) * outputFormat.lsb
 
   /** Worst-case |error| of cos or sin against the exact value at the input code's angle. */
-  val errorBound: Double = angleErrorBound + rotationRoundingBound + outputRoundingBound
+  val errorBound: Double = angleErrorBound + rotationRoundingBound + residualRoundingBound + outputRoundingBound
 
   /** Parameter-bearing name for emitted modules. */
   def tag: String =
-    s"a${angleBits}_o${outputBits}_n${iterations}_g$guardBits" + (if (iterationsPerStage > 1) s"_r$iterationsPerStage" else "")
+    s"a${angleBits}_o${outputBits}_n${iterations}_g$guardBits" + (if (iterationsPerStage > 1) s"_r$iterationsPerStage" else "") +
+      (if (residual) "_res" else "")
 
   /** The arctan table with its meaning, for reports and the emitted header. */
   def atanTableLines: Seq[String] = atanTable.zipWithIndex.map { case (raw, i) =>
@@ -129,6 +201,13 @@ final case class CordicParams(
       f"  gain K             : $gainK%.15f (start vector x1 = y1 = 0x${startRaw.toString(16)})",
       s"  iterations         : $iterations ($iterationsPerStage per stage), latency $latency cycles, one angle per clock",
       f"  error bound        : $errorBound%.3e (2^${math.log(errorBound) / math.log(2)}%.1f) (angle $angleErrorBound%.3e, rotation rounding $rotationRoundingBound%.3e, output rounding $outputRoundingBound%.3e)",
+    ) ++ (if (residual)
+            Seq(
+              s"  residual rotation  : zr = z * 0x${twoPiRaw.toString(16)} * 2^-$twoPiFracBits (2 pi), zr ${zrFormat.describe}; " +
+                s"x, y truncated to $residualOperandFormat for x*zr, y*zr (one 18x18 multiplier each)",
+              f"                       |zr| <= $zrMaxAbs%.3e rad, rounding bound $residualRoundingBound%.3e"
+            )
+          else Nil) ++ Seq(
       "  arctan table (turns * 2^" + zFracBits + "):"
     )
     (lines ++ atanTableLines.map("    " + _)).mkString("\n")
@@ -146,5 +225,13 @@ object CordicParams {
   /** A small unit whose every angle code can be simulated. */
   val small: CordicParams = CordicParams(angleBits = 10, outputBits = 12, iterations = 10, guardBits = 2, angleGuardBits = 4)
 
-  val presets: Map[String, CordicParams] = Map("paper" -> paper, "precise" -> precise, "small" -> small)
+  /** About the precise preset's accuracy with half its shift-add stages and three 18x18 multipliers. */
+  val residual: CordicParams = CordicParams(iterations = 14, architecture = CordicArchitecture.ResidualRotation)
+
+  /** A small residual unit whose every angle code can be simulated. */
+  val smallResidual: CordicParams =
+    CordicParams(angleBits = 12, outputBits = 12, iterations = 6, guardBits = 2, angleGuardBits = 4, architecture = CordicArchitecture.ResidualRotation)
+
+  val presets: Map[String, CordicParams] =
+    Map("paper" -> paper, "precise" -> precise, "small" -> small, "residual" -> residual, "small-residual" -> smallResidual)
 }

@@ -35,7 +35,15 @@ class CordicSinCos(val p: CordicParams) extends Module {
     stage.io.out
   }
 
+  private val finished =
+    if (!p.residual) rotated
+    else {
+      val residual = Module(new ResidualRotation(p))
+      residual.io.in := rotated
+      residual.io.out
+    }
+
   private val post = Module(new QuadrantPostprocessor(p))
-  post.io.in := rotated
+  post.io.in := finished
   io.out := post.io.out
 }

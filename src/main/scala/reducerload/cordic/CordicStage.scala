@@ -28,7 +28,7 @@ class CordicStage(p: CordicParams, iterations: Seq[Int]) extends Module {
     val xNext = FixedHw.addSub(x, y >> i, subtract = !negative)
     val yNext = FixedHw.addSub(y, x >> i, subtract = negative)
     val zNext =
-      if (i == p.iterations - 1) 0.S(p.zFormat(i + 1).width.W) // the last residual is never read
+      if (i == p.iterations - 1 && !p.residual) 0.S(p.zFormat(i + 1).width.W) // the last residual is never read
       else {
         val zFull = FixedHw.addSub(z, p.atanTable(i).S(z.getWidth.W), subtract = !negative)
         zFull(p.zFormat(i + 1).width - 1, 0).asSInt

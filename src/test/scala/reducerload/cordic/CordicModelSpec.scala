@@ -30,6 +30,21 @@ class CordicModelSpec extends AnyFlatSpec {
     sweep("dense", p, dense ++ CordicChecks.quadrantCrossers(p))
   }
 
+  it should "stay within the derived bound with the residual rotation (exhaustive small, dense precise)" in {
+    val small = CordicParams.smallResidual
+    sweep("exhaustive", small, (0 until (1 << small.angleBits)).map(BigInt(_)))
+    val p = CordicParams.residual
+    val rng = new Random(Seeds("residual-dense", 12L))
+    val step = BigInt(1) << (p.angleBits - 18)
+    sweep("dense", p, (0 until (1 << 18)).map(i => BigInt(i) * step + BigInt(p.angleBits - 18, rng.self)) ++ CordicChecks.quadrantCrossers(p))
+    assert(p.errorBound <= CordicParams.precise.errorBound * 1.5, s"residual bound ${p.errorBound} vs precise ${CordicParams.precise.errorBound}")
+  }
+
+  it should "refuse a residual unit whose products would not fit 18x18 multipliers" in {
+    val e = intercept[IllegalArgumentException](CordicParams(iterations = 6, architecture = CordicArchitecture.ResidualRotation))
+    assert(e.getMessage.contains("iterations"))
+  }
+
   it should "be exact at the quadrant boundaries: cos 0 = 1, sin 90 deg = 1, and so on within the bound" in {
     val p = CordicParams.precise
     val model = new CordicModel(p)
