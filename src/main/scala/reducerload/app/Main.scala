@@ -12,6 +12,7 @@ object Main {
   val commands: Seq[(String, String, Seq[Opt], Seq[String])] = Seq(
     ("emit", "emit SystemVerilog, report.md, report.json and config.conf", Emit.options, Emit.flags),
     ("simulate", "stream a trajectory CSV through the RTL on Verilator and compare with the reference", Simulate.options, Simulate.flags),
+    ("soak", "stream many seeded random samples (bubbles, resets, out-of-range inputs) through the RTL, check each against the model", Soak.options, Nil),
     ("config", "print the effective configuration as a complete HOCON file (a starting point for --config)", Nil, Nil),
     ("settings-table", "print the README's settings table (markdown)", Nil, Nil)
   )
@@ -54,6 +55,7 @@ object Main {
       case "help"     => println(help)
       case "emit"     => Emit.run(Cli.parse("emit", rest, Emit.options, Emit.flags), commandLine)
       case "simulate" => Simulate.run(Cli.parse("simulate", rest, Simulate.options, Simulate.flags))
+      case "soak"     => Soak.main(Cli.parse("soak", rest, Soak.options))
       case "settings-table" => Cli.parse("settings-table", rest, Nil, design = false); println(Settings.markdownTable)
       case "config" =>
         val cli = Cli.parse("config", rest, Nil)

@@ -42,6 +42,10 @@ final case class LoadParams(
     s"LoadParams.outputFracBits ($outputFracBits) must not exceed internalFracBits ($internalFracBits)")
   require(2 * velocityFracBits >= internalFracBits,
     s"LoadParams.internalFracBits ($internalFracBits) must not exceed 2 * velocityFracBits (${2 * velocityFracBits})")
+  require(constantFracBits + accelerationFracBits >= internalFracBits,
+    s"LoadParams.internalFracBits ($internalFracBits) must not exceed constantFracBits + accelerationFracBits (${constantFracBits + accelerationFracBits})")
+  require(constantFracBits + cordic.outputFormat.fracBits >= internalFracBits,
+    s"LoadParams.internalFracBits ($internalFracBits) must not exceed constantFracBits + the sin/cos fraction bits (${constantFracBits + cordic.outputFormat.fracBits})")
   require(multiplierLatency >= 1 && multiplierLatency <= 4, s"LoadParams.multiplierLatency must be in 1..4, got $multiplierLatency")
   require(memoryDelayMinCycles == 0 || (memoryDelayMinCycles >= 2 && memoryDelayMinCycles <= 1024),
     s"LoadParams.memoryDelayMinCycles must be 0 (registers only) or in 2..1024, got $memoryDelayMinCycles")

@@ -14,7 +14,12 @@ object Cycle {
 
 /** The only code that talks to the simulator for LoadDatapath: drive a stimulus, record the outputs. */
 object LoadDriver {
-  def run(dut: LoadDatapath, stimulus: Iterator[Cycle[LoadInputCodes]], onOutput: (Long, Option[LoadOutputCodes]) => Unit): Long = {
+  def run(
+    dut: LoadDatapath,
+    stimulus: Iterator[Cycle[LoadInputCodes]],
+    onOutput: (Long, Option[LoadOutputCodes]) => Unit,
+    onDrive: (Long, Cycle[LoadInputCodes]) => Unit = (_, _) => ()
+  ): Long = {
     dut.clock.setTimeout(0)
     stimulus.zipWithIndex.foldLeft(0L) { case (_, (c, cycle)) =>
       c match {
@@ -37,6 +42,7 @@ object LoadDriver {
           Some(LoadOutputCodes(dut.io.out.bits.load.peek().litValue, dut.io.out.bits.outOfRange.peek().litToBoolean))
         else None
       onOutput(cycle.toLong, out)
+      onDrive(cycle.toLong, c)
       dut.clock.step()
       dut.reset.poke(false.B)
       cycle.toLong + 1
