@@ -61,7 +61,8 @@ def run(cmd, log, cwd):
 
 
 def read_script(files, top):
-    reads = "\n".join(f"read_verilog -sv {os.path.abspath(f)}" for f in files)
+    # The files are copied into the work directory: yowasp tools see only their working directory.
+    reads = "\n".join(f"read_verilog -sv {os.path.basename(f)}" for f in files)
     return f"{reads}\nhierarchy -check -top {top}\n"
 
 
@@ -180,6 +181,10 @@ def main():
             fail(f"{f}: no such file")
     work = a.keep or tempfile.mkdtemp(prefix="estimate-")
     os.makedirs(work, exist_ok=True)
+    if len({os.path.basename(f) for f in a.files}) != len(a.files):
+        fail("input files must have distinct names")
+    for f in a.files:
+        shutil.copy(f, os.path.join(work, os.path.basename(f)))
     t0 = time.time()
     r = cyclone_estimate(a.files, a.top, work)
     r["seconds_cyclone"] = round(time.time() - t0, 1)

@@ -12,6 +12,7 @@ object Main {
   val commands: Seq[(String, String, Seq[Opt], Seq[String])] = Seq(
     ("emit", "emit SystemVerilog, report.md, report.json and config.conf", Emit.options, Emit.flags),
     ("simulate", "stream a trajectory CSV through the RTL on Verilator and compare with the reference", Simulate.options, Simulate.flags),
+    ("sweep", "design-space benchmark: error, latency, resources (and Fmax) over a grid; CSV, markdown, plots", Sweep.options, Sweep.flags),
     ("soak", "stream many seeded random samples (bubbles, resets, out-of-range inputs) through the RTL, check each against the model", Soak.options, Nil),
     ("config", "print the effective configuration as a complete HOCON file (a starting point for --config)", Nil, Nil),
     ("settings-table", "print the README's settings table (markdown)", Nil, Nil)
@@ -38,7 +39,7 @@ object Main {
     ) ++ commands.map { case (n, h, _, _) => f"  $n%-10s $h" } ++ Seq("  help       this text", "") ++
       commands.flatMap { case (n, _, opts, flags) =>
         s"$n options:" +: (opts.map(o => f"  ${s"--${o.name} ${o.arg}"}%-34s ${o.help}" + (if (o.default.nonEmpty) s" (default ${o.default})" else "")) ++
-          flags.map(f => f"  ${"--" + f}%-34s ${(Simulate.flagHelp ++ Emit.flagHelp).getOrElse(f, "")}")) :+ ""
+          flags.map(f => f"  ${"--" + f}%-34s ${(if (n == "sweep") Sweep.flagHelp else Simulate.flagHelp ++ Emit.flagHelp).getOrElse(f, "")}")) :+ ""
       } ++ Seq("design options (every command):") ++ Cli.designOptions.map(o => f"  ${s"--${o.name} ${o.arg}"}%-34s ${o.help}") ++
       Seq("", "settings (override the preset or config file):") ++ settings).mkString("\n")
   }
@@ -55,6 +56,7 @@ object Main {
       case "help"     => println(help)
       case "emit"     => Emit.run(Cli.parse("emit", rest, Emit.options, Emit.flags), commandLine)
       case "simulate" => Simulate.run(Cli.parse("simulate", rest, Simulate.options, Simulate.flags))
+      case "sweep"    => Sweep.run(Cli.parse("sweep", rest, Sweep.options, Sweep.flags, design = false))
       case "soak"     => Soak.main(Cli.parse("soak", rest, Soak.options))
       case "settings-table" => Cli.parse("settings-table", rest, Nil, design = false); println(Settings.markdownTable)
       case "config" =>

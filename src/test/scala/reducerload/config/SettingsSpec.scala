@@ -65,3 +65,15 @@ class ReadmeSpec extends AnyFlatSpec {
     Seq("./sbt run", "./sbt test", "REDUCERLOAD_SIM").foreach(w => assert(readme.contains(w), s"README lacks $w"))
   }
 }
+
+class SweepDocsSpec extends AnyFlatSpec {
+  behavior of "the README benchmark section"
+
+  it should "show the table that run sweep wrote into docs/sweep" in {
+    val readme = new String(Files.readAllBytes(Paths.get("README.md")), "UTF-8")
+    val table = new String(Files.readAllBytes(Paths.get("docs", "sweep", "sweep.md")), "UTF-8").linesIterator.filter(_.startsWith("|")).toSeq
+    assert(table.size > 2)
+    table.foreach(row => assert(readme.contains(row), s"README lacks the sweep row: $row"))
+    Seq("error_vs_les.png", "memory_vs_precision.png").foreach(f => assert(Files.exists(Paths.get("docs", "sweep", f)), s"docs/sweep/$f missing"))
+  }
+}

@@ -1,0 +1,95 @@
+package reducerload.app
+
+import circt.stage.ChiselStage
+import reducerload.cordic.{CordicArchitecture, CordicParams}
+import reducerload.load._
+import reducerload.trace.{InputError, TraceCsv}
+
+import java.nio.charset.StandardCharsets
+import java.nio.file.{Files, Path, Paths}
+import scala.jdk.CollectionConverters._
+import scala.sys.process._
+
+/**
+ * `run sweep`: a design-space benchmark. Elaborates a grid of configurations and measures, for each,
+ * the max load error over the golden traces (bit-accurate model; the RTL equals it bit for bit, as
+ * the tests check), the derived bound, latency, and the open-tool resource estimate (and the ECP5
+ * Fmax proxy with --fmax). Writes sweep.csv, sweep.md and, with Python + matplotlib, PNG plots.
+ */
+object Sweep {
+  val options: Seq[Opt] = Seq(Opt("out", "DIR", "where sweep.csv, sweep.md and the plots go", "sweep"))
+  val flags: Seq[String] = Seq("fmax")
+  val flagHelp: Map[String, String] = Map("fmax" -> "place and route every point on ECP5 for the Fmax proxy (about 3 minutes each)")
+
+  /** The grid: named points, each a complete configuration. */
+  def grid: Seq[(String, LoadParams)] = {
+    def point(arch: CordicArchitecture, bits: Int, iterations: Int, frac: Int) = LoadParams(
+      cordic = CordicParams(angleBits = bits, outputBits = bits, iterations = iterations, guardBits = if (bits >= 24) 5 else 3,
+        angleGuardBits = if (bits >= 24) 5 else 4, architecture = arch),
+      velocityFracBits = frac, accelerationFracBits = frac, constantFracBits = frac + 4, internalFracBits = frac, outputFracBits = frac)
+    val classic = Seq((16, 10, 12), (20, 16, 15), (23, 20, 17), (26, 26, 20)).map { case (b, n, f) =>
+      s"classic-b$b-n$n" -> point(CordicArchitecture.Classic, b, n, f)
+    }
+    val residual = Seq((16, 6, 12), (20, 9, 15), (23, 12, 17), (26, 14, 20)).flatMap { case (b, n, f) =>
+      scala.util.Try(s"residual-b$b-n$n" -> point(CordicArchitecture.ResidualRotation, b, n, f)).toOption
+    }
+    classic ++ residual ++ Seq("preset-default" -> LoadParams.default, "preset-paper" -> LoadParams.paper)
+  }
+
+  final case class Row(name: String, p: LoadParams, maxError: Double, estimate: Estimate) {
+    def latency: Int = LoadDatapath.latency(p)
+    def cells: Seq[String] = {
+      val fmax = estimate.fmaxEcp5Mhz
+      Seq(name, p.model.name, p.cordic.architecture.name, p.cordic.outputBits.toString, p.cordic.iterations.toString,
+        f"$maxError%.3e", f"${p.errorBound}%.3e", latency.toString, fmax.map(f => f"${latency * 1000 / f}%.1f").getOrElse(""),
+        fmax.map(f => f"${f * 1e6}%.3g").getOrElse(""), estimate.les.toString, estimate.registers.toString,
+        estimate.mult18x18.toString, estimate.memoryBits.toString, fmax.map(f => f"$f%.1f").getOrElse(""))
+    }
+  }
+  val header: Seq[String] = Seq("config", "model", "cordic", "sincos_bits", "iterations", "max_error_nm", "bound_nm", "latency_cycles",
+    "latency_ns", "results_per_s", "est_les", "registers", "mult18x18", "memory_bits", "fmax_ecp5_mhz")
+
+  /** Max |model - reference| over every golden trace (reference: the configuration's own formula). */
+  def goldenError(p: LoadParams): Double = {
+    val files = Files.list(Paths.get("golden")).iterator().asScala.filter(_.toString.endsWith(".csv")).toSeq.sorted
+    if (files.isEmpty) throw new InputError("golden/: no traces (run from the repository root)")
+    val m = new LoadDatapathModel(p)
+    files.map { f =>
+      val t = TraceCsv.read(f, JointSample.columns)
+      val cols = JointSample.columns.map(t.column)
+      t.rows.indices.map { i =>
+        val s = JointSample.fromSeq(cols.map(_(i)))
+        math.abs(m.evaluate(s) - LoadReference.torque(p.robot, p.model, s))
+      }.max
+    }.max
+  }
+
+  def run(cli: Cli): Unit = {
+    val out = cli.path("out").getOrElse(Paths.get("sweep"))
+    val fmax = cli.has("fmax")
+    val rows = grid.map { case (name, p) =>
+      val top = s"LoadDatapath_${p.model.name}"
+      val verilog = ChiselStage.emitSystemVerilog(new LoadDatapath(p), Array.empty[String], Emit.firtoolOpts)
+      val row = Row(name, p, goldenError(p), Estimate.run(verilog, top, fmax))
+      println(row.cells.mkString("sweep: ", ", ", ""))
+      row
+    }
+    Files.createDirectories(out)
+    val csv = (header +: rows.map(_.cells)).map(_.mkString(",")).mkString("", "\n", "\n")
+    Files.write(out.resolve("sweep.csv"), csv.getBytes(StandardCharsets.UTF_8))
+    val md = (Seq(
+      "Design-space sweep: " + (if (fmax) "with" else "without") + " the ECP5 Fmax proxy. Regenerate: `./sbt \"run sweep" +
+        (if (fmax) " --fmax" else "") + "\"`.",
+      "Errors: max |load - formula| over the golden traces (bit-accurate model, equal to the RTL); bound: derived worst case.",
+      "Resources: open-tool Cyclone IV E estimate (tools/estimate/README.md). Paper: 4,330 LEs, 321 registers, 10 stages, < 1e-3 N·m.",
+      "",
+      header.mkString("| ", " | ", " |"),
+      header.map(_ => "---").mkString("| ", " | ", " |")
+    ) ++ rows.map(_.cells.mkString("| ", " | ", " |"))).mkString("", "\n", "\n")
+    Files.write(out.resolve("sweep.md"), md.getBytes(StandardCharsets.UTF_8))
+    println(md)
+    val plot = Seq("python3", "tools/sweep/plot.py", out.resolve("sweep.csv").toString, out.toString)
+    val status = plot.!
+    if (status != 0) println(s"sweep: plots not made (${plot.mkString(" ")} exited $status)")
+  }
+}
