@@ -47,8 +47,8 @@ final case class LoadParams(
   require(constantFracBits + cordic.outputFormat.fracBits >= internalFracBits,
     s"LoadParams.internalFracBits ($internalFracBits) must not exceed constantFracBits + the sin/cos fraction bits (${constantFracBits + cordic.outputFormat.fracBits})")
   require(multiplierLatency >= 1 && multiplierLatency <= 4, s"LoadParams.multiplierLatency must be in 1..4, got $multiplierLatency")
-  require(memoryDelayMinCycles == 0 || (memoryDelayMinCycles >= 2 && memoryDelayMinCycles <= 1024),
-    s"LoadParams.memoryDelayMinCycles must be 0 (registers only) or in 2..1024, got $memoryDelayMinCycles")
+  require(memoryDelayMinCycles == 0 || (memoryDelayMinCycles >= 3 && memoryDelayMinCycles <= 1024),
+    s"LoadParams.memoryDelayMinCycles must be 0 (registers only) or in 3..1024, got $memoryDelayMinCycles")
 
   private val F = internalFracBits
   private val lsbF = math.pow(2.0, -F)

@@ -45,6 +45,31 @@ class EmitSpec extends AnyFlatSpec {
     assert(!Files.exists(d))
   }
 
+  it should "refuse a corpus of bad configuration files with one line naming the file, writing nothing" in {
+    val good = reducerload.config.Settings.render(LoadParams.default, Nil)
+    val corpus: Seq[(String, Array[Byte])] = Seq(
+      "empty" -> Array.emptyByteArray,
+      "truncated" -> good.take(good.length / 2).getBytes("UTF-8"),
+      "binary junk" -> Array[Byte](0x7f, 'E', 'L', 'F', 0, 1, 2, 3, -1, -2, '{', '{'),
+      "unknown key" -> (good + "\nrobot.mass = 3\n").getBytes("UTF-8"),
+      "units key" -> (good + "\nrobot.units = imperial\n").getBytes("UTF-8"),
+      "wrong type" -> (good + "\ncordic.iterations = many\n").getBytes("UTF-8"),
+      "NaN" -> (good + "\nrobot.m3 = NaN\n").getBytes("UTF-8"),
+      "huge" -> (good + "\nrobot.max-velocity = 1e300\n").getBytes("UTF-8"),
+      "negative" -> (good + "\nrobot.l1 = -0.4\n").getBytes("UTF-8"),
+      "JSON array" -> "[1, 2, 3]".getBytes("UTF-8")
+    )
+    corpus.foreach { case (what, bytes) =>
+      val f = Files.createTempFile("bad-config-", ".conf")
+      Files.write(f, bytes)
+      val d = tempDir().resolve("out")
+      val e = intercept[InputError](Main.run(Seq("emit", "--config", f.toString, "--target-dir", d.toString)))
+      assert(e.getMessage.contains(f.toString) && !e.getMessage.contains("\n"), s"$what: ${e.getMessage}")
+      assert(!Files.exists(d), s"$what: something was written")
+    }
+    println(s"[fuzz] emit: ${corpus.size} bad configuration files, each refused with one line naming the file")
+  }
+
   it should "emit a single CORDIC unit with --top sincos" in {
     val d = tempDir()
     Main.run(Seq("emit", "--top", "sincos", "--target-dir", d.toString))

@@ -34,7 +34,7 @@ class ParamFuzzSpec extends AnyFlatSpec {
             iterationsPerStage = pick(1, 3), architecture = CordicArchitecture.all(rng.nextInt(2))),
           velocityFracBits = pick(8, 24), accelerationFracBits = pick(8, 24), constantFracBits = pick(10, 26),
           internalFracBits = pick(8, 22), outputFracBits = pick(6, 16), productRounding = Rounding.all(rng.nextInt(2)),
-          multiplierLatency = pick(1, 3), memoryDelayMinCycles = Seq(0, 2, 4, 8)(rng.nextInt(4)))
+          multiplierLatency = pick(1, 3), memoryDelayMinCycles = Seq(0, 3, 4, 8)(rng.nextInt(4)))
       } match {
         case Failure(e: IllegalArgumentException) =>
           assert(parameterNames.exists(e.getMessage.contains), s"configuration $i refused without naming a parameter: ${e.getMessage}")
