@@ -89,17 +89,10 @@ class LoadDatapath(val p: LoadParams) extends Module {
 
 object LoadDatapath {
 
-  /**
-   * Latency without elaborating: input register, clamp, CORDIC, then the recipe's depth (sin/cos
-   * products, multiplier registers, three adder levels), then the output register.
-   */
+  /** Latency without elaborating: the recipe's schedule (same rules as the hardware), then the output register. */
   def latency(p: LoadParams): Int = {
-    val mul = p.multiplierLatency + (if (p.productRounding == Rounding.Truncate) 0 else 1)
-    val trigAt = 2 + p.cordic.latency
-    // Velocity side: u3/u4 need add (v12) + two multiplies from cycle 2; sin/cos side: one multiply.
-    val velocitySide = 2 + 1 + 2 * mul
-    val productsAt = math.max(trigAt, velocitySide) + mul
-    // s56 = p6 + u5 meets the others at the same level; three adder levels, then the output register.
-    productsAt + 3 + 1
+    val in: Option[Int] = Some(2)
+    val trig: Option[Int] = Some(2 + p.cordic.latency)
+    LoadRecipe(p, new LatencyArith(p.multiplierLatency), RecipeInputs(in, in, in, in, in, trig, trig, trig, trig, trig)).get + 1
   }
 }

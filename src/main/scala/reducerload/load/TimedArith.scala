@@ -2,7 +2,7 @@ package reducerload.load
 
 import chisel3._
 import reducerload.fixedpoint.{FixedFormat, FixedHw, Rounding}
-import reducerload.pipeline.MemoryDelay
+import reducerload.pipeline.{MemoryDelay, PipelinedMultiplier}
 
 /**
  * A signal and the cycle at which it holds the current sample (constants hold every sample).
@@ -41,14 +41,32 @@ final class TimedArith(multiplierLatency: Int, memoryDelayMinCycles: Int) extend
     val t = meet(a, b)
     val drop = aFmt.fracBits + bFmt.fracBits - out.fracBits
     require(drop >= 0, s"mul: product has fewer fraction bits than $out")
-    val product = FixedHw.delay(a.alignedTo(t) * b.alignedTo(t), multiplierLatency)
+    val product = FixedHw.delay(PipelinedMultiplier(a.alignedTo(t), b.alignedTo(t)), multiplierLatency - 1)
     val rounded = FixedHw.shiftRound(product, drop, rounding)
     val fitted = rounded(out.width - 1, 0).asSInt // proven range: the dropped top bits repeat the sign
+    val done = t + TimedArith.mulLatency(aFmt.width, bFmt.width, multiplierLatency, rounding)
     rounding match {
-      case Rounding.Truncate => timed(fitted, t + multiplierLatency) // bit selection only: no logic to register
-      case _                 => timed(FixedHw.delay(fitted, 1), t + multiplierLatency + 1)
+      case Rounding.Truncate => timed(fitted, done) // bit selection only: no logic to register
+      case _                 => timed(FixedHw.delay(fitted, 1), done)
     }
   }
 
   def constant(raw: BigInt, fmt: FixedFormat): Timed = Timed(raw.S(fmt.width.W), None)
+}
+
+object TimedArith {
+
+  /** Clocks of one `mul`: the pipelined multiplier, extra registers, and the rounding adder if any. */
+  def mulLatency(aWidth: Int, bWidth: Int, multiplierLatency: Int, rounding: Rounding): Int =
+    PipelinedMultiplier.latency(aWidth, bWidth) + multiplierLatency - 1 + (if (rounding == Rounding.Truncate) 0 else 1)
+}
+
+/** The schedule of [[TimedArith]] without hardware: when each value is ready (None: a constant). */
+final class LatencyArith(multiplierLatency: Int) extends LoadArith[Option[Int]] {
+  private def meet(a: Option[Int], b: Option[Int]) = (a.toSeq ++ b.toSeq).maxOption.getOrElse(0)
+  def add(a: Option[Int], aFmt: FixedFormat, b: Option[Int], bFmt: FixedFormat, bShift: Int, out: FixedFormat): Option[Int] =
+    Some(meet(a, b) + 1)
+  def mul(a: Option[Int], aFmt: FixedFormat, b: Option[Int], bFmt: FixedFormat, out: FixedFormat, rounding: Rounding): Option[Int] =
+    Some(meet(a, b) + TimedArith.mulLatency(aFmt.width, bFmt.width, multiplierLatency, rounding))
+  def constant(raw: BigInt, fmt: FixedFormat): Option[Int] = None
 }
