@@ -12,8 +12,10 @@ Method (see README.md beside this file; it is an estimate, not a Quartus fit):
   3. Multipliers: each `$mul` of a x b bits takes ceil(a/18) * ceil(b/18) 18x18 blocks; when it
      takes more than one, the partial products are summed in LEs (counted as adder bits).
   4. The remaining logic is mapped to 4-input LUTs by ABC (`abc -lut 4`): one LE each.
-  5. Registers: a register whose input is a LUT or adder output packs into that LE; every other
-     register (delay lines, register-to-register) takes an LE of its own.
+  5. Registers: a register at a multiplier's output or feeding only multipliers is the embedded
+     multiplier's own input/output register, one at a RAM's output is the RAM's output register (no
+     LE); a register whose input is a LUT or adder output packs into that LE; every other register
+     (delay lines, register-to-register) takes an LE of its own.
   6. Memory bits: the size of every `$mem` cell.
   Fmax proxy: Yosys `synth_ecp5` and nextpnr-ecp5 (LFE5U-85F, speed 6, out of context, seed 1);
   a Lattice ECP5 is not a Cyclone IV: use the figure to compare designs, not to sign off timing.
@@ -134,17 +136,32 @@ def cyclone_estimate(files, top, work):
             lut_or_alu_out.update(out)
         elif t == "ALU_BB":
             lut_or_alu_out.update(bits_of(c["connections"]["Y"]))
-    packable = 0
+    # Outputs of multipliers and memories: a register right there is the block's own output register.
+    block_out = set()
     for c in cells.values():
+        if c["type"] in ("MUL_BB", "MEM_BB"):
+            for port, conn in c["connections"].items():
+                if port in ("Y", "RD_DATA"):
+                    block_out.update(bits_of(conn))
+    packable, in_blocks = 0, 0
+    for name, c in cells.items():
         if re.match(r"\$_S?DFF", c["type"]) or c["type"].startswith("$_DFFE") or c["type"].startswith("$_SDFF"):
             ffs += 1
-            if bits_of(c["connections"]["D"]) and bits_of(c["connections"]["D"])[0] in lut_or_alu_out:
+            d = bits_of(c["connections"]["D"])
+            q = bits_of(c["connections"]["Q"])
+            readers = {r for b in q for r in loads.get(b, [])}
+            if d and d[0] in block_out:
+                in_blocks += 1  # multiplier / RAM output register
+            elif readers and all(r[1] == "MUL_BB" for r in readers):
+                in_blocks += 1  # multiplier input register
+            elif d and d[0] in lut_or_alu_out:
                 packable += 1
     logic_les = luts - absorbed
     arith_les = alu_bits + mult_adder_bits
-    les = arith_les + logic_les + (ffs - min(packable, arith_les + logic_les))
-    return dict(les=les, les_arith=arith_les, les_logic=logic_les, registers=ffs, registers_unpacked=ffs - min(packable, arith_les + logic_les),
-                mult18x18=mults, memory_bits=mem_bits)
+    unpacked = ffs - in_blocks - min(packable, arith_les + logic_les)
+    les = arith_les + logic_les + unpacked
+    return dict(les=les, les_arith=arith_les, les_logic=logic_les, registers=ffs, registers_in_blocks=in_blocks,
+                registers_unpacked=unpacked, mult18x18=mults, memory_bits=mem_bits)
 
 
 def ecp5_fmax(files, top, work, freq):

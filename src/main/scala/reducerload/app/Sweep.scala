@@ -33,7 +33,7 @@ object Sweep {
     val residual = Seq((16, 6, 12), (20, 9, 15), (23, 12, 17), (26, 14, 20)).flatMap { case (b, n, f) =>
       scala.util.Try(s"residual-b$b-n$n" -> point(CordicArchitecture.ResidualRotation, b, n, f)).toOption
     }
-    classic ++ residual ++ Seq("preset-default" -> LoadParams.default, "preset-paper" -> LoadParams.paper)
+    classic ++ residual ++ LoadParams.presets.toSeq.sortBy(_._1).map { case (n, p) => s"preset-$n" -> p }
   }
 
   final case class Row(name: String, p: LoadParams, maxError: Double, estimate: Estimate) {

@@ -164,5 +164,20 @@ object LoadParams {
     outputFracBits = 17
   )
 
-  val presets: Map[String, LoadParams] = Map("default" -> default, "paper" -> paper)
+  /** The end of the trade with the fewest resources: 16-bit residual CORDIC (about 2e-2 N·m). */
+  val smallest: LoadParams = LoadParams(
+    cordic = CordicParams(angleBits = 16, outputBits = 16, iterations = 6, guardBits = 3, angleGuardBits = 4,
+      architecture = reducerload.cordic.CordicArchitecture.ResidualRotation),
+    velocityFracBits = 12, accelerationFracBits = 12, constantFracBits = 16, internalFracBits = 12, outputFracBits = 12)
+
+  /** The most accurate: classic 30-bit CORDIC, wide datapath. */
+  val accurate: LoadParams = LoadParams(
+    cordic = CordicParams(angleBits = 30, outputBits = 30, iterations = 30, guardBits = 5, angleGuardBits = 5),
+    velocityFracBits = 24, accelerationFracBits = 24, constantFracBits = 28, internalFracBits = 24, outputFracBits = 24)
+
+  /** The fastest clock: classic CORDIC (no residual multiply in the angle path), default accuracy. */
+  val fastest: LoadParams = LoadParams(cordic = CordicParams.precise)
+
+  val presets: Map[String, LoadParams] =
+    Map("default" -> default, "paper" -> paper, "smallest" -> smallest, "accurate" -> accurate, "fastest" -> fastest)
 }
