@@ -103,6 +103,7 @@ object Settings {
     new Natural("cordic.iterations-per-stage", "", "micro-rotations between pipeline registers", Nil, _.cordic.iterationsPerStage),
     new Choice("cordic.architecture", "", "classic (shift-add only) or residual (shift-add, then one multiply-based rotation)", Nil,
       CordicArchitecture.all.map(_.name), _.cordic.architecture.name),
+    new Natural("cordic.table-bits", "bits", "start-vector table (ROM) of 2^bits entries replacing iterations 0..bits (0: none)", Nil, _.cordic.tableBits),
     new Natural("datapath.velocity-frac-bits", "bits", "fraction bits of velocity inputs (rad/s)", Nil, _.velocityFracBits),
     new Natural("datapath.acceleration-frac-bits", "bits", "fraction bits of acceleration inputs (rad/s^2)", Nil, _.accelerationFracBits),
     new Natural("datapath.constant-frac-bits", "bits", "fraction bits of folded robot constants", Nil, _.constantFracBits),
@@ -161,7 +162,8 @@ object Settings {
           angleGuardBits = int("cordic.angle-guard-bits"),
           outputRounding = rounding("cordic.output-rounding"),
           iterationsPerStage = int("cordic.iterations-per-stage"),
-          architecture = CordicArchitecture.parse(str("cordic.architecture")).get
+          architecture = CordicArchitecture.parse(str("cordic.architecture")).get,
+          tableBits = int("cordic.table-bits")
         ),
         velocityFracBits = int("datapath.velocity-frac-bits"),
         accelerationFracBits = int("datapath.acceleration-frac-bits"),

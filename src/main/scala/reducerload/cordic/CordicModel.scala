@@ -17,13 +17,19 @@ final class CordicModel(val p: CordicParams) {
     raw
   }
 
-  /** Equation (10): split the binary angle into quadrant and z1 = residual - 45 degrees. */
+  /**
+   * Equation (10): split the binary angle into quadrant, table segment and z = the residual minus
+   * the segment's centre; the start vector is the segment's table entry (45 degrees without a table).
+   */
   def preprocess(angle: BigInt): CordicState = {
     require(angle >= 0 && angle.bitLength <= p.angleBits, s"CordicModel: angle code $angle is not a ${p.angleBits}-bit code")
     val quadrant = (angle >> p.residualBits).toInt
-    val residual = angle & ((BigInt(1) << p.residualBits) - 1)
-    val z1 = (residual << p.angleGuardBits) - p.atanTable(0)
-    CordicState(p.startRaw, p.startRaw, check(z1, p.zFormat(1), "z1"), quadrant)
+    val lowBits = p.residualBits - p.tableBits
+    val segment = ((angle >> lowBits) & ((BigInt(1) << p.tableBits) - 1)).toInt
+    val low = angle & ((BigInt(1) << lowBits) - 1)
+    val z = (low - (BigInt(1) << (lowBits - 1))) << p.angleGuardBits
+    val (x, y) = p.startTable(segment)
+    CordicState(x, y, check(z, p.zFormat(p.firstIteration), "z at the first iteration"), quadrant)
   }
 
   /** Equation (8): one micro-rotation by +-atan(2^-i), direction from the sign of z. */
@@ -62,7 +68,7 @@ final class CordicModel(val p: CordicParams) {
 
   /** All states from z1 to the last iteration, for debugging and tests. */
   def trace(angle: BigInt): Seq[CordicState] =
-    (1 until p.iterations).scanLeft(preprocess(angle))(rotate)
+    (p.firstIteration until p.iterations).scanLeft(preprocess(angle))(rotate)
 
   /** Raw (cos, sin) for an angle code. */
   def sinCosRaw(angle: BigInt): (BigInt, BigInt) = {

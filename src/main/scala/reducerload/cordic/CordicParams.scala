@@ -38,6 +38,9 @@ object CordicArchitecture {
  * @param outputRounding     how x and y lose their guard bits at the output
  * @param iterationsPerStage micro-rotations between pipeline registers (latency against Fmax)
  * @param architecture       classic shift-add only, or shift-add followed by one multiply-based residual rotation
+ * @param tableBits          0: the 45-degree iteration 0 is folded into a constant start vector. T > 0: the
+ *                           top T bits of the folded angle index a 2^T-entry sin/cos table (block-RAM ROM)
+ *                           that replaces iterations 0..T; shift-add starts at iteration T+1
  */
 final case class CordicParams(
   angleBits: Int = 26,
@@ -47,7 +50,8 @@ final case class CordicParams(
   angleGuardBits: Int = 5,
   outputRounding: Rounding = Rounding.HalfUp,
   iterationsPerStage: Int = 1,
-  architecture: CordicArchitecture = CordicArchitecture.Classic) {
+  architecture: CordicArchitecture = CordicArchitecture.Classic,
+  tableBits: Int = 0) {
 
   require(angleBits >= 6 && angleBits <= 48, s"CordicParams.angleBits must be in 6..48, got $angleBits")
   require(outputBits >= 6 && outputBits <= 48, s"CordicParams.outputBits must be in 6..48, got $outputBits")
@@ -55,6 +59,13 @@ final case class CordicParams(
   require(angleGuardBits >= 0 && angleGuardBits <= 16, s"CordicParams.angleGuardBits must be in 0..16, got $angleGuardBits")
   require(iterations >= 2, s"CordicParams.iterations must be >= 2 (i = 0 is folded into the start vector), got $iterations")
   require(iterationsPerStage >= 1, s"CordicParams.iterationsPerStage must be >= 1, got $iterationsPerStage")
+  require(tableBits >= 0 && tableBits <= 12, s"CordicParams.tableBits must be in 0..12 (a 2^tableBits-entry ROM), got $tableBits")
+  require(iterations >= tableBits + 2,
+    s"CordicParams.iterations ($iterations) must be >= tableBits + 2: the table replaces iterations 0..$tableBits and at least one shift-add stage follows")
+  require(angleBits - 2 - tableBits >= 2, s"CordicParams.tableBits ($tableBits) leaves fewer than 2 angle bits below the table index")
+
+  /** The first shift-add iteration: the table (or the folded 45-degree start) covers the ones before. */
+  val firstIteration: Int = tableBits + 1
 
   /** Output format of cos and sin: values in [-1, 1] need one integer bit for +1.0. */
   val outputFormat: FixedFormat = FixedFormat(1, outputBits - 2)
@@ -82,19 +93,30 @@ final case class CordicParams(
       s"${atanTable(iterations - 1)} LSB of a $zFracBits-bit angle (angleBits + angleGuardBits); use fewer iterations or more angle bits"
   )
 
-  /** Product of the micro-rotation gains over all iterations: start at (K, 0) and the result has length 1. */
-  val gainK: Double = (0 until iterations).map(i => 1.0 / math.sqrt(1.0 + math.pow(2.0, -2.0 * i))).product
+  /** Product of the shift-add gains: the start vector has length K, so the result has length 1. */
+  val gainK: Double = (firstIteration until iterations).map(i => 1.0 / math.sqrt(1.0 + math.pow(2.0, -2.0 * i))).product
 
-  /** The start vector after the folded iteration 0: x1 = y1 = K (45 degrees, length K * sqrt 2). */
-  val startRaw: BigInt = xyFormat.quantize(gainK, Rounding.HalfUp)
+  /** Width of one table segment in z units: a quarter turn split in 2^tableBits. */
+  private val segmentRaw: BigInt = BigInt(1) << (zFracBits - 2 - tableBits)
 
   /**
-   * Bound on |z| entering iteration i (raw units), for i = 1 .. iterations: |z_1| <= atan(1) and
-   * |z_{i+1}| <= atan(2^-i) + 2 LSB (table rounding can break the exact halving by up to 1.5 LSB).
+   * The start vectors: K (cos c, sin c) at the centre c of each segment, rounded half up. With
+   * tableBits = 0 the single entry is the 45-degree vector x1 = y1 = K cos 45 (iteration 0 folded).
+   */
+  val startTable: IndexedSeq[(BigInt, BigInt)] = (0 until (1 << tableBits)).map { k =>
+    val centre = (k + 0.5) * (math.Pi / 2) / (1 << tableBits)
+    (xyFormat.quantize(gainK * math.cos(centre), Rounding.HalfUp), xyFormat.quantize(gainK * math.sin(centre), Rounding.HalfUp))
+  }
+
+  /**
+   * Bound on |z| entering iteration i (raw units), for i = firstIteration .. iterations: half a
+   * segment at the start (45 degrees without a table), then |z_{i+1}| <= atan(2^-i) + 2 LSB (table
+   * rounding can break the exact halving by up to 1.5 LSB). Convergence: half a segment,
+   * (pi/4) 2^-T rad, is below 2 atan(2^-(T+1)) for every T.
    */
   def zBoundRaw(i: Int): BigInt = {
-    require(i >= 1 && i <= iterations, s"zBoundRaw: iteration $i out of 1..$iterations")
-    if (i == 1) atanTable(0) else atanTable(i - 1) + 2
+    require(i >= firstIteration && i <= iterations, s"zBoundRaw: iteration $i out of $firstIteration..$iterations")
+    if (i == firstIteration) segmentRaw / 2 else atanTable(i - 1) + 2
   }
 
   /** Narrowest z format entering iteration i: z shrinks as the rotation converges. */
@@ -103,8 +125,11 @@ final case class CordicParams(
   /** Width of the folded quadrant residual: the angle code without its two quadrant bits. */
   val residualBits: Int = angleBits - 2
 
-  /** Rotation iterations in hardware (1 .. iterations-1), grouped per pipeline stage. */
-  val stageIterations: Seq[Seq[Int]] = (1 until iterations).grouped(iterationsPerStage).map(_.toSeq).toSeq
+  /** Rotation iterations in hardware (firstIteration .. iterations-1), grouped per pipeline stage. */
+  val stageIterations: Seq[Seq[Int]] = (firstIteration until iterations).grouped(iterationsPerStage).map(_.toSeq).toSeq
+
+  /** The table lookup is a registered ROM read: one more stage when there is a table. */
+  val tableLatency: Int = if (tableBits > 0) 1 else 0
 
   val residual: Boolean = architecture == CordicArchitecture.ResidualRotation
 
@@ -141,7 +166,7 @@ final case class CordicParams(
   val residualLatency: Int = if (residual) 3 else 0
 
   /** Input register + rotation stages (+ residual rotation) + output stage (rounding and quadrant mapping). */
-  val latency: Int = 1 + stageIterations.size + residualLatency + 1
+  val latency: Int = 1 + tableLatency + stageIterations.size + residualLatency + 1
 
   // ---- Analytic error budget (checked against double precision by the exhaustive/dense sweep tests) ----
 
@@ -153,7 +178,7 @@ final case class CordicParams(
    * first-order rotation's angle error atan(zr) - zr <= zr^3 / 3.
    */
   val angleErrorBound: Double = {
-    val table = 2 * math.Pi * turnsPerZLsb * 0.5 * (iterations - 1)
+    val table = 2 * math.Pi * turnsPerZLsb * 0.5 * (iterations - firstIteration)
     if (!residual) 2 * math.Pi * turnsPerZLsb * (atanTable(iterations - 1) + 2).toDouble + table
     else {
       val twoPiError = math.abs(2 * math.Pi - twoPiRaw.toDouble * math.pow(2.0, -twoPiFracBits))
@@ -167,11 +192,11 @@ final case class CordicParams(
     else math.pow(zrMaxAbs, 2) / 2 + math.sqrt(2.0) * (xyFormat.lsb + residualOperandFormat.lsb * zrMaxAbs)
 
   /** Largest gain the remaining micro-rotations apply to an error injected after iteration 1. */
-  val remainingGain: Double = (1 until iterations).map(i => math.sqrt(1.0 + math.pow(2.0, -2.0 * i))).product
+  val remainingGain: Double = (firstIteration until iterations).map(i => math.sqrt(1.0 + math.pow(2.0, -2.0 * i))).product
 
   /** Rounding of the start vector and the floor of each shifted operand, as an error vector length. */
   val rotationRoundingBound: Double =
-    remainingGain * math.sqrt(2.0) * xyFormat.lsb * (0.5 + (iterations - 1) * Rounding.maxErrorLsb(Rounding.Truncate))
+    remainingGain * math.sqrt(2.0) * xyFormat.lsb * (0.5 + (iterations - firstIteration) * Rounding.maxErrorLsb(Rounding.Truncate))
 
   val outputRoundingBound: Double = Rounding.maxErrorLsb(outputRounding) * outputFormat.lsb
 
@@ -181,7 +206,7 @@ final case class CordicParams(
   /** Parameter-bearing name for emitted modules. */
   def tag: String =
     s"a${angleBits}_o${outputBits}_n${iterations}_g$guardBits" + (if (iterationsPerStage > 1) s"_r$iterationsPerStage" else "") +
-      (if (residual) "_res" else "")
+      (if (residual) "_res" else "") + (if (tableBits > 0) s"_t$tableBits" else "")
 
   /** The arctan table with its meaning, for reports and the emitted header. */
   def atanTableLines: Seq[String] = atanTable.zipWithIndex.map { case (raw, i) =>
@@ -197,9 +222,10 @@ final case class CordicParams(
       s"  angle input        : unsigned $angleBits-bit binary angle (full turn = 2^$angleBits), quadrant = top 2 bits",
       s"  output cos, sin    : ${outputFormat.describe}, rounding $outputRounding",
       s"  x, y datapath      : ${xyFormat.describe}",
-      s"  z accumulator      : turns * 2^$zFracBits, ${zFormat(1).width} bits at iteration 1 down to ${zFormat(iterations).width} at the end",
-      f"  gain K             : $gainK%.15f (start vector x1 = y1 = 0x${startRaw.toString(16)})",
-      s"  iterations         : $iterations ($iterationsPerStage per stage), latency $latency cycles, one angle per clock",
+      s"  z accumulator      : turns * 2^$zFracBits, ${zFormat(firstIteration).width} bits at iteration $firstIteration down to ${zFormat(iterations).width} at the end",
+      (if (tableBits == 0) f"  gain K             : $gainK%.15f (start vector x1 = y1 = 0x${startTable.head._1.toString(16)}, iteration 0 folded)"
+       else f"  gain K             : $gainK%.15f; start table: ${1 << tableBits} entries x ${2 * xyFormat.width} bits = ${(1 << tableBits) * 2 * xyFormat.width} ROM bits, replacing iterations 0..$tableBits"),
+      s"  iterations         : $firstIteration..${iterations - 1} shift-add ($iterationsPerStage per stage), latency $latency cycles, one angle per clock",
       f"  error bound        : $errorBound%.3e (2^${math.log(errorBound) / math.log(2)}%.1f) (angle $angleErrorBound%.3e, rotation rounding $rotationRoundingBound%.3e, output rounding $outputRoundingBound%.3e)",
     ) ++ (if (residual)
             Seq(
@@ -232,6 +258,16 @@ object CordicParams {
   val smallResidual: CordicParams =
     CordicParams(angleBits = 12, outputBits = 12, iterations = 6, guardBits = 2, angleGuardBits = 4, architecture = CordicArchitecture.ResidualRotation)
 
+  /**
+   * The residual unit with a 512-entry start table (block-RAM ROM, 512 x 62 bits) in place of
+   * iterations 0..9: four shift-add stages remain before the residual rotation.
+   */
+  val tableResidual: CordicParams = residual.copy(tableBits = 9)
+
+  /** A small table unit whose every angle code can be simulated. */
+  val smallTable: CordicParams = small.copy(tableBits = 3)
+
   val presets: Map[String, CordicParams] =
-    Map("paper" -> paper, "precise" -> precise, "small" -> small, "residual" -> residual, "small-residual" -> smallResidual)
+    Map("paper" -> paper, "precise" -> precise, "small" -> small, "residual" -> residual, "small-residual" -> smallResidual,
+      "table-residual" -> tableResidual, "small-table" -> smallTable)
 }

@@ -6,7 +6,8 @@ import chisel3.util._
 /**
  * Pipelined CORDIC sin/cos: a `Valid` binary angle in, a `Valid` (cos, sin) out exactly `latency`
  * cycles later, one angle per clock with no stall. Gain K is folded into the start vector.
- * Stages: input register, `p.stageIterations.size` rotation stages, output stage.
+ * Stages: input register, table register (with a table), `p.stageIterations.size` rotation stages,
+ * the residual rotation (residual architecture), output stage.
  */
 class CordicSinCos(val p: CordicParams) extends Module {
   override def desiredName = s"CordicSinCos_${p.tag}"
@@ -25,9 +26,19 @@ class CordicSinCos(val p: CordicParams) extends Module {
   private val pre = Module(new QuadrantPreprocessor(p))
   pre.io.angle := angle
 
-  private val start = Wire(Valid(new CordicStateBundle(p, p.zFormat(1).width)))
-  start.valid := angleValid
-  start.bits := pre.io.state
+  private val folded = Wire(Valid(new CordicStateBundle(p, p.zFormat(p.firstIteration).width)))
+  folded.valid := angleValid
+  folded.bits := pre.io.state
+
+  // With a table, its output is registered (ROM: registered address and data).
+  private val start =
+    if (p.tableBits == 0) folded
+    else {
+      val r = Wire(Valid(new CordicStateBundle(p, p.zFormat(p.firstIteration).width)))
+      r.valid := RegNext(folded.valid, false.B)
+      r.bits := RegNext(folded.bits)
+      r
+    }
 
   private val rotated = p.stageIterations.foldLeft(start) { (in, iterations) =>
     val stage = Module(new CordicStage(p, iterations))

@@ -21,7 +21,7 @@ import reducerload.fixedpoint.{Bounded, FixedFormat, Rounding}
 final case class LoadParams(
   robot: RobotParams = RobotParams(),
   model: LoadModel = LoadModel.Exact,
-  cordic: CordicParams = CordicParams.residual,
+  cordic: CordicParams = CordicParams.tableResidual,
   velocityFracBits: Int = 20,
   accelerationFracBits: Int = 20,
   constantFracBits: Int = 24,

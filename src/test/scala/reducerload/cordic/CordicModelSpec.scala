@@ -40,6 +40,16 @@ class CordicModelSpec extends AnyFlatSpec {
     assert(p.errorBound <= CordicParams.precise.errorBound * 1.5, s"residual bound ${p.errorBound} vs precise ${CordicParams.precise.errorBound}")
   }
 
+  it should "stay within the derived bound with a start table (exhaustive small, dense precise)" in {
+    val small = CordicParams.smallTable
+    sweep("exhaustive", small, (0 until (1 << small.angleBits)).map(BigInt(_)))
+    val p = CordicParams.tableResidual
+    val rng = new Random(Seeds("table-dense", 13L))
+    val step = BigInt(1) << (p.angleBits - 18)
+    sweep("dense", p, (0 until (1 << 18)).map(i => BigInt(i) * step + BigInt(p.angleBits - 18, rng.self)) ++ CordicChecks.quadrantCrossers(p))
+    assert(p.errorBound <= CordicParams.precise.errorBound, s"table-residual bound ${p.errorBound}")
+  }
+
   it should "refuse a residual unit whose products would not fit 18x18 multipliers" in {
     val e = intercept[IllegalArgumentException](CordicParams(iterations = 6, architecture = CordicArchitecture.ResidualRotation))
     assert(e.getMessage.contains("iterations"))
@@ -70,5 +80,7 @@ class CordicModelSpec extends AnyFlatSpec {
     refused(CordicParams(guardBits = -1), "guardBits")
     refused(CordicParams(angleGuardBits = 40), "angleGuardBits")
     refused(CordicParams(iterationsPerStage = 0), "iterationsPerStage")
+    refused(CordicParams(tableBits = 13), "tableBits")
+    refused(CordicParams(iterations = 8, tableBits = 7), "iterations")
   }
 }
