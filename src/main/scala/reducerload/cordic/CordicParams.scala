@@ -128,8 +128,8 @@ final case class CordicParams(
   /** Rotation iterations in hardware (firstIteration .. iterations-1), grouped per pipeline stage. */
   val stageIterations: Seq[Seq[Int]] = (firstIteration until iterations).grouped(iterationsPerStage).map(_.toSeq).toSeq
 
-  /** The table lookup is a registered ROM read: one more stage when there is a table. */
-  val tableLatency: Int = if (tableBits > 0) 1 else 0
+  /** The table lookup is a ROM read with registered address and registered data: two more stages. */
+  val tableLatency: Int = if (tableBits > 0) 2 else 0
 
   val residual: Boolean = architecture == CordicArchitecture.ResidualRotation
 

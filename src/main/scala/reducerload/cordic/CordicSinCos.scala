@@ -30,13 +30,14 @@ class CordicSinCos(val p: CordicParams) extends Module {
   folded.valid := angleValid
   folded.bits := pre.io.state
 
-  // With a table, its output is registered (ROM: registered address and data).
+  // With a table: the ROM read is registered, then its data once more (the RAM block's output
+  // register), so the first adder sees a register and not a block-RAM access time.
   private val start =
     if (p.tableBits == 0) folded
     else {
       val r = Wire(Valid(new CordicStateBundle(p, p.zFormat(p.firstIteration).width)))
-      r.valid := RegNext(folded.valid, false.B)
-      r.bits := RegNext(folded.bits)
+      r.valid := ShiftRegister(folded.valid, 2, false.B, true.B)
+      r.bits := RegNext(RegNext(folded.bits))
       r
     }
 

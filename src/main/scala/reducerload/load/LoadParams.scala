@@ -153,15 +153,19 @@ object LoadParams {
   /** Exact model, error well under 1e-4 N·m for the typical arm (SPEC.md). */
   val default: LoadParams = LoadParams()
 
-  /** The paper's equation (6), sized for the paper's accuracy (1e-3 N·m). */
+  /**
+   * The paper's equation (6), sized for the paper's accuracy: derived bound <= 1e-3 N·m, with the
+   * table-assisted residual CORDIC (22 bits, 256-entry table, two shift-add stages).
+   */
   val paper: LoadParams = LoadParams(
     model = LoadModel.PaperEq6,
-    cordic = CordicParams(angleBits = 23, outputBits = 23, iterations = 20, guardBits = 3, angleGuardBits = 4),
-    velocityFracBits = 17,
-    accelerationFracBits = 17,
-    constantFracBits = 20,
-    internalFracBits = 17,
-    outputFracBits = 17
+    cordic = CordicParams(angleBits = 22, outputBits = 22, iterations = 11, guardBits = 3, angleGuardBits = 4,
+      architecture = reducerload.cordic.CordicArchitecture.ResidualRotation, tableBits = 8),
+    velocityFracBits = 16,
+    accelerationFracBits = 16,
+    constantFracBits = 19,
+    internalFracBits = 16,
+    outputFracBits = 16
   )
 
   /** The end of the trade with the fewest resources: 16-bit residual CORDIC (about 2e-2 N·m). */
