@@ -39,9 +39,11 @@ def main():
     front.sort(key=lambda i: les[i])
 
     fig, ax = plt.subplots(figsize=(8, 5.5))
-    for arch, marker in (("classic", "o"), ("residual", "s")):
-        idx = [i for i, r in enumerate(rows) if r["cordic"] == arch]
-        ax.scatter([les[i] for i in idx], [err[i] for i in idx], marker=marker, label=f"{arch} CORDIC")
+    kinds = (("classic", "o", "classic CORDIC"), ("residual", "s", "residual-rotation CORDIC"), ("table", "^", "table + residual CORDIC"))
+    kind = lambda r: "table" if "+table" in r["cordic"] else r["cordic"]
+    for arch, marker, label in kinds:
+        idx = [i for i, r in enumerate(rows) if kind(r) == arch]
+        ax.scatter([les[i] for i in idx], [err[i] for i in idx], marker=marker, label=label)
     ax.plot([les[i] for i in front], [err[i] for i in front], "k--", lw=1, label="Pareto front")
     for i, r in enumerate(rows):
         ax.annotate(r["config"], (les[i], err[i]), fontsize=7, xytext=(4, 3), textcoords="offset points")

@@ -23,9 +23,9 @@ object Sweep {
 
   /** The grid: named points, each a complete configuration. */
   def grid: Seq[(String, LoadParams)] = {
-    def point(arch: CordicArchitecture, bits: Int, iterations: Int, frac: Int) = LoadParams(
+    def point(arch: CordicArchitecture, bits: Int, iterations: Int, frac: Int, table: Int = 0) = LoadParams(
       cordic = CordicParams(angleBits = bits, outputBits = bits, iterations = iterations, guardBits = if (bits >= 24) 5 else 3,
-        angleGuardBits = if (bits >= 24) 5 else 4, architecture = arch),
+        angleGuardBits = if (bits >= 24) 5 else 4, architecture = arch, tableBits = table),
       velocityFracBits = frac, accelerationFracBits = frac, constantFracBits = frac + 4, internalFracBits = frac, outputFracBits = frac)
     val classic = Seq((16, 10, 12), (20, 16, 15), (23, 20, 17), (26, 26, 20)).map { case (b, n, f) =>
       s"classic-b$b-n$n" -> point(CordicArchitecture.Classic, b, n, f)
@@ -33,14 +33,18 @@ object Sweep {
     val residual = Seq((16, 6, 12), (20, 9, 15), (23, 12, 17), (26, 14, 20)).flatMap { case (b, n, f) =>
       scala.util.Try(s"residual-b$b-n$n" -> point(CordicArchitecture.ResidualRotation, b, n, f)).toOption
     }
-    classic ++ residual ++ LoadParams.presets.toSeq.sortBy(_._1).map { case (n, p) => s"preset-$n" -> p }
+    val tabled = Seq((16, 6, 12, 4), (20, 9, 15, 7), (23, 12, 17, 8), (26, 14, 20, 9)).flatMap { case (b, n, f, t) =>
+      scala.util.Try(s"table-b$b-n$n-t$t" -> point(CordicArchitecture.ResidualRotation, b, n, f, t)).toOption
+    }
+    classic ++ residual ++ tabled ++ LoadParams.presets.toSeq.sortBy(_._1).map { case (n, p) => s"preset-$n" -> p }
   }
 
   final case class Row(name: String, p: LoadParams, maxError: Double, estimate: Estimate) {
     def latency: Int = LoadDatapath.latency(p)
     def cells: Seq[String] = {
       val fmax = estimate.fmaxEcp5Mhz
-      Seq(name, p.model.name, p.cordic.architecture.name, p.cordic.outputBits.toString, p.cordic.iterations.toString,
+      val arch = p.cordic.architecture.name + (if (p.cordic.tableBits > 0) s"+table${p.cordic.tableBits}" else "")
+      Seq(name, p.model.name, arch, p.cordic.outputBits.toString, p.cordic.iterations.toString,
         f"$maxError%.3e", f"${p.errorBound}%.3e", latency.toString, fmax.map(f => f"${latency * 1000 / f}%.1f").getOrElse(""),
         fmax.map(f => f"${f * 1e6}%.3g").getOrElse(""), estimate.les.toString, estimate.registers.toString,
         estimate.mult18x18.toString, estimate.memoryBits.toString, fmax.map(f => f"$f%.1f").getOrElse(""))

@@ -168,10 +168,10 @@ object LoadParams {
     outputFracBits = 16
   )
 
-  /** The end of the trade with the fewest resources: 16-bit residual CORDIC (about 2e-2 N·m). */
+  /** The end of the trade with the fewest resources: 16-bit table-assisted residual CORDIC (about 2e-2 N·m). */
   val smallest: LoadParams = LoadParams(
     cordic = CordicParams(angleBits = 16, outputBits = 16, iterations = 6, guardBits = 3, angleGuardBits = 4,
-      architecture = reducerload.cordic.CordicArchitecture.ResidualRotation),
+      architecture = reducerload.cordic.CordicArchitecture.ResidualRotation, tableBits = 4),
     velocityFracBits = 12, accelerationFracBits = 12, constantFracBits = 16, internalFracBits = 12, outputFracBits = 12)
 
   /** The most accurate: classic 30-bit CORDIC, wide datapath. */
