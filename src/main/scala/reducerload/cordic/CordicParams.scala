@@ -135,8 +135,8 @@ final case class CordicParams(
 
   // ---- residual rotation (architecture = residual) ----
 
-  /** 2 pi in 18 bits (Q3.14): one 18x18 multiplier turns z (turns) into radians. */
-  val twoPiFracBits: Int = 14
+  /** 2 pi in 17 bits (Q3.13): z (turns) times it fits one 18x18 multiplier with room for its sign. */
+  val twoPiFracBits: Int = 13
   val twoPiRaw: BigInt = FixedFormat(3, twoPiFracBits).quantize(2 * math.Pi, Rounding.HalfUp)
 
   /** zr in radians, on the x/y scale; its range follows from z's proven range after the last iteration. */
