@@ -16,6 +16,13 @@ class CordicModelSpec extends AnyFlatSpec {
     assert(err <= p.errorBound, s"$label: max error $err exceeds the derived bound ${p.errorBound}")
   }
 
+  /** 2^18 evenly spaced codes, each with random low bits, plus the quadrant crossers. */
+  private def dense(p: CordicParams, label: String, seed: Long): IndexedSeq[BigInt] = {
+    val rng = new Random(Seeds(label, seed))
+    val step = BigInt(1) << (p.angleBits - 18)
+    (0 until (1 << 18)).map(i => BigInt(i) * step + BigInt(p.angleBits - 18, rng.self)) ++ CordicChecks.quadrantCrossers(p)
+  }
+
   it should "stay within the derived bound on every code of the paper and small presets" in {
     Seq(CordicParams.small, CordicParams.paper).foreach { p =>
       sweep("exhaustive", p, (0 until (1 << p.angleBits)).map(BigInt(_)))
@@ -24,19 +31,14 @@ class CordicModelSpec extends AnyFlatSpec {
 
   it should "stay within the derived bound on a dense sweep of the precise preset" in {
     val p = CordicParams.precise
-    val rng = new Random(Seeds("precise-dense", 11L))
-    val step = BigInt(1) << (p.angleBits - 18) // 2^18 evenly spaced codes
-    val dense = (0 until (1 << 18)).map(i => BigInt(i) * step + BigInt(p.angleBits - 18, rng.self))
-    sweep("dense", p, dense ++ CordicChecks.quadrantCrossers(p))
+    sweep("dense", p, dense(p, "precise-dense", 11L))
   }
 
   it should "stay within the derived bound with the residual rotation (exhaustive small, dense precise)" in {
     val small = CordicParams.smallResidual
     sweep("exhaustive", small, (0 until (1 << small.angleBits)).map(BigInt(_)))
     val p = CordicParams.residual
-    val rng = new Random(Seeds("residual-dense", 12L))
-    val step = BigInt(1) << (p.angleBits - 18)
-    sweep("dense", p, (0 until (1 << 18)).map(i => BigInt(i) * step + BigInt(p.angleBits - 18, rng.self)) ++ CordicChecks.quadrantCrossers(p))
+    sweep("dense", p, dense(p, "residual-dense", 12L))
     assert(p.errorBound <= CordicParams.precise.errorBound * 1.5, s"residual bound ${p.errorBound} vs precise ${CordicParams.precise.errorBound}")
   }
 
@@ -44,9 +46,7 @@ class CordicModelSpec extends AnyFlatSpec {
     val small = CordicParams.smallTable
     sweep("exhaustive", small, (0 until (1 << small.angleBits)).map(BigInt(_)))
     val p = CordicParams.tableResidual
-    val rng = new Random(Seeds("table-dense", 13L))
-    val step = BigInt(1) << (p.angleBits - 18)
-    sweep("dense", p, (0 until (1 << 18)).map(i => BigInt(i) * step + BigInt(p.angleBits - 18, rng.self)) ++ CordicChecks.quadrantCrossers(p))
+    sweep("dense", p, dense(p, "table-dense", 13L))
     assert(p.errorBound <= CordicParams.precise.errorBound, s"table-residual bound ${p.errorBound}")
   }
 

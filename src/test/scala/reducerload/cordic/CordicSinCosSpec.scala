@@ -49,54 +49,24 @@ class CordicSinCosSpec extends AnyFlatSpec with ChiselScalatestTester {
     val p = CordicParams.precise
     streamAndCheck("precise-random", p, rng => CordicChecks.quadrantCrossers(p) ++ CordicChecks.randomAngles(p, rng, SimBackend.scale(20000)), 4L, resets = 4)
   }
-}
 
-class ResidualRotationSpec extends AnyFlatSpec with ChiselScalatestTester {
-  behavior of "CordicSinCos with the residual rotation"
-
-  private def streamAndCheck(label: String, p: CordicParams, angles: Random => IndexedSeq[BigInt], seed: Long): Unit = {
-    val rng = new Random(Seeds(label, seed))
-    val stim = CordicChecks.stimulus(p, angles(rng), rng, resets = 3)
-    test(new CordicSinCos(p)).withAnnotations(SimBackend.annotations) { dut =>
-      val verdict = CordicChecks.check(p, stim, CordicDriver.run(dut, stim))
-      println(f"[cordic] $label ${p.tag}: ${verdict.checked} outputs equal to the model, max |error| ${verdict.maxError}%.3e <= bound ${p.errorBound}%.3e, latency ${p.latency}")
-      assert(verdict.mismatches.isEmpty, verdict.mismatches.mkString("RTL differs from the model:\n", "\n", ""))
-      assert(verdict.checked > 0 && verdict.maxError <= p.errorBound)
-    }
-  }
-
-  it should "equal the model on every angle code of a small residual unit" in {
+  it should "equal the model on every angle code of a small residual-rotation unit" in {
     val p = CordicParams.smallResidual
-    streamAndCheck("small-residual-exhaustive", p, rng => rng.shuffle((0 until (1 << p.angleBits)).map(BigInt(_))), 5L)
+    streamAndCheck("small-residual-exhaustive", p, rng => rng.shuffle((0 until (1 << p.angleBits)).map(BigInt(_))), 5L, resets = 3)
   }
 
   it should "equal the model and meet its bound on seeded random angles of the residual preset" in {
     val p = CordicParams.residual
-    streamAndCheck("residual-random", p, rng => CordicChecks.quadrantCrossers(p) ++ CordicChecks.randomAngles(p, rng, SimBackend.scale(20000)), 6L)
-  }
-}
-
-class CordicTableSpec extends AnyFlatSpec with ChiselScalatestTester {
-  behavior of "CordicSinCos with a start-vector table"
-
-  private def streamAndCheck(label: String, p: CordicParams, angles: Random => IndexedSeq[BigInt], seed: Long): Unit = {
-    val rng = new Random(Seeds(label, seed))
-    val stim = CordicChecks.stimulus(p, angles(rng), rng, resets = 3)
-    test(new CordicSinCos(p)).withAnnotations(SimBackend.annotations) { dut =>
-      val verdict = CordicChecks.check(p, stim, CordicDriver.run(dut, stim))
-      println(f"[cordic] $label ${p.tag}: ${verdict.checked} outputs equal to the model, max |error| ${verdict.maxError}%.3e <= bound ${p.errorBound}%.3e, latency ${p.latency}")
-      assert(verdict.mismatches.isEmpty, verdict.mismatches.mkString("RTL differs from the model:\n", "\n", ""))
-      assert(verdict.checked > 0 && verdict.maxError <= p.errorBound)
-    }
+    streamAndCheck("residual-random", p, rng => CordicChecks.quadrantCrossers(p) ++ CordicChecks.randomAngles(p, rng, SimBackend.scale(20000)), 6L, resets = 3)
   }
 
-  it should "equal the model on every angle code of a small table unit" in {
+  it should "equal the model on every angle code of a small start-table unit" in {
     val p = CordicParams.smallTable
-    streamAndCheck("small-table-exhaustive", p, rng => rng.shuffle((0 until (1 << p.angleBits)).map(BigInt(_))), 8L)
+    streamAndCheck("small-table-exhaustive", p, rng => rng.shuffle((0 until (1 << p.angleBits)).map(BigInt(_))), 8L, resets = 3)
   }
 
   it should "equal the model and meet its bound on seeded random angles of the table-residual preset" in {
     val p = CordicParams.tableResidual
-    streamAndCheck("table-residual-random", p, rng => CordicChecks.quadrantCrossers(p) ++ CordicChecks.randomAngles(p, rng, SimBackend.scale(20000)), 9L)
+    streamAndCheck("table-residual-random", p, rng => CordicChecks.quadrantCrossers(p) ++ CordicChecks.randomAngles(p, rng, SimBackend.scale(20000)), 9L, resets = 3)
   }
 }
