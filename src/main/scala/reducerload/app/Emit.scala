@@ -93,6 +93,7 @@ object Emit {
     val e = emit(p, t, commandLine, cli.has("estimate"), cli.has("fmax"))
     val written = write(e, dir)
     written.foreach(f => println(s"wrote $f"))
-    println(e.reportMd.linesIterator.takeWhile(_.nonEmpty).mkString("\n"))
+    // The report's summary: title, latency, throughput, bound, regeneration command.
+    println(e.reportMd.linesIterator.takeWhile(!_.startsWith("## ")).filter(_.nonEmpty).mkString("\n"))
   }
 }
