@@ -36,11 +36,11 @@ object Main {
       "usage: ./sbt \"run [command] [options]\"",
       "",
       "commands:"
-    ) ++ commands.map { case (n, h, _, _) => f"  $n%-10s $h" } ++ Seq("  help       this text", "") ++
-      commands.flatMap { case (n, _, opts, flags) =>
+    ) ++ commands.map { case (n, h, _, _) => f"  $n%-15s $h" } ++ Seq(f"  ${"help"}%-15s this text", "") ++
+      commands.filter { case (_, _, opts, flags) => opts.nonEmpty || flags.nonEmpty }.flatMap { case (n, _, opts, flags) =>
         s"$n options:" +: (opts.map(o => f"  ${s"--${o.name} ${o.arg}"}%-34s ${o.help}" + (if (o.default.nonEmpty) s" (default ${o.default})" else "")) ++
           flags.map(f => f"  ${"--" + f}%-34s ${(if (n == "sweep") Sweep.flagHelp else Simulate.flagHelp ++ Emit.flagHelp).getOrElse(f, "")}")) :+ ""
-      } ++ Seq("design options (every command):") ++ Cli.designOptions.map(o => f"  ${s"--${o.name} ${o.arg}"}%-34s ${o.help}") ++
+      } ++ Seq("design options (emit, simulate, soak, config):") ++ Cli.designOptions.map(o => f"  ${s"--${o.name} ${o.arg}"}%-34s ${o.help}") ++
       Seq("", "settings (override the preset or config file):") ++ settings).mkString("\n")
   }
 
