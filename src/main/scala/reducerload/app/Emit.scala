@@ -49,13 +49,27 @@ object Emit {
     Top.all.find(_.name == name).getOrElse(throw new InputError(s"command line: --top must be load or sincos, got '$name'"))
   }
 
+  private val fileMarker = """(?m)^// ----- 8< ----- FILE "([^"]*)" ----- 8< -----$""".r
+
+  /**
+   * `emitSystemVerilog` returns the design followed by the inline black boxes' Verilog, each after a
+   * `// ----- 8< ----- FILE "name"` marker, and a file list (`.f`) for file-based flows. Drop the file
+   * list so the one .sv file is the whole design and nothing else.
+   */
+  def withBlackBoxes(emitted: String): String = {
+    val starts = fileMarker.findAllMatchIn(emitted).toSeq
+    val ends = starts.drop(1).map(_.start) :+ emitted.length
+    val fileLists = starts.zip(ends).filter { case (m, _) => m.group(1).endsWith(".f") }
+    fileLists.reverse.foldLeft(emitted) { case (text, (m, end)) => text.substring(0, m.start) + text.substring(end) }
+  }
+
   /** Elaborate and emit in memory; nothing touches the disk. */
   def emit(p: LoadParams, top: Top, command: String, estimate: Boolean = false, fmax: Boolean = false): Emission = {
     val (gen, moduleName, latency): (() => RawModule, String, Int) = top match {
       case Top.Load   => (() => new LoadDatapath(p), s"LoadDatapath_${p.model.name}", LoadDatapath.latency(p))
       case Top.SinCos => (() => new CordicSinCos(p.cordic), s"CordicSinCos_${p.cordic.tag}", p.cordic.latency)
     }
-    val body = ChiselStage.emitSystemVerilog(gen(), Array.empty[String], firtoolOpts)
+    val body = withBlackBoxes(ChiselStage.emitSystemVerilog(gen(), Array.empty[String], firtoolOpts))
     val est = if (estimate || fmax) Some(Estimate.run(body, moduleName, fmax)) else None
     val report = Report(p, top, moduleName, latency, command, est)
     val header = (Seq(

@@ -73,7 +73,7 @@ object Sweep {
     val fmax = cli.has("fmax")
     val rows = grid.map { case (name, p) =>
       val top = s"LoadDatapath_${p.model.name}"
-      val verilog = ChiselStage.emitSystemVerilog(new LoadDatapath(p), Array.empty[String], Emit.firtoolOpts)
+      val verilog = Emit.withBlackBoxes(ChiselStage.emitSystemVerilog(new LoadDatapath(p), Array.empty[String], Emit.firtoolOpts))
       val row = Row(name, p, goldenError(p), Estimate.run(verilog, top, fmax))
       println(row.cells.mkString("sweep: ", ", ", ""))
       row

@@ -162,8 +162,8 @@ final case class CordicParams(
         s"products are ${residualOperandFormat.width} x ${zrFormat.width} bits, more than one 18x18 multiplier")
   }
 
-  /** Registers of the residual rotation: 2 pi multiply, x zr and y zr products, the final add. */
-  val residualLatency: Int = if (residual) 3 else 0
+  /** Clocks of the residual rotation: the 2 pi multiply, the x zr and y zr multiplies, the final add. */
+  val residualLatency: Int = if (residual) 2 * reducerload.pipeline.SignedMultiply.latency + 1 else 0
 
   /** Input register + rotation stages (+ residual rotation) + output stage (rounding and quadrant mapping). */
   val latency: Int = 1 + tableLatency + stageIterations.size + residualLatency + 1

@@ -5,11 +5,10 @@ import reducerload.fixedpoint.FixedHw
 
 /**
  * Signed multiply wider than one 18x18 block, pipelined: the operands are cut into 17-bit unsigned
- * low chunks and a signed top chunk (each fits an 18x18 signed multiplier), every partial product
- * is registered at the multiplier's output, and the shifted partial products are summed by a
- * registered adder tree, one level per clock. The result is the exact full-width product.
- * Operands must come from registers (the caller's pipeline), so each 18x18 block has registers
- * on both sides.
+ * low chunks and a signed top chunk (each fits an 18x18 signed multiplier), every 18x18 block has
+ * registers on its operands and its product ([[SignedMultiply]]), and the shifted
+ * partial products are summed by a registered adder tree, one level per clock. The result is the
+ * exact full-width product.
  */
 class PipelinedMultiplier(aWidth: Int, bWidth: Int) extends Module {
   require(aWidth >= 2 && bWidth >= 2, s"PipelinedMultiplier: operands of $aWidth and $bWidth bits")
@@ -35,10 +34,10 @@ class PipelinedMultiplier(aWidth: Int, bWidth: Int) extends Module {
 
   private val w = aWidth + bWidth
   private val partials: Seq[SInt] = for ((ac, ao) <- chunks(io.a, aWidth); (bc, bo) <- chunks(io.b, bWidth)) yield {
-    val p = FixedHw.delay(ac * bc, 1) // registered at the multiplier's output
-    (p.pad(w) << (ao + bo)).asSInt
+    (SignedMultiply(ac, bc).pad(w) << (ao + bo)).asSInt
   }
 
+  // Synthesis trims each adder to the bits above the partial products' zero low bits.
   private def sumTree(xs: Seq[SInt]): SInt =
     if (xs.size == 1) xs.head
     else sumTree(xs.grouped(2).map {
@@ -54,10 +53,10 @@ object PipelinedMultiplier {
 
   def chunkCount(width: Int): Int = if (width <= 18) 1 else 1 + (width - 18 + chunkBits - 1) / chunkBits
 
-  /** One clock for the partial products, then one per adder-tree level. */
+  /** The registered partial products, then one clock per adder-tree level. */
   def latency(aWidth: Int, bWidth: Int): Int = {
     val partials = chunkCount(aWidth) * chunkCount(bWidth)
-    1 + (if (partials <= 1) 0 else 32 - Integer.numberOfLeadingZeros(partials - 1))
+    SignedMultiply.latency + (if (partials <= 1) 0 else 32 - Integer.numberOfLeadingZeros(partials - 1))
   }
 
   /** Number of 18x18 blocks. */

@@ -30,6 +30,9 @@ object SimBackend {
     if (isVerilator) Seq(VerilatorBackendAnnotation, chiseltest.simulator.VerilatorFlags(Seq("--x-assign", "fast", "--x-initial", "fast")))
     else Seq(TreadleBackendAnnotation)
 
+  // The JVM simulator cannot run the Verilog black box: designs elaborate its Chisel twin instead.
+  if (!isVerilator) reducerload.pipeline.SignedMultiply.useChiselTwin()
+
   /** The JVM simulator is ~100x slower: tests scale long streams down with this factor. */
   def scale(n: Int): Int = if (isVerilator) n else (n / 20).max(64)
 
