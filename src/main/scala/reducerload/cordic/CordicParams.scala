@@ -60,8 +60,12 @@ final case class CordicParams(
   require(iterations >= 2, s"CordicParams.iterations must be >= 2 (i = 0 is folded into the start vector), got $iterations")
   require(iterationsPerStage >= 1, s"CordicParams.iterationsPerStage must be >= 1, got $iterationsPerStage")
   require(tableBits >= 0 && tableBits <= 12, s"CordicParams.tableBits must be in 0..12 (a 2^tableBits-entry ROM), got $tableBits")
-  require(iterations >= tableBits + 2,
-    s"CordicParams.iterations ($iterations) must be >= tableBits + 2: the table replaces iterations 0..$tableBits and at least one shift-add stage follows")
+  // A table with the residual rotation may leave no shift-add stage at all; without the residual
+  // rotation at least one shift-add stage must follow the table.
+  private val minIterations = tableBits + (if (architecture == CordicArchitecture.ResidualRotation) 1 else 2)
+  require(iterations >= minIterations,
+    s"CordicParams.iterations ($iterations) must be >= $minIterations: the table replaces iterations 0..$tableBits" +
+      (if (architecture == CordicArchitecture.ResidualRotation) "" else " and at least one shift-add stage follows"))
   require(angleBits - 2 - tableBits >= 2, s"CordicParams.tableBits ($tableBits) leaves fewer than 2 angle bits below the table index")
 
   /** The first shift-add iteration: the table (or the folded 45-degree start) covers the ones before. */

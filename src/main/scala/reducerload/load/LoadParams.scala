@@ -155,17 +155,19 @@ object LoadParams {
 
   /**
    * The paper's equation (6), sized for the paper's accuracy: derived bound <= 1e-3 N·m, with the
-   * table-assisted residual CORDIC (22 bits, 256-entry table, two shift-add stages).
+   * table-assisted residual CORDIC (22 bits, 1024-entry table, no shift-add stage: the residual
+   * rotation starts right after the table) and every delay of 3 clocks or more in block RAM.
    */
   val paper: LoadParams = LoadParams(
     model = LoadModel.PaperEq6,
     cordic = CordicParams(angleBits = 22, outputBits = 22, iterations = 11, guardBits = 3, angleGuardBits = 4,
-      architecture = reducerload.cordic.CordicArchitecture.ResidualRotation, tableBits = 8),
+      architecture = reducerload.cordic.CordicArchitecture.ResidualRotation, tableBits = 10),
     velocityFracBits = 16,
     accelerationFracBits = 16,
     constantFracBits = 19,
     internalFracBits = 16,
-    outputFracBits = 16
+    outputFracBits = 16,
+    memoryDelayMinCycles = 3
   )
 
   /** The end of the trade with the fewest resources: 16-bit table-assisted residual CORDIC (about 2e-2 N·m). */

@@ -50,6 +50,15 @@ class CordicModelSpec extends AnyFlatSpec {
     assert(p.errorBound <= CordicParams.precise.errorBound, s"table-residual bound ${p.errorBound}")
   }
 
+  it should "stay within the derived bound when the table feeds the residual rotation directly (no shift-add stage)" in {
+    val small = CordicParams.smallResidual.copy(tableBits = CordicParams.smallResidual.iterations - 1)
+    assert(small.stageIterations.isEmpty)
+    sweep("exhaustive", small, (0 until (1 << small.angleBits)).map(BigInt(_)))
+    val p = reducerload.load.LoadParams.paper.cordic
+    assert(p.stageIterations.isEmpty, "the paper load preset's unit has no shift-add stage")
+    sweep("dense", p, dense(p, "table-only-dense", 14L))
+  }
+
   it should "refuse a residual unit whose products would not fit 18x18 multipliers" in {
     val e = intercept[IllegalArgumentException](CordicParams(iterations = 6, architecture = CordicArchitecture.ResidualRotation))
     assert(e.getMessage.contains("iterations"))
