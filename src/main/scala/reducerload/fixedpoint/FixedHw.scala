@@ -32,12 +32,44 @@ object FixedHw {
       }
   }
 
+  /**
+   * `x > c` for a constant `c`, as AND/OR logic instead of a subtractor: on offset binary (sign bit
+   * flipped, so signed order is unsigned order), "x[i:0] > c[i:0]" is `x_i && below` where c_i = 1
+   * and `x_i || below` where c_i = 0. Synthesis packs the chain into about w/3 4-input LUTs, where
+   * a comparator on the carry chain takes one LE per bit.
+   */
+  def greaterThan(x: SInt, c: BigInt): Bool = compareConst(x, c, greater = true)
+
+  /** `x < c` for a constant `c` (see [[greaterThan]]): "x[i:0] < c[i:0]" is `!x_i || below` where c_i = 1, else `!x_i && below`. */
+  def lessThan(x: SInt, c: BigInt): Bool = compareConst(x, c, greater = false)
+
+  private def compareConst(x: SInt, c: BigInt, greater: Boolean): Bool = {
+    val w = x.getWidth
+    val (min, max) = (-(BigInt(1) << (w - 1)), (BigInt(1) << (w - 1)) - 1)
+    if (greater && c >= max) false.B
+    else if (greater && c < min) true.B
+    else if (!greater && c <= min) false.B
+    else if (!greater && c > max) true.B
+    else {
+      val offset = c - min // c in offset binary, 0 .. 2^w - 1
+      val ux = x.asUInt ^ (BigInt(1) << (w - 1)).U(w.W)
+      (0 until w).foldLeft(false.B) { (below, i) =>
+        (greater, offset.testBit(i)) match {
+          case (true, true)   => ux(i) && below
+          case (true, false)  => ux(i) || below
+          case (false, true)  => !ux(i) || below
+          case (false, false) => !ux(i) && below
+        }
+      }
+    }
+  }
+
   /** Clamp `x` into `to`: (value in `to`'s width, out-of-range flag). */
   def saturate(x: SInt, to: FixedFormat): (SInt, Bool) = {
     if (x.getWidth <= to.width) (x.pad(to.width), false.B)
     else {
-      val high = x > to.maxRaw.S
-      val low = x < to.minRaw.S
+      val high = greaterThan(x, to.maxRaw)
+      val low = lessThan(x, to.minRaw)
       val clamped = Mux(high, to.maxRaw.S(to.width.W), Mux(low, to.minRaw.S(to.width.W), x(to.width - 1, 0).asSInt))
       (clamped, high || low)
     }

@@ -27,8 +27,8 @@ class LoadDatapath(val p: LoadParams) extends Module {
 
   // Cycle 2: clamp to the declared ranges; first angle sum.
   private def clamp(x: SInt, limit: BigInt): (SInt, Bool) = {
-    val high = x > limit.S
-    val low = x < (-limit).S
+    val high = FixedHw.greaterThan(x, limit)
+    val low = FixedHw.lessThan(x, -limit)
     (Mux(high, limit.S(x.getWidth.W), Mux(low, (-limit).S(x.getWidth.W), x)), high || low)
   }
   private val velocities = Seq(in.d1, in.d2, in.d3).zip(p.velocityLimitRaw).map { case (x, l) => clamp(x, l) }
