@@ -23,7 +23,11 @@ final case class Report(p: LoadParams, top: Top, moduleName: String, latency: In
         val acc = Seq("dd1", "dd2", "dd3").zip(p.accelerationFormats).zip(p.robot.maxAcceleration).map { case ((n, f), m) =>
           (s"io_in_bits_$n", "in", s"${f.describe}, rad/s^2, declared |$n| <= $m")
         }
-        clockReset ++ Seq(("io_in_valid", "in", "1 bit: a sample this cycle")) ++ angles ++ vel ++ acc ++ Seq(
+        val ready =
+          if (p.samplePeriod == 1) "1 bit: always high (one sample per clock)"
+          else s"1 bit: low for the ${p.samplePeriod - 1} clocks after a sample is taken (one shared CORDIC unit)"
+        clockReset ++ Seq(("io_in_valid", "in", "1 bit: a sample this cycle (taken when io_in_ready is high)"), ("io_in_ready", "out", ready)) ++
+          angles ++ vel ++ acc ++ Seq(
           ("io_out_valid", "out", s"1 bit: the load of the sample given $latency cycles earlier"),
           ("io_out_bits_load", "out", s"${p.outputFormat.describe}, N·m"),
           ("io_out_bits_outOfRange", "out", "1 bit: an input of this sample was beyond its declared range (clamped)")
@@ -69,7 +73,7 @@ final case class Report(p: LoadParams, top: Top, moduleName: String, latency: In
     val sb = Seq(
       s"# $moduleName",
       "",
-      s"- latency: $latency cycles; throughput: one sample per clock",
+      s"- latency: $latency cycles; throughput: ${if (top == Top.Load) Report.throughput(p) else "one angle per clock"}",
       f"- derived error bound: ${if (top == Top.Load) p.errorBound else c.errorBound}%.3e ${if (top == Top.Load) "N·m" else ""}",
       s"- regenerate: `$command`",
       "",
@@ -90,7 +94,7 @@ final case class Report(p: LoadParams, top: Top, moduleName: String, latency: In
     val common = Map[String, Any](
       "top" -> moduleName,
       "latency_cycles" -> latency,
-      "samples_per_clock" -> 1,
+      "clocks_per_sample" -> (if (top == Top.Load) p.samplePeriod else 1),
       "command" -> command,
       "cordic" -> Map(
         "tag" -> c.tag,
@@ -119,4 +123,11 @@ final case class Report(p: LoadParams, top: Top, moduleName: String, latency: In
     val est = Map[String, Any]("estimate" -> estimate.map(_.toMap.asJava).orNull)
     ConfigValueFactory.fromMap((common ++ load ++ est).asJava).render(ConfigRenderOptions.concise().setJson(true).setFormatted(true)) + "\n"
   }
+}
+
+object Report {
+
+  /** Samples per clock of the load datapath, in words. */
+  def throughput(p: LoadParams): String =
+    if (p.samplePeriod == 1) "one sample per clock" else s"one sample every ${p.samplePeriod} clocks (one CORDIC unit shared by the three angles)"
 }

@@ -3,7 +3,7 @@ package reducerload.app
 import chiseltest.RawTester
 import chiseltest.simulator.VerilatorBackendAnnotation
 import reducerload.load._
-import reducerload.sim.{Cycle, LoadDriver}
+import reducerload.sim.{Cycle, LoadDriver, Stream}
 import reducerload.trace.{InputError, TraceCsv}
 
 import java.nio.charset.StandardCharsets
@@ -11,7 +11,7 @@ import java.nio.file.{Files, Path, StandardCopyOption}
 import scala.sys.process._
 import scala.util.Try
 
-/** `run simulate`: a user's trajectory through the generated RTL on Verilator, one sample per clock. */
+/** `run simulate`: a user's trajectory through the generated RTL on Verilator, as fast as the design takes samples. */
 object Simulate {
   val options: Seq[Opt] = Seq(
     Opt("input", "FILE", "trajectory CSV with header t1,t2,t3,d1,d2,d3,dd1,dd2,dd3 (rad, rad/s, rad/s^2)"),
@@ -48,7 +48,7 @@ object Simulate {
       val annotations = Seq(VerilatorBackendAnnotation, firrtl2.options.TargetDirAnnotation(dir.toString))
       var seconds = 0.0 // set once, inside the simulator callback
       RawTester.test(new LoadDatapath(p), annotations) { dut =>
-        val stimulus = codes.iterator.map(Cycle.Sample(_)) ++ Iterator.fill(dut.latency + 1)(Cycle.Bubble)
+        val stimulus = Stream.spaced(codes.iterator.map(Cycle.Sample(_)), p.samplePeriod) ++ Iterator.fill(dut.latency + 1)(Cycle.Bubble)
         val start = System.nanoTime()
         LoadDriver.run(dut, stimulus, (_, out) => out.foreach(outputs += _))
         seconds = (System.nanoTime() - start) / 1e9
@@ -98,7 +98,7 @@ object Simulate {
     println(s"wrote $output: ${rows.size} samples, model ${p.model.name}")
     println(f"max |error| over in-range samples: $maxErr%.3e N·m (derived bound ${p.errorBound}%.3e N·m)")
     println(s"out-of-range samples (clamped, flagged): ${results.count(_._4)}")
-    println(f"simulation rate: $rate%.0f samples/s (Verilator, one sample per clock, latency ${LoadDatapath.latency(p)} cycles)")
+    println(f"simulation rate: $rate%.0f samples/s (Verilator, ${reducerload.app.Report.throughput(p)}, latency ${LoadDatapath.latency(p)} cycles)")
     if (maxErr > p.errorBound) throw new IllegalStateException(s"max error $maxErr exceeds the derived bound ${p.errorBound}")
   }
 

@@ -3,7 +3,7 @@ package reducerload.app
 import chiseltest.RawTester
 import chiseltest.simulator.VerilatorBackendAnnotation
 import reducerload.load._
-import reducerload.sim.{Cycle, LoadDriver, StreamChecker}
+import reducerload.sim.{Cycle, LoadDriver, Stream, StreamChecker}
 import reducerload.trace.InputError
 
 import java.nio.file.{Files, Paths}
@@ -53,7 +53,7 @@ object Soak {
     var result: Option[Result] = None // set once, inside the simulator callback
     try {
       RawTester.test(new LoadDatapath(p), Seq(VerilatorBackendAnnotation, firrtl2.options.TargetDirAnnotation(dir.toString))) { dut =>
-        val stim = stimulus(p, samples, resets, rng) ++ Iterator.fill(dut.latency + 2)(Cycle.Bubble)
+        val stim = Stream.spaced(stimulus(p, samples, resets, rng), p.samplePeriod) ++ Iterator.fill(dut.latency + 2)(Cycle.Bubble)
         val start = System.nanoTime()
         val cycles = LoadDriver.run(dut, stim, (cycle, out) => checker.observe(cycle, out), (cycle, c) => checker.drive(cycle, c))
         result = Some(Result(samples, cycles, checker.checked, checker.mismatches, checker.examples, (System.nanoTime() - start) / 1e9))

@@ -43,10 +43,11 @@ object Sweep {
     def latency: Int = LoadDatapath.latency(p)
     def cells: Seq[String] = {
       val fmax = estimate.fmaxEcp5Mhz
-      val arch = p.cordic.architecture.name + (if (p.cordic.tableBits > 0) s"+table${p.cordic.tableBits}" else "")
+      val arch = p.cordic.architecture.name + (if (p.cordic.tableBits > 0) s"+table${p.cordic.tableBits}" else "") +
+        (if (p.cordicUnits == 1) "+shared" else "")
       Seq(name, p.model.name, arch, p.cordic.outputBits.toString, p.cordic.iterations.toString,
         f"$maxError%.3e", f"${p.errorBound}%.3e", latency.toString, fmax.map(f => f"${latency * 1000 / f}%.1f").getOrElse(""),
-        fmax.map(f => f"${f * 1e6}%.3g").getOrElse(""), estimate.les.toString, estimate.registers.toString,
+        fmax.map(f => f"${f * 1e6 / p.samplePeriod}%.3g").getOrElse(""), estimate.les.toString, estimate.registers.toString,
         estimate.mult18x18.toString, estimate.memoryBits.toString, fmax.map(f => f"$f%.1f").getOrElse(""))
     }
   }

@@ -111,7 +111,8 @@ object Settings {
     new Natural("datapath.output-frac-bits", "bits", "fraction bits of the load output (N·m)", Nil, _.outputFracBits),
     new Choice("datapath.product-rounding", "", "rounding of products to internal-frac-bits", Nil, roundings, _.productRounding.name),
     new Natural("datapath.multiplier-latency", "cycles", "registers after each multiplier", Nil, _.multiplierLatency),
-    new Natural("datapath.memory-delay-min-cycles", "cycles", "delays this long or longer use block RAM (0: registers only)", Nil, _.memoryDelayMinCycles)
+    new Natural("datapath.memory-delay-min-cycles", "cycles", "delays this long or longer use block RAM (0: registers only)", Nil, _.memoryDelayMinCycles),
+    new Natural("datapath.cordic-units", "", "3: one CORDIC unit per angle, a sample every clock; 1: one shared unit, a sample every 3 clocks", Nil, _.cordicUnits)
   )
 
   val byKey: Map[String, Setting] = all.map(s => s.key -> s).toMap
@@ -172,7 +173,8 @@ object Settings {
         outputFracBits = int("datapath.output-frac-bits"),
         productRounding = rounding("datapath.product-rounding"),
         multiplierLatency = int("datapath.multiplier-latency"),
-        memoryDelayMinCycles = int("datapath.memory-delay-min-cycles")
+        memoryDelayMinCycles = int("datapath.memory-delay-min-cycles"),
+        cordicUnits = int("datapath.cordic-units")
       )
     } catch {
       case e: IllegalArgumentException => throw new InputError(s"$source: ${e.getMessage.stripPrefix("requirement failed: ")}")

@@ -6,10 +6,15 @@ import reducerload.cordic.CordicSinCos
 import reducerload.fixedpoint.{FixedHw, Rounding}
 
 /**
- * Joint-3 reducer load every clock: `Valid` sample in, `Valid` load out exactly `latency` cycles
- * later, no stall. Three CORDIC pipelines compute sin/cos of t3, t2+t3 and t1+t2+t3 (angle sums in
- * the binary-angle domain wrap modulo one turn, as they should); the velocity and acceleration
- * products run beside them and are delayed to meet the sin/cos values.
+ * Joint-3 reducer load: a sample in (`valid`, taken when `ready`), a `Valid` load out exactly
+ * `latency` cycles later. Three CORDIC pipelines compute sin/cos of t3, t2+t3 and t1+t2+t3 (angle
+ * sums in the binary-angle domain wrap modulo one turn, as they should); the velocity and
+ * acceleration products run beside them and are delayed to meet the sin/cos values.
+ *
+ * With `cordicUnits = 1` one CORDIC pipeline takes the three angles on three consecutive clocks
+ * and its results leave on three consecutive clocks; the recipe's schedule absorbs the offsets.
+ * `ready` is then low for the two clocks after a sample is taken (one sample every 3 clocks); with
+ * three units it is always high. A sample offered while `ready` is low is not taken.
  *
  * Inputs beyond the declared ranges are clamped to the range and raise `outOfRange` on that
  * sample's output; nothing downstream can overflow (formats are derived from the ranges).
@@ -17,13 +22,16 @@ import reducerload.fixedpoint.{FixedHw, Rounding}
 class LoadDatapath(val p: LoadParams) extends Module {
   override def desiredName = s"LoadDatapath_${p.model.name}"
   val io = IO(new Bundle {
-    val in = Flipped(Valid(new LoadInput(p)))
+    val in = Flipped(Decoupled(new LoadInput(p)))
     val out = Valid(new LoadOutput(p))
   })
 
-  // Cycle 1: input registers.
-  private val in = RegNext(io.in.bits)
-  private val inValid = RegNext(io.in.valid, false.B)
+  private val shared = p.cordicUnits == 1
+
+  // Cycle 1: input registers (held while a shared unit works through the three angles).
+  private val accept = io.in.valid && io.in.ready
+  private val in = if (shared) RegEnable(io.in.bits, accept) else RegNext(io.in.bits)
+  private val inValid = RegNext(accept, false.B)
 
   // Cycle 2: clamp to the declared ranges; first angle sum.
   private def clamp(x: SInt, limit: BigInt): (SInt, Bool) = {
@@ -40,18 +48,28 @@ class LoadDatapath(val p: LoadParams) extends Module {
   private val t3 = RegNext(in.t3)
   private val t23 = RegNext(in.t2 +% in.t3) // modulo one turn: wrap is the angle arithmetic, not an overflow
   private val valid2 = RegNext(inValid, false.B)
+  io.in.ready := (if (shared) !(inValid || valid2) else true.B)
 
   // Cycle 2 -> CORDIC inputs (each CORDIC registers its input): t1+t2+t3 = (t2+t3) + t1.
   private val angles = Seq(t3, t23, t23 +% t1)
-  private val cordics = angles.map { angle =>
-    val c = Module(new CordicSinCos(p.cordic))
-    c.io.in.valid := valid2
-    c.io.in.bits := angle
-    c
-  }
-  private val trigAt = 2 + p.cordic.latency
-  private def trig(out: SInt) = Timed(out, Some(trigAt), p.memoryDelayMinCycles)
-  private val Seq(cs3, cs23, cs123) = cordics.map(_.io.out.bits)
+  private val Seq(t3At, t23At, t123At) = LoadDatapath.trigCycles(p)
+  private val Seq(cs3, cs23, cs123) =
+    if (!shared) angles.map { angle =>
+      val c = Module(new CordicSinCos(p.cordic))
+      c.io.in.valid := valid2
+      c.io.in.bits := angle
+      c.io.out.bits
+    }
+    else {
+      // The angle registers hold the sample for cycles 2, 3 and 4 (ready was low): one angle each.
+      val valid3 = RegNext(valid2, false.B)
+      val valid4 = RegNext(valid3, false.B)
+      val c = Module(new CordicSinCos(p.cordic))
+      c.io.in.valid := valid2 || valid3 || valid4
+      c.io.in.bits := Mux(valid3, angles(1), Mux(valid4, angles(2), angles(0)))
+      Seq.fill(3)(c.io.out.bits) // the same wires, holding each angle's result one clock after the other
+    }
+  private def trig(out: SInt, at: Int) = Timed(out, Some(at), p.memoryDelayMinCycles)
 
   private val total = LoadRecipe(
     p,
@@ -62,11 +80,11 @@ class LoadDatapath(val p: LoadParams) extends Module {
       dd1 = Timed(dd(0), Some(2), p.memoryDelayMinCycles),
       dd2 = Timed(dd(1), Some(2), p.memoryDelayMinCycles),
       dd3 = Timed(dd(2), Some(2), p.memoryDelayMinCycles),
-      c23 = trig(cs23.cos),
-      c3 = trig(cs3.cos),
-      s23 = trig(cs23.sin),
-      s3 = trig(cs3.sin),
-      s123 = trig(cs123.sin)
+      c23 = trig(cs23.cos, t23At),
+      c3 = trig(cs3.cos, t3At),
+      s23 = trig(cs23.sin, t23At),
+      s3 = trig(cs3.sin, t3At),
+      s123 = trig(cs123.sin, t123At)
     )
   )
   private val totalAt = total.at.getOrElse(throw new IllegalStateException("the load cannot be a constant"))
@@ -89,10 +107,16 @@ class LoadDatapath(val p: LoadParams) extends Module {
 
 object LoadDatapath {
 
+  /** Cycles at which sin/cos of t3, t2+t3 and t1+t2+t3 leave the CORDIC unit(s): in turn when it is shared. */
+  def trigCycles(p: LoadParams): Seq[Int] = {
+    val first = 2 + p.cordic.latency
+    if (p.cordicUnits == 1) Seq(first, first + 1, first + 2) else Seq.fill(3)(first)
+  }
+
   /** Latency without elaborating: the recipe's schedule (same rules as the hardware), then the output register. */
   def latency(p: LoadParams): Int = {
     val in: Option[Int] = Some(2)
-    val trig: Option[Int] = Some(2 + p.cordic.latency)
-    LoadRecipe(p, new LatencyArith(p.multiplierLatency), RecipeInputs(in, in, in, in, in, trig, trig, trig, trig, trig)).get + 1
+    val Seq(t3, t23, t123) = trigCycles(p).map(Some(_))
+    LoadRecipe(p, new LatencyArith(p.multiplierLatency), RecipeInputs(in, in, in, in, in, t23, t3, t23, t3, t123)).get + 1
   }
 }

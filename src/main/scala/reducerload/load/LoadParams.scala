@@ -17,6 +17,9 @@ import reducerload.fixedpoint.{Bounded, FixedFormat, Rounding}
  * @param multiplierLatency    registers after each multiplier (>= 1; more lets Quartus retime into the DSP)
  * @param memoryDelayMinCycles pipeline-balancing delays of at least this many cycles use block RAM
  *                             (M9K) instead of registers; 0 keeps every delay in registers
+ * @param cordicUnits          3: one CORDIC unit per angle, one sample per clock; 1: one unit
+ *                             time-shared by the three angles, one sample every 3 clocks (resource
+ *                             sharing for sample rates far below the clock)
  */
 final case class LoadParams(
   robot: RobotParams = RobotParams(),
@@ -29,7 +32,8 @@ final case class LoadParams(
   outputFracBits: Int = 20,
   productRounding: Rounding = Rounding.Truncate,
   multiplierLatency: Int = 1,
-  memoryDelayMinCycles: Int = 4) {
+  memoryDelayMinCycles: Int = 4,
+  cordicUnits: Int = 3) {
 
   Seq(
     "velocityFracBits" -> velocityFracBits,
@@ -49,6 +53,12 @@ final case class LoadParams(
   require(multiplierLatency >= 1 && multiplierLatency <= 4, s"LoadParams.multiplierLatency must be in 1..4, got $multiplierLatency")
   require(memoryDelayMinCycles == 0 || (memoryDelayMinCycles >= 3 && memoryDelayMinCycles <= 1024),
     s"LoadParams.memoryDelayMinCycles must be 0 (registers only) or in 3..1024, got $memoryDelayMinCycles")
+
+  require(cordicUnits == 1 || cordicUnits == 3,
+    s"LoadParams.cordicUnits must be 3 (one CORDIC unit per angle) or 1 (one unit shared by the three angles), got $cordicUnits")
+
+  /** Clocks between samples: 1, or 3 when one CORDIC unit serves the three angles in turn. */
+  val samplePeriod: Int = if (cordicUnits == 1) 3 else 1
 
   private val F = internalFracBits
   private val lsbF = math.pow(2.0, -F)
@@ -170,11 +180,22 @@ object LoadParams {
     memoryDelayMinCycles = 3
   )
 
-  /** The end of the trade with the fewest resources: 16-bit table-assisted residual CORDIC (about 2e-2 N·m). */
+  /**
+   * The paper's accuracy (derived bound <= 1e-3 N·m, exact model) in the fewest logic elements: the
+   * `paper` preset's arithmetic with one CORDIC unit shared by the three angles, so one sample every
+   * 3 clocks (50 M samples/s at 150 MHz, far above any control loop's rate).
+   */
+  val compact: LoadParams = paper.copy(model = LoadModel.Exact, cordicUnits = 1)
+
+  /**
+   * The end of the trade with the fewest resources: 16-bit table-assisted residual CORDIC, one unit
+   * shared by the three angles (one sample every 3 clocks; about 2e-2 N·m).
+   */
   val smallest: LoadParams = LoadParams(
     cordic = CordicParams(angleBits = 16, outputBits = 16, iterations = 6, guardBits = 3, angleGuardBits = 4,
       architecture = reducerload.cordic.CordicArchitecture.ResidualRotation, tableBits = 4),
-    velocityFracBits = 12, accelerationFracBits = 12, constantFracBits = 16, internalFracBits = 12, outputFracBits = 12)
+    velocityFracBits = 12, accelerationFracBits = 12, constantFracBits = 16, internalFracBits = 12, outputFracBits = 12,
+    cordicUnits = 1)
 
   /** The most accurate: classic 30-bit CORDIC, wide datapath. */
   val accurate: LoadParams = LoadParams(
@@ -185,5 +206,5 @@ object LoadParams {
   val fastest: LoadParams = LoadParams(cordic = CordicParams.precise)
 
   val presets: Map[String, LoadParams] =
-    Map("default" -> default, "paper" -> paper, "smallest" -> smallest, "accurate" -> accurate, "fastest" -> fastest)
+    Map("default" -> default, "paper" -> paper, "compact" -> compact, "smallest" -> smallest, "accurate" -> accurate, "fastest" -> fastest)
 }

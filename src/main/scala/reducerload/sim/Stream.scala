@@ -39,6 +39,18 @@ object Stream {
       .toSeq
   }
 
+  /**
+   * The stimulus for a pipeline that takes one sample every `period` clocks: `period - 1` bubbles
+   * after every sample (a reset restarts the count). Lazy, for long streams.
+   */
+  def spaced[A](stimulus: Iterator[Cycle[A]], period: Int): Iterator[Cycle[A]] = {
+    require(period >= 1, s"spaced: period must be >= 1, got $period")
+    stimulus.flatMap {
+      case s: Cycle.Sample[A] @unchecked => Iterator(s) ++ Iterator.fill(period - 1)(Cycle.Bubble)
+      case other                         => Iterator(other)
+    }
+  }
+
   /** Random stimulus: samples with bubbles (probability `bubble`) and occasional resets. */
   def randomStimulus[A](
     rng: scala.util.Random,

@@ -1,5 +1,6 @@
 package reducerload.load
 
+import chisel3._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.sim.{Cycle, LoadDriver, Stream}
@@ -28,8 +29,9 @@ class LoadDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       model.encode(if (rng.nextInt(8) == 0) LoadChecks.outOfRangeSample(p.robot, rng) else LoadChecks.randomSample(p.robot, rng))
     }
     val latency = LoadDatapath.latency(p)
-    val stim = golden.map(Cycle.Sample(_)) ++ Stream.randomStimulus(rng, random, bubble = 0.2, resets = 3) ++
-      IndexedSeq.fill(latency + 1)(Cycle.Bubble)
+    val period = p.samplePeriod
+    val stim = Stream.spaced((golden.map(Cycle.Sample(_)) ++ Stream.randomStimulus(rng, random, bubble = 0.2, resets = 3)).iterator, period)
+      .toIndexedSeq ++ IndexedSeq.fill(latency + 1)(Cycle.Bubble)
 
     test(new LoadDatapath(p)).withAnnotations(SimBackend.annotations) { dut =>
       assert(dut.latency == latency)
@@ -39,8 +41,8 @@ class LoadDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       val verdict = LoadChecks.checkAgainstModel(p, stim, observed.toIndexedSeq)
       assert(verdict.mismatches.isEmpty, verdict.mismatches.mkString(s"$label: RTL differs from the model:\n", "\n", ""))
 
-      // Throughput: the golden part comes out one load per clock, in order, with nothing missing.
-      val goldenOut = observed.slice(latency, latency + golden.size)
+      // Throughput: the golden part comes out one load per sample period, in order, with nothing missing.
+      val goldenOut = golden.indices.map(k => observed(latency + k * period))
       assert(goldenOut.forall(_.isDefined), s"$label: a golden sample produced no output (valid low)")
       val loads = goldenOut.map(o => model.loadOf(o.get))
       assert(goldenOut.forall(!_.get.outOfRange), s"$label: an in-range golden sample raised outOfRange")
@@ -67,5 +69,42 @@ class LoadDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   it should "reproduce the paper's equation (6) within 1e-3 N·m on every golden trace (paper preset)" in {
     runDesign("paper", LoadParams.paper, 1e-3, _.paper, 22L)
+  }
+
+  it should "compute the exact load within 1e-3 N·m with one CORDIC unit shared by the three angles (compact preset)" in {
+    runDesign("compact", LoadParams.compact, 1e-3, _.exact, 23L)
+  }
+
+  it should "take a sample only when ready with a shared CORDIC unit: offered every clock, every third is taken" in {
+    val p = LoadParams.smallest
+    assert(p.samplePeriod == 3)
+    val model = new LoadDatapathModel(p)
+    val rng = new Random(Seeds("shared-ready", 24L))
+    val offered = IndexedSeq.fill(30)(model.encode(LoadChecks.randomSample(p.robot, rng)))
+    val latency = LoadDatapath.latency(p)
+    test(new LoadDatapath(p)).withAnnotations(SimBackend.annotations) { dut =>
+      // Reset first, then offer a new sample on every clock; what the datapath took becomes the stimulus.
+      dut.reset.poke(true.B)
+      dut.clock.step()
+      dut.reset.poke(false.B)
+      val taken = ArrayBuffer.empty[Cycle[LoadInputCodes]]
+      val observed = ArrayBuffer.empty[Option[LoadOutputCodes]]
+      (offered.map(Some(_)) ++ IndexedSeq.fill(latency + 3)(None)).foreach { s =>
+        s match {
+          case Some(sample) => LoadDriver.pokeSample(dut, sample)
+          case None         => dut.io.in.valid.poke(false.B)
+        }
+        val ready = dut.io.in.ready.peek().litToBoolean
+        taken += (s match { case Some(sample) if ready => Cycle.Sample(sample); case _ => Cycle.Bubble })
+        observed += LoadDriver.peekOutput(dut)
+        dut.clock.step()
+      }
+      val takenAt = taken.zipWithIndex.collect { case (Cycle.Sample(_), t) => t }
+      assert(takenAt == offered.indices.filter(_ % 3 == 0), s"samples taken at cycles $takenAt, expected every third")
+      val verdict = LoadChecks.checkAgainstModel(p, taken.toIndexedSeq, observed.toIndexedSeq)
+      assert(verdict.mismatches.isEmpty, verdict.mismatches.mkString("shared unit differs from the model:\n", "\n", ""))
+      assert(verdict.checked == offered.size / 3)
+      println(s"[load] shared-ready: ${takenAt.size} of ${offered.size} offered samples taken (every third), all bit-exact")
+    }
   }
 }
