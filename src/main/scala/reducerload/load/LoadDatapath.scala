@@ -33,17 +33,24 @@ class LoadDatapath(val p: LoadParams) extends Module {
   private val in = if (shared) RegEnable(io.in.bits, accept) else RegNext(io.in.bits)
   private val inValid = RegNext(accept, false.B)
 
-  // Cycle 2: clamp to the declared ranges; first angle sum.
+  // Cycle 2: clamp each velocity and acceleration to its declared range and register its
+  // out-of-range flag; cycle 3: OR the six flags. In one clock, the compares and the OR chain
+  // were the critical path.
   private def clamp(x: SInt, limit: BigInt): (SInt, Bool) = {
     val high = FixedHw.greaterThan(x, limit)
     val low = FixedHw.lessThan(x, -limit)
-    (Mux(high, limit.S(x.getWidth.W), Mux(low, (-limit).S(x.getWidth.W), x)), high || low)
+    val clamped = Reg(SInt(x.getWidth.W))
+    clamped := Mux(high, limit.S(x.getWidth.W), Mux(low, (-limit).S(x.getWidth.W), x))
+    (clamped, RegNext(high || low))
   }
   private val velocities = Seq(in.d1, in.d2, in.d3).zip(p.velocityLimitRaw).map { case (x, l) => clamp(x, l) }
   private val accelerations = Seq(in.dd1, in.dd2, in.dd3).zip(p.accelerationLimitRaw).map { case (x, l) => clamp(x, l) }
-  private val d = velocities.map(v => FixedHw.delay(v._1, 1))
-  private val dd = accelerations.map(a => FixedHw.delay(a._1, 1))
-  private val outOfRange = RegNext((velocities ++ accelerations).map(_._2).reduce(_ || _))
+  private val d = velocities.map(_._1)
+  private val dd = accelerations.map(_._1)
+  private val outOfRange = RegNext((velocities ++ accelerations).map(_._2).reduce(_ || _)) // cycle 3
+  private val clampedAt = LoadDatapath.clampedCycle
+
+  // Cycle 2: first angle sum.
   private val t1 = RegNext(in.t1)
   private val t3 = RegNext(in.t3)
   private val t23 = RegNext(in.t2 +% in.t3) // modulo one turn: wrap is the angle arithmetic, not an overflow
@@ -75,11 +82,11 @@ class LoadDatapath(val p: LoadParams) extends Module {
     p,
     new TimedArith(p.multiplierLatency, p.memoryDelayMinCycles),
     RecipeInputs(
-      d1 = Timed(d(0), Some(2), p.memoryDelayMinCycles),
-      d2 = Timed(d(1), Some(2), p.memoryDelayMinCycles),
-      dd1 = Timed(dd(0), Some(2), p.memoryDelayMinCycles),
-      dd2 = Timed(dd(1), Some(2), p.memoryDelayMinCycles),
-      dd3 = Timed(dd(2), Some(2), p.memoryDelayMinCycles),
+      d1 = Timed(d(0), Some(clampedAt), p.memoryDelayMinCycles),
+      d2 = Timed(d(1), Some(clampedAt), p.memoryDelayMinCycles),
+      dd1 = Timed(dd(0), Some(clampedAt), p.memoryDelayMinCycles),
+      dd2 = Timed(dd(1), Some(clampedAt), p.memoryDelayMinCycles),
+      dd3 = Timed(dd(2), Some(clampedAt), p.memoryDelayMinCycles),
       c23 = trig(cs23.cos, t23At),
       c3 = trig(cs3.cos, t3At),
       s23 = trig(cs23.sin, t23At),
@@ -99,13 +106,16 @@ class LoadDatapath(val p: LoadParams) extends Module {
 
   private val outBits = Reg(new LoadOutput(p))
   outBits.load := load
-  outBits.outOfRange := FixedHw.delay(outOfRange, totalAt - 2) || saturated
+  outBits.outOfRange := FixedHw.delay(outOfRange, totalAt - 3) || saturated
   io.out.bits := outBits
   io.out.valid := ShiftRegister(valid2, latency - 2, false.B, true.B)
 
 }
 
 object LoadDatapath {
+
+  /** Cycle at which the clamped velocities and accelerations are ready (their out-of-range flag, one later). */
+  val clampedCycle: Int = 2
 
   /** Cycles at which sin/cos of t3, t2+t3 and t1+t2+t3 leave the CORDIC unit(s): in turn when it is shared. */
   def trigCycles(p: LoadParams): Seq[Int] = {
@@ -115,7 +125,7 @@ object LoadDatapath {
 
   /** Latency without elaborating: the recipe's schedule (same rules as the hardware), then the output register. */
   def latency(p: LoadParams): Int = {
-    val in: Option[Int] = Some(2)
+    val in: Option[Int] = Some(clampedCycle)
     val Seq(t3, t23, t123) = trigCycles(p).map(Some(_))
     LoadRecipe(p, new LatencyArith(p.multiplierLatency), RecipeInputs(in, in, in, in, in, t23, t3, t23, t3, t123)).get + 1
   }
