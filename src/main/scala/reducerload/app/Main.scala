@@ -15,7 +15,8 @@ object Main {
     ("sweep", "design-space benchmark: error, latency, resources (and Fmax) over a grid; CSV, markdown, plots", Sweep.options, Sweep.flags),
     ("soak", "stream many seeded random samples (bubbles, resets, out-of-range inputs) through the RTL, check each against the model", Soak.options, Nil),
     ("config", "print the effective configuration as a complete HOCON file (a starting point for --config)", Nil, Nil),
-    ("settings-table", "print the README's settings table (markdown)", Nil, Nil)
+    ("settings-table", "print the README's settings table (markdown)", Nil, Nil),
+    ("presets-table", "print the README's preset table (markdown; measures each preset on the golden traces)", Nil, Nil)
   )
 
   /** The header of a shipped preset file: how to regenerate it. */
@@ -59,6 +60,7 @@ object Main {
       case "sweep"    => Sweep.run(Cli.parse("sweep", rest, Sweep.options, Sweep.flags, design = false))
       case "soak"     => Soak.main(Cli.parse("soak", rest, Soak.options))
       case "settings-table" => Cli.parse("settings-table", rest, Nil, design = false); println(Settings.markdownTable)
+      case "presets-table" => Cli.parse("presets-table", rest, Nil, design = false); println(PresetsTable.markdown)
       case "config" =>
         val cli = Cli.parse("config", rest, Nil)
         val header =

@@ -36,7 +36,7 @@ object Sweep {
     val tabled = Seq((16, 6, 12, 4), (20, 9, 15, 7), (23, 12, 17, 8), (26, 14, 20, 9)).flatMap { case (b, n, f, t) =>
       scala.util.Try(s"table-b$b-n$n-t$t" -> point(CordicArchitecture.ResidualRotation, b, n, f, t)).toOption
     }
-    classic ++ residual ++ tabled ++ LoadParams.presets.toSeq.sortBy(_._1).map { case (n, p) => s"preset-$n" -> p }
+    classic ++ residual ++ tabled ++ LoadParams.presets.toSeq.map { case (n, p) => s"preset-$n" -> p }
   }
 
   final case class Row(name: String, p: LoadParams, maxError: Double, estimate: Estimate) {
@@ -72,10 +72,17 @@ object Sweep {
   def run(cli: Cli): Unit = {
     val out = cli.path("out").getOrElse(Paths.get("sweep"))
     val fmax = cli.has("fmax")
-    val rows = grid.map { case (name, p) =>
+    // A preset equal to a grid point is measured once (place and route takes minutes).
+    val distinct = grid.map(_._2).distinct
+    val measured: Map[LoadParams, (Double, Estimate)] = distinct.zipWithIndex.map { case (p, i) =>
+      println(s"sweep: measuring ${i + 1} of ${distinct.size}: ${grid.filter(_._2 == p).map(_._1).mkString(" = ")}")
       val top = s"LoadDatapath_${p.model.name}"
       val verilog = Emit.withBlackBoxes(ChiselStage.emitSystemVerilog(new LoadDatapath(p), Array.empty[String], Emit.firtoolOpts))
-      val row = Row(name, p, goldenError(p), Estimate.run(verilog, top, fmax))
+      p -> (goldenError(p), Estimate.run(verilog, top, fmax))
+    }.toMap
+    val rows = grid.map { case (name, p) =>
+      val (error, estimate) = measured(p)
+      val row = Row(name, p, error, estimate)
       println(row.cells.mkString("sweep: ", ", ", ""))
       row
     }
@@ -84,7 +91,7 @@ object Sweep {
     Files.write(out.resolve("sweep.csv"), csv.getBytes(StandardCharsets.UTF_8))
     val md = (Seq(
       "Design-space sweep: " + (if (fmax) "with" else "without") + " the ECP5 Fmax proxy. Regenerate: `./sbt \"run sweep" +
-        (if (fmax) " --fmax" else "") + "\"`.",
+        cli.path("out").map(d => s" --out $d").getOrElse("") + (if (fmax) " --fmax" else "") + "\"`.",
       "Errors: max |load - formula| over the golden traces (bit-accurate model, equal to the RTL); bound: derived worst case.",
       "Resources: open-tool Cyclone IV E estimate (tools/estimate/README.md). Paper: 4,330 LEs, 321 registers, 10 stages, < 1e-3 N·m.",
       "",

@@ -205,6 +205,7 @@ object LoadParams {
   /** The fastest clock: classic CORDIC (no residual multiply in the angle path), default accuracy. */
   val fastest: LoadParams = LoadParams(cordic = CordicParams.precise)
 
-  val presets: Map[String, LoadParams] =
-    Map("default" -> default, "paper" -> paper, "compact" -> compact, "smallest" -> smallest, "accurate" -> accurate, "fastest" -> fastest)
+  /** The shipped presets, in the order the README and the sweep list them. */
+  val presets: scala.collection.immutable.ListMap[String, LoadParams] = scala.collection.immutable.ListMap(
+    "default" -> default, "paper" -> paper, "compact" -> compact, "smallest" -> smallest, "accurate" -> accurate, "fastest" -> fastest)
 }

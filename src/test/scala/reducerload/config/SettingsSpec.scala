@@ -61,6 +61,10 @@ class ReadmeSpec extends AnyFlatSpec {
     assert(readme.contains(Settings.markdownTable), "README settings table is stale: paste Settings.markdownTable")
   }
 
+  it should "carry the preset table exactly as the presets measure" in {
+    assert(readme.contains(reducerload.app.PresetsTable.markdown), "README preset table is stale: paste ./sbt --error \"run presets-table\"")
+  }
+
   it should "show the two commands and the simulator switch" in {
     Seq("./sbt run", "./sbt test", "REDUCERLOAD_SIM").foreach(w => assert(readme.contains(w), s"README lacks $w"))
   }

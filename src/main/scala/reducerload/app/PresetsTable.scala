@@ -1,0 +1,35 @@
+package reducerload.app
+
+import reducerload.cordic.{CordicArchitecture, CordicParams}
+import reducerload.load.{LoadDatapath, LoadParams}
+
+/**
+ * The README's preset table, made from the presets themselves: architecture, rate, latency, the
+ * derived error bound and the max error measured on the golden traces (bit-accurate model, which
+ * the RTL tests prove equal to the hardware). `./sbt --error "run presets-table"` prints it;
+ * ReadmeSpec checks the README carries it.
+ */
+object PresetsTable {
+
+  /** One line for a CORDIC unit: what replaces the first iterations, the shift-add stages, what follows. */
+  def cordicSummary(c: CordicParams): String = {
+    val table = if (c.tableBits > 0) Seq(s"table 2^${c.tableBits}") else Nil
+    val stages = c.iterations - c.firstIteration
+    val shiftAdd = if (stages > 0) Seq(s"$stages shift-add stage${if (stages == 1) "" else "s"}") else Nil
+    val residual = if (c.architecture == CordicArchitecture.ResidualRotation) Seq("residual rotation") else Nil
+    (table ++ shiftAdd ++ residual).mkString(" + ") + s", ${c.angleBits} / ${c.outputBits} bits"
+  }
+
+  def rate(p: LoadParams): String = if (p.samplePeriod == 1) "every clock" else s"every ${p.samplePeriod} clocks"
+
+  def header: Seq[String] =
+    Seq("preset", "model", "CORDIC (angle / output bits)", "CORDIC units", "one sample", "latency", "derived bound", "max error, golden traces")
+
+  def markdown: String = {
+    val rows = LoadParams.presets.toSeq.map { case (name, p) =>
+      Seq(s"`$name`", p.model.name, cordicSummary(p.cordic), p.cordicUnits.toString, rate(p), s"${LoadDatapath.latency(p)} cycles",
+        f"${p.errorBound}%.2e N·m", f"${Sweep.goldenError(p)}%.2e N·m")
+    }
+    (header +: header.map(_ => "---") +: rows).map(_.mkString("| ", " | ", " |")).mkString("\n")
+  }
+}
