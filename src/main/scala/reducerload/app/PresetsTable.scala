@@ -17,7 +17,8 @@ object PresetsTable {
     val stages = c.iterations - c.firstIteration
     val shiftAdd = if (stages > 0) Seq(s"$stages shift-add stage${if (stages == 1) "" else "s"}") else Nil
     val residual = if (c.architecture == CordicArchitecture.ResidualRotation) Seq("residual rotation") else Nil
-    (table ++ shiftAdd ++ residual).mkString(" + ") + s", ${c.angleBits} / ${c.outputBits} bits"
+    val classic = if (c.architecture == CordicArchitecture.Classic && c.tableBits == 0) "classic, " else ""
+    classic + (table ++ shiftAdd ++ residual).mkString(" + ") + s", ${c.angleBits} / ${c.outputBits} bits"
   }
 
   def rate(p: LoadParams): String = if (p.samplePeriod == 1) "every clock" else s"every ${p.samplePeriod} clocks"
