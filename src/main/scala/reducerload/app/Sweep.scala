@@ -7,6 +7,8 @@ import reducerload.trace.{InputError, TraceCsv}
 
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path, Paths}
+import scala.concurrent.duration.Duration
+import scala.concurrent.{Await, ExecutionContext, Future}
 import scala.jdk.CollectionConverters._
 import scala.sys.process._
 
@@ -17,9 +19,11 @@ import scala.sys.process._
  * Fmax proxy with --fmax). Writes sweep.csv, sweep.md and, with Python + matplotlib, PNG plots.
  */
 object Sweep {
-  val options: Seq[Opt] = Seq(Opt("out", "DIR", "where sweep.csv, sweep.md and the plots go", "sweep"))
+  val options: Seq[Opt] = Seq(
+    Opt("out", "DIR", "where sweep.csv, sweep.md and the plots go", "sweep"),
+    Opt("jobs", "N", "estimates run at once (1..16; each place and route uses one core)", "the number of cores"))
   val flags: Seq[String] = Seq("fmax")
-  val flagHelp: Map[String, String] = Map("fmax" -> "place and route every point on ECP5 for the Fmax proxy (about 3 minutes each)")
+  val flagHelp: Map[String, String] = Map("fmax" -> "place and route every point on ECP5 for the Fmax proxy (1 to 5 minutes each)")
 
   /** The grid: named points, each a complete configuration. */
   def grid: Seq[(String, LoadParams)] = {
@@ -30,13 +34,18 @@ object Sweep {
     val classic = Seq((16, 10, 12), (20, 16, 15), (23, 20, 17), (26, 26, 20)).map { case (b, n, f) =>
       s"classic-b$b-n$n" -> point(CordicArchitecture.Classic, b, n, f)
     }
-    val residual = Seq((16, 6, 12), (20, 9, 15), (23, 12, 17), (26, 14, 20)).flatMap { case (b, n, f) =>
-      scala.util.Try(s"residual-b$b-n$n" -> point(CordicArchitecture.ResidualRotation, b, n, f)).toOption
+    val residual = Seq((16, 6, 12), (20, 9, 15), (23, 12, 17), (26, 14, 20)).map { case (b, n, f) =>
+      s"residual-b$b-n$n" -> point(CordicArchitecture.ResidualRotation, b, n, f)
     }
-    val tabled = Seq((16, 6, 12, 4), (20, 9, 15, 7), (23, 12, 17, 8), (26, 14, 20, 9)).flatMap { case (b, n, f, t) =>
-      scala.util.Try(s"table-b$b-n$n-t$t" -> point(CordicArchitecture.ResidualRotation, b, n, f, t)).toOption
+    val tabled = Seq((16, 6, 12, 4), (20, 9, 15, 7), (23, 12, 17, 8), (26, 14, 20, 9)).map { case (b, n, f, t) =>
+      s"table-b$b-n$n-t$t" -> point(CordicArchitecture.ResidualRotation, b, n, f, t)
     }
-    classic ++ residual ++ tabled ++ LoadParams.presets.toSeq.map { case (n, p) => s"preset-$n" -> p }
+    // Pipeline depth: registers after every r micro-rotations instead of every one.
+    val depth = Seq(2, 3).map { r =>
+      val p = point(CordicArchitecture.Classic, 26, 26, 20)
+      s"classic-b26-n26-r$r" -> p.copy(cordic = p.cordic.copy(iterationsPerStage = r))
+    }
+    classic ++ depth ++ residual ++ tabled ++ LoadParams.presets.toSeq.map { case (n, p) => s"preset-$n" -> p }
   }
 
   final case class Row(name: String, p: LoadParams, maxError: Double, estimate: Estimate) {
@@ -45,13 +54,13 @@ object Sweep {
       val fmax = estimate.fmaxEcp5Mhz
       val arch = p.cordic.architecture.name + (if (p.cordic.tableBits > 0) s"+table${p.cordic.tableBits}" else "") +
         (if (p.cordicUnits == 1) "+shared" else "")
-      Seq(name, p.model.name, arch, p.cordic.outputBits.toString, p.cordic.iterations.toString,
+      Seq(name, p.model.name, arch, p.cordic.outputBits.toString, p.cordic.iterations.toString, p.cordic.iterationsPerStage.toString,
         f"$maxError%.3e", f"${p.errorBound}%.3e", latency.toString, fmax.map(f => f"${latency * 1000 / f}%.1f").getOrElse(""),
         fmax.map(f => f"${f * 1e6 / p.samplePeriod}%.3g").getOrElse(""), estimate.les.toString, estimate.registers.toString,
         estimate.mult18x18.toString, estimate.memoryBits.toString, fmax.map(f => f"$f%.1f").getOrElse(""))
     }
   }
-  val header: Seq[String] = Seq("config", "model", "cordic", "sincos_bits", "iterations", "max_error_nm", "bound_nm", "latency_cycles",
+  val header: Seq[String] = Seq("config", "model", "cordic", "sincos_bits", "iterations", "iterations_per_stage", "max_error_nm", "bound_nm", "latency_cycles",
     "latency_ns", "results_per_s", "est_les", "registers", "mult18x18", "memory_bits", "fmax_ecp5_mhz")
 
   /** Max |model - reference| over every golden trace (reference: the configuration's own formula). */
@@ -72,14 +81,33 @@ object Sweep {
   def run(cli: Cli): Unit = {
     val out = cli.path("out").getOrElse(Paths.get("sweep"))
     val fmax = cli.has("fmax")
-    // A preset equal to a grid point is measured once (place and route takes minutes).
+    val jobs = cli.get("jobs").map { v =>
+      scala.util.Try(v.toInt).filter(j => j >= 1 && j <= 16)
+        .getOrElse(throw new InputError(s"command line: --jobs must be an integer in 1..16, got '$v'"))
+    }.getOrElse(Runtime.getRuntime.availableProcessors.min(16))
+    // A preset equal to a grid point is measured once (place and route takes minutes). Elaboration
+    // and the golden error run here in turn; the estimates (external processes) run `jobs` at once,
+    // after the first one alone has set up the tools' virtual environments.
     val distinct = grid.map(_._2).distinct
-    val measured: Map[LoadParams, (Double, Estimate)] = distinct.zipWithIndex.map { case (p, i) =>
-      println(s"sweep: measuring ${i + 1} of ${distinct.size}: ${grid.filter(_._2 == p).map(_._1).mkString(" = ")}")
-      val top = s"LoadDatapath_${p.model.name}"
-      val verilog = Emit.withBlackBoxes(ChiselStage.emitSystemVerilog(new LoadDatapath(p), Array.empty[String], Emit.firtoolOpts))
-      p -> (goldenError(p), Estimate.run(verilog, top, fmax))
-    }.toMap
+    val designs = distinct.zipWithIndex.map { case (p, i) =>
+      println(s"sweep: elaborating ${i + 1} of ${distinct.size}: ${grid.filter(_._2 == p).map(_._1).mkString(" = ")}")
+      (p, s"LoadDatapath_${p.model.name}",
+        Emit.withBlackBoxes(ChiselStage.emitSystemVerilog(new LoadDatapath(p), Array.empty[String], Emit.firtoolOpts)), goldenError(p))
+    }
+    val pool = java.util.concurrent.Executors.newFixedThreadPool(jobs)
+    implicit val ec: ExecutionContext = ExecutionContext.fromExecutorService(pool)
+    val measured: Map[LoadParams, (Double, Estimate)] =
+      try {
+        def estimate(d: (LoadParams, String, String, Double), i: Int): (LoadParams, (Double, Estimate)) = {
+          val (p, top, verilog, error) = d
+          val e = Estimate.run(verilog, top, fmax)
+          println(s"sweep: estimated ${i + 1} of ${designs.size}: ${e.les} LEs" + e.fmaxEcp5Mhz.map(f => f", $f%.1f MHz").getOrElse(""))
+          p -> (error, e)
+        }
+        val first = designs.headOption.map(estimate(_, 0)).toSeq
+        val rest = designs.zipWithIndex.drop(1).map { case (d, i) => Future(estimate(d, i)) }
+        (first ++ Await.result(Future.sequence(rest), Duration.Inf)).toMap
+      } finally pool.shutdown()
     val rows = grid.map { case (name, p) =>
       val (error, estimate) = measured(p)
       val row = Row(name, p, error, estimate)
