@@ -45,8 +45,20 @@ def main():
         idx = [i for i, r in enumerate(rows) if kind(r) == arch]
         ax.scatter([les[i] for i in idx], [err[i] for i in idx], marker=marker, label=label)
     ax.plot([les[i] for i in front], [err[i] for i in front], "k--", lw=1, label="Pareto front")
+    # One label per spot: configurations with the same error and LEs within 2 % share it.
+    spots = []
     for i, r in enumerate(rows):
-        ax.annotate(r["config"], (les[i], err[i]), fontsize=7, xytext=(4, 3), textcoords="offset points")
+        spot = next((sp for sp in spots if err[sp[0]] == err[i] and abs(les[sp[0]] - les[i]) <= 0.02 * les[i]), None)
+        if spot is None:
+            spots.append([i])
+        else:
+            spot.append(i)
+    right_edge = max(les) / 1.6  # labels of the rightmost points go below left, inside the axes
+    for spot in spots:
+        x = les[spot[0]]
+        right = x > right_edge
+        ax.annotate("\n".join(rows[i]["config"] for i in spot), (x, err[spot[0]]), fontsize=7, va="top" if right else "bottom",
+                    ha="right" if right else "left", xytext=(-4, -3) if right else (4, 3), textcoords="offset points")
     ax.scatter([4330], [1e-3], marker="*", s=160, c="red", label="paper (4,330 LEs, < 1e-3 N·m)")
     ax.axhline(1e-4, color="gray", lw=0.8, ls=":")
     ax.set_xscale("log")

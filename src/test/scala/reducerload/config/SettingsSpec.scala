@@ -80,4 +80,32 @@ class SweepDocsSpec extends AnyFlatSpec {
     table.foreach(row => assert(readme.contains(row), s"README lacks the sweep row: $row"))
     Seq("error_vs_les.png", "memory_vs_precision.png").foreach(f => assert(Files.exists(Paths.get("docs", "sweep", f)), s"docs/sweep/$f missing"))
   }
+
+  it should "quote the sweep's own figures in the preset comparison beside the paper" in {
+    val readme = new String(Files.readAllBytes(Paths.get("README.md")), "UTF-8").linesIterator.toSeq
+    val csv = new String(Files.readAllBytes(Paths.get("docs", "sweep", "sweep.csv")), "UTF-8").linesIterator.map(_.split(",", -1).toSeq).toSeq
+    val column = csv.head.zipWithIndex.toMap
+    val sweep = csv.tail.map(r => r(column("config")) -> r).toMap
+    val table = readme.dropWhile(!_.startsWith("| design | max error, golden traces |")).drop(2).takeWhile(_.startsWith("|"))
+    val presetRows = table.filter(_.startsWith("| `"))
+    assert(presetRows.size == LoadParams.presets.size, s"the comparison lists ${presetRows.size} presets, the code has ${LoadParams.presets.size}")
+    def number(cell: String): Double = cell.trim.takeWhile(c => c.isDigit || ",.e-".contains(c)).replace(",", "").toDouble
+    presetRows.foreach { line =>
+      val cells = line.split('|').map(_.trim).drop(1).toSeq
+      val name = cells.head.stripPrefix("`").takeWhile(_ != '`')
+      val row = sweep.getOrElse(s"preset-$name", fail(s"sweep.csv has no preset-$name"))
+      def agrees(cell: String, key: String, relTol: Double): Unit = {
+        val (shown, measured) = (number(cell), row(column(key)).toDouble)
+        assert(math.abs(shown - measured) <= relTol * math.abs(measured), s"README $name: $key shown as '$cell', sweep.csv has $measured")
+      }
+      agrees(cells(1), "max_error_nm", 0.05)
+      agrees(cells(2), "est_les", 0)
+      agrees(cells(3), "registers", 0)
+      agrees(cells(4), "mult18x18", 0)
+      agrees(cells(5), "memory_bits", 0)
+      agrees(cells(6), "fmax_ecp5_mhz", 0.001)
+      agrees(cells(7), "results_per_s", 0.01)
+      agrees(cells(8), "latency_cycles", 0)
+    }
+  }
 }
