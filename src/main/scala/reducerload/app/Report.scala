@@ -73,7 +73,7 @@ final case class Report(p: LoadParams, top: Top, moduleName: String, latency: In
     val sb = Seq(
       s"# $moduleName",
       "",
-      s"- latency: $latency cycles; throughput: ${if (top == Top.Load) Report.throughput(p) else "one angle per clock"}",
+      s"- latency: $latency cycles; throughput: ${Report.throughput(p, top)}",
       f"- derived error bound: ${if (top == Top.Load) p.errorBound else c.errorBound}%.3e ${if (top == Top.Load) "N·m" else ""}",
       s"- regenerate: `$command`",
       "",
@@ -127,7 +127,9 @@ final case class Report(p: LoadParams, top: Top, moduleName: String, latency: In
 
 object Report {
 
-  /** Samples per clock of the load datapath, in words. */
-  def throughput(p: LoadParams): String =
-    if (p.samplePeriod == 1) "one sample per clock" else s"one sample every ${p.samplePeriod} clocks (one CORDIC unit shared by the three angles)"
+  /** How often the emitted top takes an input, in words. */
+  def throughput(p: LoadParams, top: Top = Top.Load): String =
+    if (top == Top.SinCos) "one angle per clock"
+    else if (p.samplePeriod == 1) "one sample per clock"
+    else s"one sample every ${p.samplePeriod} clocks (one CORDIC unit shared by the three angles)"
 }

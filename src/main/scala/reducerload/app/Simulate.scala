@@ -98,7 +98,7 @@ object Simulate {
     println(s"wrote $output: ${rows.size} samples, model ${p.model.name}")
     println(f"max |error| over in-range samples: $maxErr%.3e N·m (derived bound ${p.errorBound}%.3e N·m)")
     println(s"out-of-range samples (clamped, flagged): ${results.count(_._4)}")
-    println(f"simulation rate: $rate%.0f samples/s (Verilator, ${reducerload.app.Report.throughput(p)}, latency ${LoadDatapath.latency(p)} cycles)")
+    println(f"simulation rate: $rate%.0f samples/s (Verilator, ${Report.throughput(p)}, latency ${LoadDatapath.latency(p)} cycles)")
     if (maxErr > p.errorBound) throw new IllegalStateException(s"max error $maxErr exceeds the derived bound ${p.errorBound}")
   }
 

@@ -110,9 +110,12 @@ object FixedFormat {
       }
   }
 
-  /** Clamp to the format: (clamped raw, was it out of range?). Model of FixedHw.saturate. */
-  def saturate(raw: BigInt, to: FixedFormat): (BigInt, Boolean) =
-    if (raw > to.maxRaw) (to.maxRaw, true)
-    else if (raw < to.minRaw) (to.minRaw, true)
+  /** Clamp to [min, max]: (clamped raw, was it out of range?). Saturation, never wrap-around. Model of FixedHw.clamp. */
+  def clamp(raw: BigInt, min: BigInt, max: BigInt): (BigInt, Boolean) =
+    if (raw > max) (max, true)
+    else if (raw < min) (min, true)
     else (raw, false)
+
+  /** Clamp to the format: (clamped raw, was it out of range?). Model of FixedHw.saturate. */
+  def saturate(raw: BigInt, to: FixedFormat): (BigInt, Boolean) = clamp(raw, to.minRaw, to.maxRaw)
 }

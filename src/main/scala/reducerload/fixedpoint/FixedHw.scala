@@ -64,16 +64,24 @@ object FixedHw {
     }
   }
 
-  /** Clamp `x` into `to`: (value in `to`'s width, out-of-range flag). */
-  def saturate(x: SInt, to: FixedFormat): (SInt, Bool) = {
-    if (x.getWidth <= to.width) (x.pad(to.width), false.B)
-    else {
-      val high = greaterThan(x, to.maxRaw)
-      val low = lessThan(x, to.minRaw)
-      val clamped = Mux(high, to.maxRaw.S(to.width.W), Mux(low, to.minRaw.S(to.width.W), x(to.width - 1, 0).asSInt))
-      (clamped, high || low)
-    }
+  /**
+   * Clamp `x` to [min, max] (saturation, never wrap-around): (value in `width` bits, out-of-range
+   * flag). `min` and `max` must fit `width` bits; in range, `x`'s low `width` bits are the value.
+   */
+  def clamp(x: SInt, min: BigInt, max: BigInt, width: Int): (SInt, Bool) = {
+    val (lo, hi) = (-(BigInt(1) << (width - 1)), (BigInt(1) << (width - 1)) - 1)
+    require(lo <= min && min <= max && max <= hi, s"clamp: [$min, $max] does not fit $width signed bits")
+    val high = greaterThan(x, max)
+    val low = lessThan(x, min)
+    val inRange = if (x.getWidth <= width) x.pad(width) else x(width - 1, 0).asSInt
+    val value = Wire(SInt(width.W)) // a typed width, which delay and callers' width checks can read
+    value := Mux(high, max.S(width.W), Mux(low, min.S(width.W), inRange))
+    (value, high || low)
   }
+
+  /** Clamp `x` into `to`: (value in `to`'s width, out-of-range flag). */
+  def saturate(x: SInt, to: FixedFormat): (SInt, Bool) =
+    if (x.getWidth <= to.width) (x.pad(to.width), false.B) else clamp(x, to.minRaw, to.maxRaw, to.width)
 
   /**
    * `a + b` when `subtract` is low, `a - b` when high, in one carry chain: `a + (b ^ s) + s`.

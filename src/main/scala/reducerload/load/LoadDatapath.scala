@@ -37,18 +37,15 @@ class LoadDatapath(val p: LoadParams) extends Module {
   // out-of-range flag; cycle 3: OR the six flags. In one clock, the compares and the OR chain
   // were the critical path.
   private def clamp(x: SInt, limit: BigInt): (SInt, Bool) = {
-    val high = FixedHw.greaterThan(x, limit)
-    val low = FixedHw.lessThan(x, -limit)
-    val clamped = Reg(SInt(x.getWidth.W))
-    clamped := Mux(high, limit.S(x.getWidth.W), Mux(low, (-limit).S(x.getWidth.W), x))
-    (clamped, RegNext(high || low))
+    val (value, outside) = FixedHw.clamp(x, -limit, limit, x.getWidth)
+    (FixedHw.delay(value, 1), RegNext(outside))
   }
   private val velocities = Seq(in.d1, in.d2, in.d3).zip(p.velocityLimitRaw).map { case (x, l) => clamp(x, l) }
   private val accelerations = Seq(in.dd1, in.dd2, in.dd3).zip(p.accelerationLimitRaw).map { case (x, l) => clamp(x, l) }
   private val d = velocities.map(_._1)
   private val dd = accelerations.map(_._1)
-  private val outOfRange = RegNext((velocities ++ accelerations).map(_._2).reduce(_ || _)) // cycle 3
-  private val clampedAt = LoadDatapath.clampedCycle
+  private val outOfRange = RegNext((velocities ++ accelerations).map(_._2).reduce(_ || _))
+  private val clampedAt = LoadDatapath.operandCycle
 
   // Cycle 2: first angle sum.
   private val t1 = RegNext(in.t1)
@@ -106,7 +103,7 @@ class LoadDatapath(val p: LoadParams) extends Module {
 
   private val outBits = Reg(new LoadOutput(p))
   outBits.load := load
-  outBits.outOfRange := FixedHw.delay(outOfRange, totalAt - 3) || saturated
+  outBits.outOfRange := FixedHw.delay(outOfRange, totalAt - LoadDatapath.outOfRangeCycle) || saturated
   io.out.bits := outBits
   io.out.valid := ShiftRegister(valid2, latency - 2, false.B, true.B)
 
@@ -114,18 +111,21 @@ class LoadDatapath(val p: LoadParams) extends Module {
 
 object LoadDatapath {
 
-  /** Cycle at which the clamped velocities and accelerations are ready (their out-of-range flag, one later). */
-  val clampedCycle: Int = 2
+  /** Cycle at which the clamped velocities and accelerations and the angle sums are in registers. */
+  val operandCycle: Int = 2
+
+  /** Cycle at which the OR of the six out-of-range flags is in its register. */
+  val outOfRangeCycle: Int = operandCycle + 1
 
   /** Cycles at which sin/cos of t3, t2+t3 and t1+t2+t3 leave the CORDIC unit(s): in turn when it is shared. */
   def trigCycles(p: LoadParams): Seq[Int] = {
-    val first = 2 + p.cordic.latency
+    val first = operandCycle + p.cordic.latency
     if (p.cordicUnits == 1) Seq(first, first + 1, first + 2) else Seq.fill(3)(first)
   }
 
   /** Latency without elaborating: the recipe's schedule (same rules as the hardware), then the output register. */
   def latency(p: LoadParams): Int = {
-    val in: Option[Int] = Some(clampedCycle)
+    val in: Option[Int] = Some(operandCycle)
     val Seq(t3, t23, t123) = trigCycles(p).map(Some(_))
     LoadRecipe(p, new LatencyArith(p.multiplierLatency), RecipeInputs(in, in, in, in, in, t23, t3, t23, t3, t123)).get + 1
   }

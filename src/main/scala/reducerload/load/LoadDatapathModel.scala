@@ -14,8 +14,7 @@ final class LoadDatapathModel(val p: LoadParams) {
   private val cordic = new CordicModel(p.cordic)
   private val turn = BigInt(1) << p.angleBits
 
-  private def clamp(x: BigInt, limit: BigInt): (BigInt, Boolean) =
-    if (x > limit) (limit, true) else if (x < -limit) (-limit, true) else (x, false)
+  private def clamp(x: BigInt, limit: BigInt): (BigInt, Boolean) = FixedFormat.clamp(x, -limit, limit)
 
   def evaluate(in: LoadInputCodes): LoadOutputCodes = {
     val (d, dFlags) = in.d.zip(p.velocityLimitRaw).map { case (x, l) => clamp(x, l) }.unzip

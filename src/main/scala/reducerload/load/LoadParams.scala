@@ -57,8 +57,8 @@ final case class LoadParams(
   require(cordicUnits == 1 || cordicUnits == 3,
     s"LoadParams.cordicUnits must be 3 (one CORDIC unit per angle) or 1 (one unit shared by the three angles), got $cordicUnits")
 
-  /** Clocks between samples: 1, or 3 when one CORDIC unit serves the three angles in turn. */
-  val samplePeriod: Int = if (cordicUnits == 1) 3 else 1
+  /** Clocks between samples: the three angles of a sample over the CORDIC units (1, or 3 with one shared unit). */
+  val samplePeriod: Int = 3 / cordicUnits
 
   private val F = internalFracBits
   private val lsbF = math.pow(2.0, -F)

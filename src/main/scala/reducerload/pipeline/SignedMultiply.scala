@@ -2,7 +2,7 @@ package reducerload.pipeline
 
 import chisel3._
 import chisel3.experimental.IntParam
-import chisel3.util.HasBlackBoxInline
+import chisel3.util.{HasBlackBoxInline, ShiftRegister}
 
 /**
  * Registered signed multiply: registers on both operands and on the product, written in Verilog
@@ -96,5 +96,7 @@ class SignedMultiplyTwin(aWidth: Int, bWidth: Int) extends Module {
     val b = Input(SInt(bWidth.W))
     val product = Output(SInt((aWidth + bWidth).W))
   })
-  io.product := RegNext(RegNext(io.a) * RegNext(io.b))
+  // Operand registers, then the product register: SignedMultiply.latency clocks in all.
+  private val operandDelay = SignedMultiply.latency - 1
+  io.product := RegNext(ShiftRegister(io.a, operandDelay) * ShiftRegister(io.b, operandDelay))
 }

@@ -41,7 +41,7 @@ object Stream {
 
   /**
    * The stimulus for a pipeline that takes one sample every `period` clocks: `period - 1` bubbles
-   * after every sample (a reset restarts the count). Lazy, for long streams.
+   * after every sample; bubbles and resets pass through. Lazy, for long streams.
    */
   def spaced[A](stimulus: Iterator[Cycle[A]], period: Int): Iterator[Cycle[A]] = {
     require(period >= 1, s"spaced: period must be >= 1, got $period")
