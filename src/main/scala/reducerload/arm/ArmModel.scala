@@ -1,0 +1,48 @@
+package reducerload.arm
+
+import reducerload.fixedpoint.{FixedFormat, Rounding}
+import reducerload.graph.{GraphModel, SampleCodes}
+
+/** One sample of joint state in SI units: angles (rad), velocities (rad/s), accelerations (rad/s^2), one each per joint. */
+final case class ArmSample(q: IndexedSeq[Double], qd: IndexedSeq[Double], qdd: IndexedSeq[Double]) {
+  require(q.size == qd.size && q.size == qdd.size, s"ArmSample: ${q.size} angles, ${qd.size} velocities, ${qdd.size} accelerations")
+}
+
+/** Raw output of one sample: torque codes and the per-joint out-of-range flags. */
+final case class ArmOutputCodes(tau: IndexedSeq[BigInt], outOfRange: IndexedSeq[Boolean])
+
+/** Bit-accurate model of [[ArmDatapath]], and the conversions between SI values and codes. */
+final class ArmModel(val p: ArmParams) {
+  private val numerics = p.numerics
+  private val graphModel = new GraphModel(p.analysis)
+  private val turn = BigInt(1) << numerics.angleBits
+
+  /** The datapath for one sample of port codes: clamp, the graph, the output stage. */
+  def evaluate(in: SampleCodes): ArmOutputCodes = {
+    def clamp(x: BigInt, limit: BigInt) = FixedFormat.clamp(x, -limit, limit)
+    val (qd, qdFlags) = in.velocities.zip(numerics.velocityLimitRaw).map { case (x, l) => clamp(x, l) }.unzip
+    val (qdd, qddFlags) = in.accelerations.zip(numerics.accelerationLimitRaw).map { case (x, l) => clamp(x, l) }.unzip
+    val out = graphModel.outputs(SampleCodes(in.angles, qd, qdd))
+    val saturated = out.exists(_._2)
+    ArmOutputCodes(out.map(_._1), qdFlags.zip(qddFlags).map { case (a, b) => a || b || saturated })
+  }
+
+  /** Binary angle code of an angle in radians, any real value (wraps modulo one turn). */
+  def angleCode(rad: Double): BigInt = {
+    require(!rad.isNaN && !rad.isInfinite, s"angle $rad is not a finite number")
+    val turns = rad / (2 * math.Pi)
+    FixedFormat(62, numerics.angleBits).quantize(turns - math.floor(turns), Rounding.HalfUp).mod(turn)
+  }
+
+  /** Port codes of a sample (round to nearest); values beyond the port format saturate at it. */
+  def encode(s: ArmSample): SampleCodes = {
+    require(s.q.size == p.chain.size, s"a sample of ${s.q.size} joints for the ${p.chain.size}-joint ${p.chain.name}")
+    def code(x: Double, f: FixedFormat) = f.fromDouble(x, Rounding.HalfUp)._1
+    SampleCodes(s.q.map(angleCode), s.qd.map(code(_, numerics.velocityPortFormat)), s.qdd.map(code(_, numerics.accelerationPortFormat)))
+  }
+
+  /** Torques in N·m. */
+  def torques(out: ArmOutputCodes): IndexedSeq[Double] = out.tau.map(p.analysis.outputPortFormat.toDouble)
+
+  def evaluate(s: ArmSample): IndexedSeq[Double] = torques(evaluate(encode(s)))
+}

@@ -1,0 +1,69 @@
+package reducerload.arm
+
+import reducerload.cordic.CordicParams
+import reducerload.dynamics.{JointState, Rnea}
+import reducerload.fixedpoint.Rounding
+import reducerload.graph._
+import reducerload.robot.SerialChain
+
+/**
+ * Generator parameters of [[ArmDatapath]] for a serial arm: every joint torque by RNEA, as one
+ * expression graph with the robot's constants folded. The joint count is the chain's; per-joint
+ * ranges must match it. Formats, error bounds and the schedule are derived (see [[Analysis]]).
+ *
+ * @param maxVelocity     declared max |qd_j| per joint, rad/s
+ * @param maxAcceleration declared max |qdd_j| per joint, rad/s^2
+ */
+final case class ArmParams(
+  chain: SerialChain,
+  maxVelocity: Seq[Double],
+  maxAcceleration: Seq[Double],
+  cordic: CordicParams = CordicParams.tableResidual,
+  velocityFracBits: Int = 20,
+  accelerationFracBits: Int = 20,
+  constantFracBits: Int = 24,
+  internalFracBits: Int = 22,
+  outputFracBits: Int = 20,
+  productRounding: Rounding = Rounding.Truncate,
+  multiplierLatency: Int = 1,
+  memoryDelayMinCycles: Int = 4) {
+
+  require(maxVelocity.size == chain.size,
+    s"robot ${chain.name} has ${chain.size} joints but max-velocity gives ${maxVelocity.size} value(s)")
+  require(maxAcceleration.size == chain.size,
+    s"robot ${chain.name} has ${chain.size} joints but max-acceleration gives ${maxAcceleration.size} value(s)")
+  require(multiplierLatency >= 1 && multiplierLatency <= 4, s"datapath.multiplier-latency must be in 1..4, got $multiplierLatency")
+  require(memoryDelayMinCycles == 0 || memoryDelayMinCycles >= 2,
+    s"datapath.memory-delay-min-cycles must be 0 (registers only) or >= 2, got $memoryDelayMinCycles")
+
+  def jointNames: IndexedSeq[String] = chain.joints.map(_.name)
+
+  val numerics: Numerics = Numerics(maxVelocity, maxAcceleration, cordic, velocityFracBits, accelerationFracBits,
+    constantFracBits, internalFracBits, outputFracBits, productRounding)
+
+  /** RNEA on graph nodes: the datapath's structure, written once. */
+  lazy val graph: Graph = ArmParams.rneaGraph(chain)
+  lazy val analysis: Analysis = new Analysis(graph, numerics)
+  lazy val schedule: Schedule = new Schedule(analysis, ArmDatapath.inputCycle, ArmDatapath.inputCycle + cordic.latency, multiplierLatency)
+
+  /** Cycles from a sample on the input port to its torques on the output port. */
+  def latency: Int = schedule.latency
+
+  /** Worst-case |torque - exact double RNEA at the unquantized inputs| per joint, N·m, for inputs in range. */
+  def errorBounds: IndexedSeq[Double] = analysis.outputs.map(_.errorBound)
+  def errorBound: Double = errorBounds.max
+
+  def tag: String = s"${chain.name.replaceAll("[^A-Za-z0-9]", "_")}_${chain.size}dof"
+}
+
+object ArmParams {
+
+  /** Every joint's torque as a graph output, named after the joint. */
+  def rneaGraph(chain: SerialChain): Graph = GraphBuilder.build { b =>
+    val state = chain.joints.indices.map { j =>
+      JointState(b.trig(TrigFn.Cos, AngleSum.of(j)), b.trig(TrigFn.Sin, AngleSum.of(j)),
+        b.input(Signal.Velocity(j)), b.input(Signal.Acceleration(j)))
+    }
+    chain.joints.map(_.name).zip(Rnea.torques(chain, state)(b))
+  }
+}

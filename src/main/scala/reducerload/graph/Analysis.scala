@@ -1,0 +1,126 @@
+package reducerload.graph
+
+import reducerload.fixedpoint.{FixedFormat, Rounding}
+
+/**
+ * What the analysis proves about one node: the exact value lies in `range` for every input within
+ * the declared ranges, the datapath's value differs from it by at most `error`, and both fit
+ * `format`. For a constant, `raw` is its code.
+ */
+final case class NodeNumerics(range: Interval, error: Double, format: FixedFormat, raw: Option[BigInt] = None) {
+  /** Largest magnitude the datapath can hold at this node. */
+  def computedMaxAbs: Double = range.maxAbs + error
+}
+
+/** One output after the output stage: its format, range and error bound (N·m). */
+final case class OutputNumerics(name: String, range: Interval, errorBound: Double, format: FixedFormat)
+
+/**
+ * Range and error analysis of a graph, and the format rules: signed intervals for ranges, first-order
+ * plus cross-term error propagation, every rounding counted. The one place that decides a node's
+ * fraction bits:
+ *  - constants: `constantFracBits`, rounded to nearest; inputs: their own; sin/cos: the CORDIC output's;
+ *  - add, subtract, negate: the larger of the operands' (exact, no rounding);
+ *  - multiply: the operands' sum, capped at `internalFracBits` by `productRounding`;
+ *  - outputs: `outputFracBits`, rounded half up.
+ * Integer bits follow from range + error, so no node can overflow; the model checks every value.
+ */
+final class Analysis(val graph: Graph, val numerics: Numerics) {
+  import Op._
+  private val n = numerics
+
+  /** Error of sin/cos of `angle`: the CORDIC unit's, plus half a code of each input angle in the sum. */
+  def trigError(angle: AngleSum): Double = n.cordic.errorBound + angle.weight * n.angleError
+
+  /** Fraction bits a multiply of operands with `fa` and `fb` fraction bits keeps, and how many it drops. */
+  def productFracBits(fa: Int, fb: Int): (Int, Int) = {
+    val keep = math.min(fa + fb, n.internalFracBits)
+    (keep, fa + fb - keep)
+  }
+
+  val nodes: IndexedSeq[NodeNumerics] = graph.fold[NodeNumerics] { (op, at) =>
+    op match {
+      case Const(v) =>
+        val raw = FixedFormat(62, n.constantFracBits).quantize(v, Rounding.HalfUp)
+        NodeNumerics(Interval.point(v), math.abs(v - FixedFormat.scaleDown(raw, n.constantFracBits)),
+          FixedFormat.forRawRange(raw.abs, n.constantFracBits), Some(raw))
+      case Input(s) if s.joint >= n.joints =>
+        throw new IllegalArgumentException(s"graph input $s names a joint beyond the ${n.joints} declared")
+      case Input(Signal.Velocity(j)) =>
+        NodeNumerics(Interval.symmetric(n.velocityLimits(j)), 0.5 * n.velocityFormats(j).lsb, n.velocityFormats(j))
+      case Input(Signal.Acceleration(j)) =>
+        NodeNumerics(Interval.symmetric(n.accelerationLimits(j)), 0.5 * n.accelerationFormats(j).lsb, n.accelerationFormats(j))
+      case Trig(_, angle) => NodeNumerics(Interval(-1, 1), trigError(angle), n.cordic.outputFormat)
+      case Add(a, b) => rotated(a, b, isSum = true, at).getOrElse(exact(at(a).range + at(b).range, at(a).error + at(b).error, at(a), at(b)))
+      case Sub(a, b) => rotated(a, b, isSum = false, at).getOrElse(exact(at(a).range - at(b).range, at(a).error + at(b).error, at(a), at(b)))
+      case Neg(a)    => exact(-at(a).range, at(a).error, at(a), at(a))
+      case Mul(a, b) =>
+        val (x, y) = (at(a), at(b))
+        val range = if (a == b) x.range.squared else x.range * y.range
+        val (frac, drop) = productFracBits(x.format.fracBits, y.format.fracBits)
+        val rounding = if (drop > 0) Rounding.maxErrorLsb(n.productRounding) * math.pow(2.0, -frac) else 0.0
+        val error = x.range.maxAbs * y.error + x.error * y.range.maxAbs + x.error * y.error + rounding
+        NodeNumerics(range, error, FixedFormat.forRange(range.maxAbs + error, frac))
+    }
+  }
+
+  /**
+   * `cos(a) u +- sin(a) w`, the shape every rotation by a joint angle takes once folded: by
+   * Cauchy-Schwarz with cos^2 + sin^2 = 1, |value| <= hypot(|u|, |w|) and the error of u and w
+   * enters as hypot(e_u, e_w), where intervals would add them. Without this, ranges and errors
+   * grow by up to 2x per joint down the chain. None when the node does not have that shape.
+   */
+  private def rotated(a: NodeId, b: NodeId, isSum: Boolean, at: NodeId => NodeNumerics): Option[NodeNumerics] = {
+    def split(m: NodeId): Option[(TrigFn, AngleSum, NodeId)] = graph(m) match {
+      case Mul(x, y) =>
+        (graph(x), graph(y)) match {
+          case (Trig(fn, angle), _) => Some((fn, angle, y))
+          case (_, Trig(fn, angle)) => Some((fn, angle, x))
+          case _                    => None
+        }
+      case _ => None
+    }
+    (split(a), split(b)) match {
+      case (Some((fa, angle, u)), Some((fb, angleB, w))) if angle == angleB && fa != fb =>
+        val (nu, nw) = (at(u), at(w))
+        def roundingOf(m: NodeId) = {
+          val Mul(x, y) = graph(m): @unchecked
+          val drop = productFracBits(at(x).format.fracBits, at(y).format.fracBits)._2
+          if (drop > 0) Rounding.maxErrorLsb(n.productRounding) * math.pow(2.0, -at(m).format.fracBits) else 0.0
+        }
+        val bound = math.hypot(nu.range.maxAbs, nw.range.maxAbs)
+        val error = math.hypot(nu.error, nw.error) + trigError(angle) * (nu.computedMaxAbs + nw.computedMaxAbs) + roundingOf(a) + roundingOf(b)
+        // Both bounds are sound: keep the tighter of each.
+        val plain = exact(if (isSum) at(a).range + at(b).range else at(a).range - at(b).range, at(a).error + at(b).error, at(a), at(b))
+        val range = Interval(math.max(plain.range.lo, -bound), math.min(plain.range.hi, bound))
+        val e = math.min(error, plain.error)
+        Some(NodeNumerics(range, e, FixedFormat.forRange(range.maxAbs + e, plain.format.fracBits)))
+      case _ => None
+    }
+  }
+
+  private def exact(range: Interval, error: Double, a: NodeNumerics, b: NodeNumerics): NodeNumerics = {
+    val frac = math.max(a.format.fracBits, b.format.fracBits)
+    NodeNumerics(range, error, FixedFormat.forRange(range.maxAbs + error, frac))
+  }
+
+  def apply(id: NodeId): NodeNumerics = nodes(id.index)
+
+  /** Bits an output drops to reach `outputFracBits` (rounded half up); negative: bits it gains (exact). */
+  def outputDrop(o: Output): Int = apply(o.node).format.fracBits - n.outputFracBits
+
+  val outputs: IndexedSeq[OutputNumerics] = graph.outputs.map { o =>
+    val node = apply(o.node)
+    val drop = outputDrop(o)
+    val error = node.error + (if (drop > 0) Rounding.maxErrorLsb(Rounding.HalfUp) * math.pow(2.0, -n.outputFracBits) else 0.0)
+    OutputNumerics(o.name, node.range, error, FixedFormat.forRange(node.range.maxAbs + error, n.outputFracBits))
+  }
+
+  /** Every output in one port format: the widest. */
+  val outputPortFormat: FixedFormat = outputs.map(_.format).maxBy(_.width)
+
+  outputs.foreach(o => require(o.format.width <= 64, s"output ${o.name} needs ${o.format.width} bits; narrow the declared ranges"))
+
+  /** The widest node, for reports. */
+  def widest: (NodeId, NodeNumerics) = graph.ids.map(id => id -> apply(id)).maxBy(_._2.format.width)
+}

@@ -1,0 +1,90 @@
+package reducerload.graph
+
+/** Index of a node in its [[Graph]]; operands always have smaller indices than their users. */
+final case class NodeId(index: Int) extends AnyVal
+
+/** A per-sample input of the datapath, by joint (0-based; reports number joints from 1). */
+sealed abstract class Signal(val symbol: String) {
+  def joint: Int
+  override def toString: String = s"$symbol${joint + 1}"
+}
+object Signal {
+  final case class Velocity(joint: Int) extends Signal("qd")
+  final case class Acceleration(joint: Int) extends Signal("qdd")
+}
+
+/** An integer combination of joint angles: binary angles add modulo one turn, for free. */
+final case class AngleSum(terms: Seq[(Int, Int)]) {
+  require(terms.nonEmpty && terms.forall(_._2 != 0), s"AngleSum: empty or zero terms $terms")
+  require(terms.map(_._1) == terms.map(_._1).sorted.distinct, s"AngleSum: joints must be sorted and distinct in $terms")
+  /** Input angles rounded into this sum (each adds its rounding error). */
+  def weight: Int = terms.map(_._2.abs).sum
+  def joints: Seq[Int] = terms.map(_._1)
+  override def toString: String = terms.map { case (j, k) => (if (k == 1) "" else s"$k") + s"q${j + 1}" }.mkString("+")
+}
+object AngleSum {
+  def of(joint: Int): AngleSum = AngleSum(Seq(joint -> 1))
+  def of(joints: Int*): AngleSum = AngleSum(joints.groupBy(identity).toSeq.map { case (j, js) => j -> js.size }.sortBy(_._1))
+}
+
+sealed abstract class TrigFn(val name: String) { override def toString: String = name }
+object TrigFn {
+  case object Sin extends TrigFn("sin")
+  case object Cos extends TrigFn("cos")
+}
+
+/** One operation of the datapath. Constants are SI values, folded at elaboration. */
+sealed trait Op { def operands: Seq[NodeId] }
+object Op {
+  final case class Const(value: Double) extends Op { def operands: Seq[NodeId] = Nil }
+  final case class Input(signal: Signal) extends Op { def operands: Seq[NodeId] = Nil }
+  final case class Trig(fn: TrigFn, angle: AngleSum) extends Op { def operands: Seq[NodeId] = Nil }
+  final case class Add(a: NodeId, b: NodeId) extends Op { def operands: Seq[NodeId] = Seq(a, b) }
+  final case class Sub(a: NodeId, b: NodeId) extends Op { def operands: Seq[NodeId] = Seq(a, b) }
+  final case class Neg(a: NodeId) extends Op { def operands: Seq[NodeId] = Seq(a) }
+  final case class Mul(a: NodeId, b: NodeId) extends Op { def operands: Seq[NodeId] = Seq(a, b) }
+}
+
+/** A named result of the graph (a joint torque). */
+final case class Output(name: String, node: NodeId)
+
+/**
+ * A datapath as an expression graph: operations in topological order (operands first), every
+ * node reachable from an output, common subexpressions shared. The single description of a
+ * datapath's structure; the reference, the analyses, the bit-accurate model, the schedule and the
+ * hardware are interpretations of it.
+ */
+final case class Graph(ops: IndexedSeq[Op], outputs: IndexedSeq[Output]) {
+  ops.zipWithIndex.foreach { case (op, i) =>
+    require(op.operands.forall(_.index < i), s"Graph: node $i uses a later node")
+  }
+  require(outputs.forall(o => o.node.index >= 0 && o.node.index < ops.size), "Graph: an output names no node")
+
+  def apply(id: NodeId): Op = ops(id.index)
+  def ids: IndexedSeq[NodeId] = ops.indices.map(NodeId(_))
+
+  /** Evaluate every node in order with `f`, given the values of its operands. */
+  def fold[T](f: (Op, NodeId => T) => T): IndexedSeq[T] =
+    ops.foldLeft(Vector.empty[T]) { (done, op) => done :+ f(op, id => done(id.index)) }
+
+  def angles: Seq[AngleSum] = ops.collect { case Op.Trig(_, a) => a }.distinct
+  def signals: Seq[Signal] = ops.collect { case Op.Input(s) => s }.distinct
+
+  /** Operation counts after folding and sharing. */
+  def counts: GraphCounts = {
+    def isConst(id: NodeId) = apply(id).isInstanceOf[Op.Const]
+    val muls = ops.collect { case m: Op.Mul => m }
+    GraphCounts(
+      multiplications = muls.size,
+      constantMultiplications = muls.count(m => isConst(m.a) || isConst(m.b)),
+      additions = ops.count { case _: Op.Add | _: Op.Sub => true; case _ => false },
+      negations = ops.count(_.isInstanceOf[Op.Neg]),
+      constants = ops.count(_.isInstanceOf[Op.Const]),
+      sinCos = angles.size
+    )
+  }
+}
+
+final case class GraphCounts(multiplications: Int, constantMultiplications: Int, additions: Int, negations: Int, constants: Int, sinCos: Int) {
+  def variableMultiplications: Int = multiplications - constantMultiplications
+}
