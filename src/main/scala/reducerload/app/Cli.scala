@@ -35,11 +35,12 @@ final case class Cli(command: String, options: Map[String, String], overrides: S
           throw new InputError(s"command line: --preset '$name' is not a preset (${LoadParams.presets.keys.toSeq.sorted.mkString(", ")})"))
         (ConfigFactory.parseString(Settings.render(preset, Nil)), s"preset $name")
     }
-    val merged = overrides.foldLeft(base: Config) { case (c, (key, value)) =>
+    val merged = Cli.robotDefaults(overrides).foldLeft(base: Config) { case (c, (key, value)) =>
       val setting = Settings.byKey(key)
       val text = setting match {
         case _: reducerload.config.Setting.PerJoint if value.contains(",") && !value.trim.startsWith("[") => s"[$value]"
         case _: reducerload.config.Setting.Choice => "\"" + value.replace("\"", "") + "\""
+        case _: reducerload.config.Setting.Text   => com.typesafe.config.ConfigValueFactory.fromAnyRef(value).render()
         case _ => value
       }
       val one = Try(ConfigFactory.parseString(s"$key = $text")).getOrElse(
@@ -53,6 +54,26 @@ final case class Cli(command: String, options: Map[String, String], overrides: S
 }
 
 object Cli {
+
+  /**
+   * `--robot X` on the command line means every joint of X: model rnea (unless --model is given),
+   * the URDF's velocity limits (unless --max-velocity is given), and no tip carried over from the
+   * preset; a URDF has no acceleration limits, so --max-acceleration must be given.
+   */
+  def robotDefaults(overrides: Seq[(String, String)]): Seq[(String, String)] = {
+    val keys = overrides.map(_._1).toSet
+    overrides.collectFirst { case ("robot.source", v) => v } match {
+      case None => overrides
+      case Some(robot) =>
+        val planar = robot == reducerload.load.RobotParams.planar3
+        if (!planar && !keys("robot.max-acceleration"))
+          throw new InputError(s"command line: --robot $robot: declare --max-acceleration A or [a1, ..., aN] in rad/s^2 (a URDF has no acceleration limits)")
+        val implied = Seq("model" -> "rnea") ++
+          (if (planar) Nil else Seq("robot.max-velocity" -> "urdf", "robot.tip" -> "")).filterNot(kv => keys(kv._1))
+        implied ++ overrides
+    }
+  }
+
   private[app] val strictParse =
     com.typesafe.config.ConfigParseOptions.defaults().setAllowMissing(false)
 

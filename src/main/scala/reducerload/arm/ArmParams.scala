@@ -67,3 +67,39 @@ object ArmParams {
     chain.joints.map(_.name).zip(Rnea.torques(chain, state)(b))
   }
 }
+
+/** The arm a configuration describes: its chain and per-joint ranges resolved against it. */
+object ArmConfig {
+  import reducerload.load.LoadParams
+  import reducerload.robot.{Planar3, Urdf}
+
+  /** The serial chain of `p.robot`: the built-in planar arm, or the URDF file's chain to its tip. */
+  def chain(p: LoadParams): SerialChain =
+    if (p.robot.isPlanar3) Planar3.chain(p.robot)
+    else Urdf.read(java.nio.file.Paths.get(p.robot.source), Option(p.robot.tip).filter(_.nonEmpty))
+
+  /** One value for every joint, one per joint, or (velocities only) none: the URDF's limits. */
+  private def perJoint(chain: SerialChain, values: Seq[Double], key: String, fromUrdf: Option[IndexedSeq[Option[Double]]]): Seq[Double] =
+    values.size match {
+      case 0 =>
+        val limits = fromUrdf.getOrElse(throw new IllegalArgumentException(s"robot.$key must be declared for ${chain.name}"))
+        chain.joints.zip(limits).map { case (j, l) =>
+          l.getOrElse(throw new IllegalArgumentException(s"joint ${j.name} has no <limit velocity> in the URDF: declare robot.$key"))
+        }
+      case 1                      => Seq.fill(chain.size)(values.head)
+      case n if n == chain.size => values
+      case n => throw new IllegalArgumentException(s"robot ${chain.name} has ${chain.size} joints but robot.$key gives $n values")
+    }
+
+  /** The arm datapath's parameters from a configuration whose model is rnea. */
+  def apply(p: LoadParams): ArmParams = {
+    require(!p.model.closedForm, s"model ${p.model.name} is a joint-3 closed form, not an arm")
+    val c = chain(p)
+    ArmParams(c,
+      perJoint(c, p.robot.maxVelocity, "max-velocity", Some(c.joints.map(_.velocityLimit))),
+      perJoint(c, p.robot.maxAcceleration, "max-acceleration", None),
+      cordic = p.cordic, velocityFracBits = p.velocityFracBits, accelerationFracBits = p.accelerationFracBits,
+      constantFracBits = p.constantFracBits, internalFracBits = p.internalFracBits, outputFracBits = p.outputFracBits,
+      productRounding = p.productRounding, multiplierLatency = p.multiplierLatency, memoryDelayMinCycles = p.memoryDelayMinCycles)
+  }
+}

@@ -62,19 +62,35 @@ object Setting {
     }
   }
 
-  /** One value per joint; a single number stands for all three. */
-  final class PerJoint(key: String, unit: String, help: String, aliases: Seq[String], val get: LoadParams => Seq[Double])
+  /** A string (a file path or a name); `allowEmpty` for optional values. */
+  final class Text(key: String, unit: String, help: String, aliases: Seq[String], val get: LoadParams => String)
       extends Setting(key, unit, help, aliases) {
-    def render(p: LoadParams): String = get(p).mkString("[", ", ", "]")
-    def typeName = "number or [n1, n2, n3]"
+    def render(p: LoadParams): String = com.typesafe.config.ConfigValueFactory.fromAnyRef(get(p)).render()
+    def typeName = "string"
+    def read(c: Config, source: String): Any =
+      if (c.getValue(key).valueType() != ConfigValueType.STRING) wrongType(source, "a string", c) else c.getString(key)
+  }
+
+  /**
+   * One value per joint: a single number stands for every joint, a list gives each joint its own
+   * (the joint count comes from the robot, not from here), and `urdf` (velocities only) takes the
+   * URDF's `<limit velocity>`.
+   */
+  final class PerJoint(key: String, unit: String, help: String, aliases: Seq[String], val get: LoadParams => Seq[Double], urdfAllowed: Boolean)
+      extends Setting(key, unit, help, aliases) {
+    def render(p: LoadParams): String = get(p) match {
+      case Seq()  => "urdf"
+      case values => values.mkString("[", ", ", "]")
+    }
+    def typeName: String = "number or [n1, ..., nN]" + (if (urdfAllowed) " or urdf" else "")
     def read(c: Config, source: String): Any = c.getValue(key).valueType() match {
-      case ConfigValueType.NUMBER => Seq.fill(3)(c.getDouble(key))
+      case ConfigValueType.NUMBER => Seq(c.getDouble(key))
+      case ConfigValueType.STRING if urdfAllowed && c.getString(key) == "urdf" => Seq.empty[Double]
       case ConfigValueType.LIST =>
         val items = c.getList(key).asScala.toSeq
-        if (items.size != 3 || items.exists(_.valueType() != ConfigValueType.NUMBER))
-          wrongType(source, "a list of 3 numbers (one per joint)", c)
+        if (items.isEmpty || items.exists(_.valueType() != ConfigValueType.NUMBER)) wrongType(source, "a list of numbers (one per joint)", c)
         items.map(_.unwrapped().asInstanceOf[Number].doubleValue())
-      case _ => wrongType(source, "a number or a list of 3 numbers", c)
+      case _ => wrongType(source, s"a number or a list of numbers${if (urdfAllowed) " or urdf" else ""}", c)
     }
   }
 }
@@ -85,14 +101,18 @@ object Settings {
   private val roundings = Rounding.all.map(_.name)
 
   val all: Seq[Setting] = Seq(
-    new Real("robot.m3", "kg", "point mass at the end of link 3", Seq("m3"), _.robot.m3),
-    new Real("robot.l1", "m", "length of link 1", Seq("l1"), _.robot.l1),
-    new Real("robot.l2", "m", "length of link 2", Seq("l2"), _.robot.l2),
-    new Real("robot.l3", "m", "length of link 3", Seq("l3"), _.robot.l3),
-    new Real("robot.g", "m/s^2", "gravitational acceleration (t1 = 0 points link 1 down)", Seq("g"), _.robot.g),
-    new PerJoint("robot.max-velocity", "rad/s", "declared max |d1|, |d2|, |d3|", Seq("max-velocity"), _.robot.maxVelocity),
-    new PerJoint("robot.max-acceleration", "rad/s^2", "declared max |dd1|, |dd2|, |dd3|", Seq("max-acceleration"), _.robot.maxAcceleration),
-    new Choice("model", "", "load formula: exact (SPEC.md tau3) or paper (equation (6) as published)", Nil,
+    new Text("robot.source", "", "planar3 (the built-in planar arm below) or the path of a URDF file", Seq("robot"), _.robot.source),
+    new Text("robot.tip", "", "URDF link that ends the chain (empty: the only leaf)", Seq("tip"), _.robot.tip),
+    new Real("robot.m3", "kg", "planar3: point mass at the end of link 3", Seq("m3"), _.robot.m3),
+    new Real("robot.l1", "m", "planar3: length of link 1", Seq("l1"), _.robot.l1),
+    new Real("robot.l2", "m", "planar3: length of link 2", Seq("l2"), _.robot.l2),
+    new Real("robot.l3", "m", "planar3: length of link 3", Seq("l3"), _.robot.l3),
+    new Real("robot.g", "m/s^2", "planar3: gravitational acceleration (t1 = 0 points link 1 down; a URDF robot has 9.81 along -z)", Seq("g"), _.robot.g),
+    new PerJoint("robot.max-velocity", "rad/s", "declared max |velocity| per joint (urdf: the URDF's <limit velocity>)", Seq("max-velocity"),
+      _.robot.maxVelocity, urdfAllowed = true),
+    new PerJoint("robot.max-acceleration", "rad/s^2", "declared max |acceleration| per joint (a URDF has none: declare it)", Seq("max-acceleration"),
+      _.robot.maxAcceleration, urdfAllowed = false),
+    new Choice("model", "", "exact (SPEC.md tau3) or paper (equation (6) as published): planar3's joint 3; rnea: every joint of any robot", Nil,
       LoadModel.all.map(_.name), _.model.name),
     new Natural("cordic.angle-bits", "bits", "binary-angle width (full turn = 2^bits)", Nil, _.cordic.angleBits),
     new Natural("cordic.output-bits", "bits", "sin/cos width, format Q1.(bits-2)", Nil, _.cordic.outputBits),
@@ -142,17 +162,24 @@ object Settings {
     def int(k: String) = v(k).asInstanceOf[Int]
     def str(k: String) = v(k).asInstanceOf[String]
     def joints(k: String) = v(k).asInstanceOf[Seq[Double]]
+    val planar = str("robot.source") == reducerload.load.RobotParams.planar3
+    def ranges(k: String) = joints(k) match { // planar3 has three joints: one number stands for all three
+      case Seq(x) if planar => Seq.fill(3)(x)
+      case other            => other
+    }
     def rounding(k: String) = Rounding.parse(str(k)).get
     try {
-      LoadParams(
+      val p = LoadParams(
         robot = RobotParams(
           m3 = real("robot.m3"),
           l1 = real("robot.l1"),
           l2 = real("robot.l2"),
           l3 = real("robot.l3"),
           g = real("robot.g"),
-          maxVelocity = joints("robot.max-velocity"),
-          maxAcceleration = joints("robot.max-acceleration")
+          maxVelocity = ranges("robot.max-velocity"),
+          maxAcceleration = ranges("robot.max-acceleration"),
+          source = str("robot.source"),
+          tip = str("robot.tip")
         ),
         model = LoadModel.parse(str("model")).get,
         cordic = CordicParams(
@@ -176,6 +203,9 @@ object Settings {
         memoryDelayMinCycles = int("datapath.memory-delay-min-cycles"),
         cordicUnits = int("datapath.cordic-units")
       )
+      // An arm is checked whole here (URDF, joint count, ranges, formats), so its errors name this configuration.
+      if (!p.model.closedForm) reducerload.arm.ArmConfig(p).analysis
+      p
     } catch {
       case e: IllegalArgumentException => throw new InputError(s"$source: ${e.getMessage.stripPrefix("requirement failed: ")}")
     }

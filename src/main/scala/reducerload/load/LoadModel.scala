@@ -3,8 +3,11 @@ package reducerload.load
 /** Which formula the datapath computes. */
 sealed abstract class LoadModel(val name: String, val description: String) {
 
-  /** Weight of dd2 in the cos(t3) term: (dd1 + k dd2). */
+  /** Weight of dd2 in the cos(t3) term: (dd1 + k dd2), for the joint-3 closed forms. */
   def dd2Weight: Int
+
+  /** A closed form of the planar arm's joint-3 load ([[LoadDatapath]]), or every joint of any arm ([[reducerload.arm.ArmDatapath]]). */
+  def closedForm: Boolean = true
 
   override def toString: String = name
 }
@@ -17,7 +20,13 @@ object LoadModel {
   /** The paper's equation (6) as published: (dd1 + 2 dd2) cos t3, off by m3 l2 l3 dd2 cos t3. */
   case object PaperEq6 extends LoadModel("paper", "the paper's equation (6) as published") { val dd2Weight = 2 }
 
-  val all: Seq[LoadModel] = Seq(Exact, PaperEq6)
+  /** Every joint of any serial arm (the built-in planar3 or a URDF) by RNEA, as an expression graph. */
+  case object Rnea extends LoadModel("rnea", "every joint torque by RNEA (the built-in planar3 or a URDF)") {
+    val dd2Weight = 1
+    override def closedForm = false
+  }
+
+  val all: Seq[LoadModel] = Seq(Exact, PaperEq6, Rnea)
   def parse(s: String): Option[LoadModel] = all.find(_.name == s)
 }
 

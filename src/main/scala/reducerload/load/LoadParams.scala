@@ -58,66 +58,71 @@ final case class LoadParams(
     s"LoadParams.cordicUnits must be 3 (one CORDIC unit per angle) or 1 (one unit shared by the three angles), got $cordicUnits")
 
   /** Clocks between samples: the three angles of a sample over the CORDIC units (1, or 3 with one shared unit). */
-  val samplePeriod: Int = 3 / cordicUnits
+  require(model.closedForm || cordicUnits == 3,
+    s"datapath.cordic-units = $cordicUnits: sharing CORDIC units is for the joint-3 closed forms (models exact, paper); model rnea has one unit per joint angle")
+  require(robot.isPlanar3 || !model.closedForm,
+    s"model ${model.name} is the planar arm's joint-3 closed form; robot ${robot.source} needs model rnea")
 
-  private val F = internalFracBits
-  private val lsbF = math.pow(2.0, -F)
+  lazy val samplePeriod: Int = if (model.closedForm) 3 / cordicUnits else 1
+
+  private lazy val F = internalFracBits
+  private lazy val lsbF = math.pow(2.0, -F)
 
   // ---- inputs ----
-  val angleBits: Int = cordic.angleBits
-  val velocityFormats: Seq[FixedFormat] = robot.maxVelocity.map(v => FixedFormat.forRange(v, velocityFracBits))
-  val accelerationFormats: Seq[FixedFormat] = robot.maxAcceleration.map(a => FixedFormat.forRange(a, accelerationFracBits))
+  lazy val angleBits: Int = cordic.angleBits
+  lazy val velocityFormats: Seq[FixedFormat] = robot.maxVelocity.map(v => FixedFormat.forRange(v, velocityFracBits))
+  lazy val accelerationFormats: Seq[FixedFormat] = robot.maxAcceleration.map(a => FixedFormat.forRange(a, accelerationFracBits))
 
   /** Declared limits as the codes a value at the limit converts to: codes beyond them are clamped and flagged. */
-  val velocityLimitRaw: Seq[BigInt] = robot.maxVelocity.zip(velocityFormats).map { case (v, f) => f.quantize(v, Rounding.HalfUp) }
-  val accelerationLimitRaw: Seq[BigInt] =
+  lazy val velocityLimitRaw: Seq[BigInt] = robot.maxVelocity.zip(velocityFormats).map { case (v, f) => f.quantize(v, Rounding.HalfUp) }
+  lazy val accelerationLimitRaw: Seq[BigInt] =
     robot.maxAcceleration.zip(accelerationFormats).map { case (a, f) => f.quantize(a, Rounding.HalfUp) }
 
   /** Half a code: inputs are converted to codes by rounding to nearest. */
-  private val angleError: Double = math.Pi / math.pow(2.0, angleBits)
-  private val vIn = robot.maxVelocity.map(v => Bounded(v, 0.5 * math.pow(2.0, -velocityFracBits)))
-  private val aIn = robot.maxAcceleration.map(a => Bounded(a, 0.5 * math.pow(2.0, -accelerationFracBits)))
+  private lazy val angleError: Double = math.Pi / math.pow(2.0, angleBits)
+  private lazy val vIn = robot.maxVelocity.map(v => Bounded(v, 0.5 * math.pow(2.0, -velocityFracBits)))
+  private lazy val aIn = robot.maxAcceleration.map(a => Bounded(a, 0.5 * math.pow(2.0, -accelerationFracBits)))
 
   // ---- folded constants ----
   private def quantizeConst(k: Double): BigInt = FixedFormat(0, constantFracBits).quantize(k, Rounding.HalfUp)
-  val constA: BigInt = quantizeConst(robot.a)
-  val constB: BigInt = quantizeConst(robot.b)
-  val constC: BigInt = quantizeConst(robot.c)
-  val constD: BigInt = quantizeConst(robot.d)
+  lazy val constA: BigInt = quantizeConst(robot.a)
+  lazy val constB: BigInt = quantizeConst(robot.b)
+  lazy val constC: BigInt = quantizeConst(robot.c)
+  lazy val constD: BigInt = quantizeConst(robot.d)
   private def boundedConst(k: Double, raw: BigInt) = Bounded.constant(k, FixedFormat.scaleDown(raw, constantFracBits))
-  require(Seq(constA, constB, constC).forall(_ > 0),
+  if (model.closedForm) require(Seq(constA, constB, constC).forall(_ > 0),
     s"LoadParams.constantFracBits ($constantFracBits) is too few: a robot constant rounds to zero")
 
   // ---- the datapath, node by node (names as in LoadRecipe) ----
   private def product(x: Bounded, y: Bounded) = (x * y).rounded(lsbF, productRounding)
 
-  val v12: Bounded = vIn(0) + vIn(1)
-  val a2: Bounded = aIn(0) + aIn(1).scale(model.dd2Weight)
-  val a12: Bounded = aIn(0) + aIn(1)
-  val a3: Bounded = a12 + aIn(2)
-  val sq1: Bounded = product(vIn(0), vIn(0))
-  val sq12: Bounded = product(v12, v12)
-  val u1: Bounded = product(boundedConst(robot.a, constA), aIn(0))
-  val u2: Bounded = product(boundedConst(robot.b, constB), a2)
-  val u3: Bounded = product(boundedConst(robot.a, constA), sq1)
-  val u4: Bounded = product(boundedConst(robot.b, constB), sq12)
-  val u5: Bounded = product(boundedConst(robot.c, constC), a3)
+  lazy val v12: Bounded = vIn(0) + vIn(1)
+  lazy val a2: Bounded = aIn(0) + aIn(1).scale(model.dd2Weight)
+  lazy val a12: Bounded = aIn(0) + aIn(1)
+  lazy val a3: Bounded = a12 + aIn(2)
+  lazy val sq1: Bounded = product(vIn(0), vIn(0))
+  lazy val sq12: Bounded = product(v12, v12)
+  lazy val u1: Bounded = product(boundedConst(robot.a, constA), aIn(0))
+  lazy val u2: Bounded = product(boundedConst(robot.b, constB), a2)
+  lazy val u3: Bounded = product(boundedConst(robot.a, constA), sq1)
+  lazy val u4: Bounded = product(boundedConst(robot.b, constB), sq12)
+  lazy val u5: Bounded = product(boundedConst(robot.c, constC), a3)
   /** sin/cos of an angle built from `n` rounded input angles. */
   private def trig(n: Int) = Bounded(1.0, cordic.errorBound + n * angleError)
-  val p1: Bounded = product(u1, trig(2)) // A dd1 cos(t2+t3)
-  val p2: Bounded = product(u2, trig(1)) // B (dd1 + k dd2) cos t3
-  val p3: Bounded = product(u3, trig(2)) // A d1^2 sin(t2+t3)
-  val p4: Bounded = product(u4, trig(1)) // B (d1+d2)^2 sin t3
-  val p6: Bounded = product(boundedConst(robot.d, constD), trig(3)) // D sin(t1+t2+t3)
-  val s12: Bounded = p1 + p2
-  val s34: Bounded = p3 + p4
-  val s56: Bounded = p6 + u5
-  val s1234: Bounded = s12 + s34
-  val total: Bounded = s1234 + s56
-  val output: Bounded = total.rounded(math.pow(2.0, -outputFracBits), Rounding.HalfUp)
+  lazy val p1: Bounded = product(u1, trig(2)) // A dd1 cos(t2+t3)
+  lazy val p2: Bounded = product(u2, trig(1)) // B (dd1 + k dd2) cos t3
+  lazy val p3: Bounded = product(u3, trig(2)) // A d1^2 sin(t2+t3)
+  lazy val p4: Bounded = product(u4, trig(1)) // B (d1+d2)^2 sin t3
+  lazy val p6: Bounded = product(boundedConst(robot.d, constD), trig(3)) // D sin(t1+t2+t3)
+  lazy val s12: Bounded = p1 + p2
+  lazy val s34: Bounded = p3 + p4
+  lazy val s56: Bounded = p6 + u5
+  lazy val s1234: Bounded = s12 + s34
+  lazy val total: Bounded = s1234 + s56
+  lazy val output: Bounded = total.rounded(math.pow(2.0, -outputFracBits), Rounding.HalfUp)
 
   /** Fixed-point format of every internal node, in datapath order, for the recipe and the report. */
-  val formats: Map[String, FixedFormat] = Map(
+  lazy val formats: Map[String, FixedFormat] = Map(
     "v12" -> v12.format(velocityFracBits),
     "a2" -> a2.format(accelerationFracBits),
     "a12" -> a12.format(accelerationFracBits),
@@ -142,18 +147,18 @@ final case class LoadParams(
   )
   def fmt(node: String): FixedFormat = formats.getOrElse(node, throw new NoSuchElementException(s"no format for node $node"))
 
-  val constantFormat: FixedFormat = FixedFormat.forRawRange(Seq(constA, constB, constC, constD).max, constantFracBits)
+  lazy val constantFormat: FixedFormat = FixedFormat.forRawRange(Seq(constA, constB, constC, constD).max, constantFracBits)
 
   /** Load output, N·m. */
-  val outputFormat: FixedFormat = output.format(outputFracBits)
+  lazy val outputFormat: FixedFormat = output.format(outputFracBits)
 
   /** Worst-case |load - exact double torque at the unquantized inputs|, N·m, for inputs in range. */
-  val errorBound: Double = output.error
+  lazy val errorBound: Double = output.error
 
   /** Largest |load| the declared ranges allow (sum of the six term maxima). */
-  val loadRange: Double = total.maxAbs
+  lazy val loadRange: Double = total.maxAbs
 
-  require(outputFormat.width <= 64, s"LoadParams: the declared ranges need a ${outputFormat.width}-bit output; narrow the ranges")
+  if (model.closedForm) require(outputFormat.width <= 64, s"LoadParams: the declared ranges need a ${outputFormat.width}-bit output; narrow the ranges")
 
   def tag: String = s"${model.name}_${cordic.tag}_f$F"
 }

@@ -7,8 +7,11 @@ package reducerload.load
  * @param m3              point mass at the end of link 3, kg
  * @param l1              link lengths, m
  * @param g               gravitational acceleration, m/s^2 (0 for an arm moving in a horizontal plane)
- * @param maxVelocity     declared max |d_i| per joint, rad/s
- * @param maxAcceleration declared max |dd_i| per joint, rad/s^2
+ * @param maxVelocity     declared max |d_i| per joint, rad/s (a URDF robot: one value for every joint,
+ *                        one per joint, or none for the URDF's `<limit velocity>`)
+ * @param maxAcceleration declared max |dd_i| per joint, rad/s^2 (a URDF robot: one value for every joint, or one per joint)
+ * @param source          `planar3` (the built-in planar arm above) or the path of a URDF file
+ * @param tip             the URDF link that ends the chain (empty: the only leaf)
  */
 final case class RobotParams(
   m3: Double = 10.0,
@@ -17,7 +20,9 @@ final case class RobotParams(
   l3: Double = 0.3,
   g: Double = 9.81,
   maxVelocity: Seq[Double] = Seq(3.0, 3.0, 3.0),
-  maxAcceleration: Seq[Double] = Seq(10.0, 10.0, 10.0)) {
+  maxAcceleration: Seq[Double] = Seq(10.0, 10.0, 10.0),
+  source: String = RobotParams.planar3,
+  tip: String = "") {
 
   private def finite(x: Double) = !x.isNaN && !x.isInfinite
   require(finite(m3) && m3 > 0 && m3 <= 1e4, s"RobotParams.m3 must be a mass in (0, 10000] kg, got $m3")
@@ -25,8 +30,12 @@ final case class RobotParams(
     require(finite(l) && l > 0 && l <= 100, s"RobotParams.$name must be a length in (0, 100] m, got $l")
   }
   require(finite(g) && g >= 0 && g <= 100, s"RobotParams.g must be in [0, 100] m/s^2, got $g")
-  require(maxVelocity.size == 3, s"RobotParams.maxVelocity needs 3 values (one per joint), got ${maxVelocity.size}")
-  require(maxAcceleration.size == 3, s"RobotParams.maxAcceleration needs 3 values (one per joint), got ${maxAcceleration.size}")
+  require(source.nonEmpty, "robot.source must be planar3 or the path of a URDF file")
+  if (isPlanar3) {
+    require(maxVelocity.size == 3, s"robot.max-velocity needs 3 numbers (one per joint of planar3), got ${maxVelocity.size}")
+    require(maxAcceleration.size == 3, s"robot.max-acceleration needs 3 numbers (one per joint of planar3), got ${maxAcceleration.size}")
+    require(tip.isEmpty, s"robot.tip names a URDF link; the built-in planar3 has none (got '$tip')")
+  } else require(maxAcceleration.nonEmpty, s"robot.max-acceleration must be declared for $source (a URDF gives no acceleration limits)")
   maxVelocity.zipWithIndex.foreach { case (v, i) =>
     require(finite(v) && v > 0 && v <= 1000, s"RobotParams.maxVelocity(${i + 1}) must be in (0, 1000] rad/s, got $v")
   }
@@ -34,9 +43,15 @@ final case class RobotParams(
     require(finite(a) && a > 0 && a <= 1e5, s"RobotParams.maxAcceleration(${i + 1}) must be in (0, 100000] rad/s^2, got $a")
   }
 
+  def isPlanar3: Boolean = source == RobotParams.planar3
+
   /** Products of robot constants, folded at elaboration (SPEC.md's tau3 in these four). */
   val a: Double = m3 * l1 * l3 // multiplies dd1 cos(t2+t3) and d1^2 sin(t2+t3)
   val b: Double = m3 * l2 * l3 // multiplies (dd1+dd2) cos t3 and (d1+d2)^2 sin t3
   val c: Double = m3 * l3 * l3 // multiplies dd1+dd2+dd3
   val d: Double = m3 * g * l3 // multiplies sin(t1+t2+t3)
+}
+
+object RobotParams {
+  val planar3: String = "planar3"
 }

@@ -4,10 +4,8 @@ import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.dynamics.{RandomChains, Rnea}
 import reducerload.graph.SampleCodes
-import reducerload.load.RobotParams
-import reducerload.robot.Planar3
 import reducerload.sim.{ArmDriver, Cycle, Stream}
-import reducerload.testutil.{Golden, Seeds, SimBackend}
+import reducerload.testutil.{ArmGolden, Seeds, SimBackend}
 
 import scala.collection.mutable.ArrayBuffer
 import scala.util.Random
@@ -21,23 +19,38 @@ import scala.util.Random
 class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "ArmDatapath"
 
-  it should "compute all three torques of the planar arm, bit-exact with the model, within its bound of Pinocchio's tau3" in {
-    val robot = RobotParams()
-    val p = ArmParams(Planar3.chain(robot), robot.maxVelocity, robot.maxAcceleration)
-    val traces = Golden.all
-    val golden = traces.flatMap(_.samples.map(s => ArmSample(IndexedSeq(s.t1, s.t2, s.t3), IndexedSeq(s.d1, s.d2, s.d3), IndexedSeq(s.dd1, s.dd2, s.dd3))))
-    val pinocchioTau3 = traces.flatMap(_.rnea).toIndexedSeq
-    val rng = new Random(Seeds("arm-planar3", 41L))
-    val random = IndexedSeq.fill(SimBackend.scale(2000)) {
-      val (q, qd, qdd) = RandomChains.sample(rng, robot.maxVelocity.map(_ * 1.1), robot.maxAcceleration.map(_ * 1.1))
+  /** Every golden trace of `robot` back to back, then seeded random samples; each joint checked against Pinocchio. */
+  private def runRobot(robot: String, seed: Long, configure: ArmParams => ArmParams = identity): Unit = {
+    val traces = ArmGolden.of(robot)
+    val first = traces.head
+    val p = configure(ArmParams(first.chain, first.maxVelocity, first.maxAcceleration))
+    traces.foreach(t => assert(t.maxVelocity == first.maxVelocity && t.maxAcceleration == first.maxAcceleration, s"${t.name}: other ranges"))
+    val rng = new Random(Seeds(s"arm-$robot", seed))
+    val random = IndexedSeq.fill(SimBackend.scale(1000)) {
+      val (q, qd, qdd) = RandomChains.sample(rng, p.maxVelocity.map(_ * 1.1), p.maxAcceleration.map(_ * 1.1))
       ArmSample(q, qd, qdd)
     }
-    ArmChecks.run(this, "planar3", p, golden.toIndexedSeq, Some(sample => pinocchioTau3), random, rng)
+    ArmChecks.run(this, robot, p, traces.flatMap(_.samples).toIndexedSeq, random, rng, traces.flatMap(_.torques).toIndexedSeq)
+  }
+
+  it should "compute every torque of the planar arm within 1e-3 N·m of Pinocchio, bit-exact with the model" in {
+    runRobot("planar3", 41L)
+  }
+
+  it should "compute every torque of the UR5 within 1e-3 N·m of Pinocchio, bit-exact with the model" in {
+    runRobot("ur5", 42L)
+  }
+
+  it should "compute every torque of the Panda within 1e-3 N·m of Pinocchio, bit-exact with the model" in {
+    runRobot("panda", 43L)
   }
 }
 
 /** Test logic, apart from the simulator calls (those are in ArmDriver). */
 object ArmChecks {
+
+  /** The fixed accuracy target of the arm presets, N·m, beside each joint's derived bound. */
+  val target: Double = 1e-3
 
   /** Runs golden samples then random ones through the RTL; checks bits against the model and torques against references. */
   def run(
@@ -45,10 +58,9 @@ object ArmChecks {
     label: String,
     p: ArmParams,
     golden: IndexedSeq[ArmSample],
-    goldenLastJoint: Option[Int => IndexedSeq[Double]],
     random: IndexedSeq[ArmSample],
     rng: Random,
-    goldenTorques: Option[IndexedSeq[IndexedSeq[Double]]] = None
+    goldenTorques: IndexedSeq[IndexedSeq[Double]]
   ): Unit = {
     import spec._
     val model = new ArmModel(p)
@@ -71,19 +83,11 @@ object ArmChecks {
         println(f"[arm] $label ${p.jointNames(j)}%-22s max |hw - rnea| $err%.3e N·m (bound ${p.errorBounds(j)}%.3e)")
         assert(err <= p.errorBounds(j), s"$label joint ${j + 1}: error $err above the derived bound ${p.errorBounds(j)}")
       }
-      goldenTorques.foreach { g =>
-        p.jointNames.indices.foreach { j =>
-          val err = tau.zip(g).map { case (h, r) => math.abs(h(j) - r(j)) }.max
-          println(f"[arm] $label ${p.jointNames(j)}%-22s max |hw - pinocchio| $err%.3e N·m (bound ${p.errorBounds(j)}%.3e, target 1e-3)")
-          assert(err <= p.errorBounds(j) + 1e-9 && err <= 1e-3, s"$label joint ${j + 1}: error vs Pinocchio $err")
-        }
-      }
-      goldenLastJoint.foreach { f =>
-        val pin = f(0)
-        val j = p.chain.size - 1
-        val err = tau.zip(pin).map { case (h, r) => math.abs(h(j) - r) }.max
-        println(f"[arm] $label ${p.jointNames(j)} max |hw - pinocchio tau3| $err%.3e N·m (bound ${p.errorBounds(j)}%.3e)")
-        assert(err <= p.errorBounds(j) + 1e-9 && err <= 1e-4)
+      p.jointNames.indices.foreach { j =>
+        val err = tau.zip(goldenTorques).map { case (h, r) => math.abs(h(j) - r(j)) }.max
+        println(f"[arm] $label ${p.jointNames(j)}%-22s max |hw - pinocchio| $err%.3e N·m (bound ${p.errorBounds(j)}%.3e, target 1e-3)")
+        assert(err <= p.errorBounds(j) + 1e-9, s"$label joint ${j + 1}: error vs Pinocchio $err above the derived bound ${p.errorBounds(j)}")
+        assert(err <= ArmChecks.target, s"$label joint ${j + 1}: error vs Pinocchio $err above the target ${ArmChecks.target} N·m")
       }
       println(s"[arm] $label: latency $latency cycles, ${p.graph.counts}, outputs bit-exact with the model over ${stim.size} cycles")
     }

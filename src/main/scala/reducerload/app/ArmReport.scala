@@ -1,0 +1,104 @@
+package reducerload.app
+
+import com.typesafe.config.{ConfigRenderOptions, ConfigValueFactory}
+import reducerload.arm.ArmParams
+import reducerload.fixedpoint.FixedFormat
+
+import scala.jdk.CollectionConverters._
+
+/** The report of an arm emission (every joint by RNEA), computed from the parameters that built the hardware. */
+final case class ArmReport(p: ArmParams, moduleName: String, command: String, estimate: Option[Estimate] = None) {
+  private val n = p.numerics
+  private val joints = p.chain.joints
+  private val counts = p.graph.counts
+
+  /** (port, direction, format description). */
+  val ports: Seq[(String, String, String)] =
+    Seq(("clock", "in", "1 bit"), ("reset", "in", "1 bit, synchronous, active high: clears every valid bit"),
+      ("io_in_valid", "in", "1 bit: a sample this cycle"), ("io_in_ready", "out", "1 bit: always high (one sample per clock)")) ++
+      joints.indices.map(j => (s"io_in_bits_q_$j", "in", s"unsigned ${n.angleBits} bits, binary angle of ${joints(j).name}: rad = code * 2 pi / 2^${n.angleBits}")) ++
+      joints.indices.map(j => (s"io_in_bits_qd_$j", "in", s"${n.velocityPortFormat.describe}, rad/s, declared |qd${j + 1}| <= ${n.velocityLimits(j)}")) ++
+      joints.indices.map(j => (s"io_in_bits_qdd_$j", "in", s"${n.accelerationPortFormat.describe}, rad/s^2, declared |qdd${j + 1}| <= ${n.accelerationLimits(j)}")) ++
+      Seq(("io_out_valid", "out", s"1 bit: the torques of the sample given ${p.latency} cycles earlier")) ++
+      p.analysis.outputs.indices.map(j => (s"io_out_bits_tau_$j", "out", s"${p.analysis.outputPortFormat.describe}, N·m, torque of ${p.analysis.outputs(j).name}")) ++
+      joints.indices.map(j => (s"io_out_bits_outOfRange_$j", "out", s"1 bit: qd${j + 1} or qdd${j + 1} of this sample was beyond its declared range (clamped)"))
+
+  def portLines: Seq[String] = "Ports:" +: ports.map { case (name, d, f) => f"  $name%-26s $d%-3s $f" }
+
+  private def jointLines: Seq[String] = joints.zipWithIndex.map { case (j, i) =>
+    val a = j.axis
+    f"  ${i + 1}%d ${j.name}%-24s ${j.kind}%-10s axis (${a.x}%.4f, ${a.y}%.4f, ${a.z}%.4f), body ${j.body.mass}%.4f kg; " +
+      f"|qd| <= ${n.velocityLimits(i)} rad/s, |qdd| <= ${n.accelerationLimits(i)} rad/s^2; torque range ${p.analysis.outputs(i).range.maxAbs}%.3f N·m, " +
+      f"error bound ${p.errorBounds(i)}%.3e N·m"
+  }
+
+  def summaryLines: Seq[String] = estimate.toSeq.flatMap(_.lines) ++ Seq(
+    s"Robot: ${p.chain.name}, ${joints.size} moving joints (numbered from the base), gravity ${p.chain.gravity.toSeq.mkString("(", ", ", ")")} m/s^2",
+    "Joints kept:") ++ jointLines ++ Seq(
+    s"Operations after constant folding and sharing: ${counts.multiplications} multiplications (${counts.constantMultiplications} by a constant), " +
+      s"${counts.additions} additions/subtractions, ${counts.negations} negations, ${counts.sinCos} sin/cos pairs (CORDIC units)",
+    s"18x18 multiplier blocks (one operator per multiplication): ${ArmReport.multiplierBlocks(p)}",
+    f"Derived worst-case error bound: ${p.errorBound}%.3e N·m (largest over joints; vs double-precision RNEA at the unquantized inputs)",
+    s"Output format: ${p.analysis.outputPortFormat}; widest internal node: ${p.analysis.widest._2.format}"
+  ) ++ p.cordic.report.linesIterator.toSeq
+
+  def markdown: String = (Seq(
+    s"# $moduleName",
+    "",
+    s"- latency: ${p.latency} cycles; throughput: one sample per clock",
+    f"- derived error bound: ${p.errorBound}%.3e N·m (largest over joints)",
+    s"- regenerate: `$command`",
+    "",
+    "## Ports",
+    "",
+    "| port | dir | format |",
+    "| --- | --- | --- |") ++ ports.map { case (name, d, f) => s"| `$name` | $d | $f |" } ++ Seq(
+    "",
+    "## Joints",
+    "",
+    "| # | joint | type | axis | max velocity (rad/s) | max acceleration (rad/s^2) | torque range (N·m) | error bound (N·m) |",
+    "| --- | --- | --- | --- | --- | --- | --- | --- |") ++ joints.indices.map { i =>
+    val j = joints(i)
+    f"| ${i + 1} | ${j.name} | ${j.kind} | (${j.axis.x}%.4f, ${j.axis.y}%.4f, ${j.axis.z}%.4f) | ${n.velocityLimits(i)} | ${n.accelerationLimits(i)} | " +
+      f"${p.analysis.outputs(i).range.maxAbs}%.3f | ${p.errorBounds(i)}%.3e |"
+  } ++ Seq("", "## Details", "", "```") ++ summaryLines ++ Seq("```")).mkString("", "\n", "\n")
+
+  def json: String = {
+    def fmt(f: FixedFormat) = Map("int_bits" -> f.intBits, "frac_bits" -> f.fracBits, "width" -> f.width).asJava
+    val m = Map[String, Any](
+      "top" -> moduleName,
+      "latency_cycles" -> p.latency,
+      "clocks_per_sample" -> 1,
+      "command" -> command,
+      "model" -> "rnea",
+      "robot" -> p.chain.name,
+      "joints" -> joints.indices.map { i =>
+        val j = joints(i)
+        Map[String, Any]("name" -> j.name, "type" -> j.kind.name, "axis" -> j.axis.toSeq.map(Double.box).asJava,
+          "max_velocity" -> n.velocityLimits(i), "max_acceleration" -> n.accelerationLimits(i),
+          "torque_range_nm" -> p.analysis.outputs(i).range.maxAbs, "error_bound_nm" -> p.errorBounds(i)).asJava
+      }.asJava,
+      "operations" -> Map("multiplications" -> counts.multiplications, "constant_multiplications" -> counts.constantMultiplications,
+        "additions" -> counts.additions, "negations" -> counts.negations, "sin_cos" -> counts.sinCos).asJava,
+      "multiplier_blocks" -> ArmReport.multiplierBlocks(p),
+      "error_bound_nm" -> p.errorBound,
+      "angle_bits" -> n.angleBits,
+      "velocity_format" -> fmt(n.velocityPortFormat),
+      "acceleration_format" -> fmt(n.accelerationPortFormat),
+      "output_format" -> fmt(p.analysis.outputPortFormat),
+      "cordic" -> Map("tag" -> p.cordic.tag, "latency_cycles" -> p.cordic.latency, "error_bound" -> p.cordic.errorBound).asJava,
+      "estimate" -> estimate.map(_.toMap.asJava).orNull
+    )
+    ConfigValueFactory.fromMap(m.asJava).render(ConfigRenderOptions.concise().setJson(true).setFormatted(true)) + "\n"
+  }
+}
+
+object ArmReport {
+  import reducerload.graph.{NodeId, Op}
+  import reducerload.pipeline.PipelinedMultiplier
+
+  /** 18x18 blocks of the multiplications (those by a constant included: Quartus maps them to blocks too). */
+  def multiplierBlocks(p: ArmParams): Int = p.graph.ops.collect { case Op.Mul(a, b) => (a, b) }.map { case (a: NodeId, b: NodeId) =>
+    PipelinedMultiplier.blocks(p.analysis(a).format.width, p.analysis(b).format.width)
+  }.sum
+}
