@@ -1,7 +1,9 @@
 package reducerload.trace
 
 import java.nio.charset.{CharacterCodingException, CodingErrorAction, StandardCharsets}
+import java.io.{ByteArrayInputStream, IOException}
 import java.nio.file.{Files, Path}
+import java.util.zip.GZIPInputStream
 import scala.util.Try
 
 /** A user error in an input file: one line naming the file, row and column. */
@@ -9,7 +11,8 @@ final class InputError(message: String) extends Exception(message)
 
 /**
  * A numeric CSV table: optional `#` comment lines, one header row, then rows of finite numbers.
- * Row numbers in errors are the file's line numbers (1-based).
+ * Row numbers in errors are the file's line numbers (1-based). Fields may be quoted (RFC 4180), lines
+ * may end in LF, CRLF or CR, and a UTF-8 byte-order mark is ignored (see [[CsvRecordReader]]).
  */
 final case class TraceTable(source: String, comments: Seq[String], header: IndexedSeq[String], rows: IndexedSeq[(Int, IndexedSeq[Double])]) {
   def column(name: String): IndexedSeq[Double] = {
@@ -39,12 +42,36 @@ object TraceCsv {
   def parseNumber(cell: String): Option[Double] =
     if (decimal.matches(cell)) Some(cell.toDouble).filter(v => !v.isInfinite) else None
 
-  private def printable(s: String): String = s.take(40).map(c => if (c.isControl) '?' else c)
+  /** At most 40 characters, control characters shown as '?': keeps error messages on one line. */
+  private[trace] def printable(s: String): String = oneLine(s.take(40))
+
+  /** Control characters (a line break inside a quoted header cell, say) shown as '?'. */
+  private def oneLine(s: String): String = s.map(c => if (c.isControl) '?' else c)
+
+  /** Excel's "CSV UTF-8" starts the file with a byte-order mark; it is not part of the first column's name. */
+  private val byteOrderMark = '\uFEFF'
+
+  /** A file whose name ends in `.gz` is gzip-compressed (e.g. `traj.csv.gz`), decompressed in memory. */
+  def isGzip(path: Path): Boolean = path.getFileName.toString.toLowerCase.endsWith(".gz")
+
+  private def gunzip(source: String, bytes: Array[Byte]): Array[Byte] =
+    try {
+      // The constructor already reads the header, so it belongs inside the try.
+      val in = new GZIPInputStream(new ByteArrayInputStream(bytes))
+      try in.readAllBytes()
+      finally in.close()
+    } catch {
+      // ZipException (bad header or data) and EOFException (truncated) are both IOExceptions.
+      case e: IOException =>
+        val why = Option(e.getMessage).filter(_.nonEmpty).getOrElse(e.getClass.getSimpleName)
+        throw new InputError(s"$source: not a valid gzip file (${printable(why)})")
+    }
 
   def read(path: Path, required: Seq[String]): TraceTable = {
     val source = path.toString
     if (!Files.isRegularFile(path)) throw new InputError(s"$source: no such file")
-    val bytes = Files.readAllBytes(path)
+    val raw = Files.readAllBytes(path)
+    val bytes = if (isGzip(path)) gunzip(source, raw) else raw
     val text =
       try StandardCharsets.UTF_8.newDecoder().onMalformedInput(CodingErrorAction.REPORT).decode(java.nio.ByteBuffer.wrap(bytes)).toString
       catch { case _: CharacterCodingException => throw new InputError(s"$source: not a text file (invalid UTF-8)") }
@@ -53,31 +80,39 @@ object TraceCsv {
   }
 
   def parse(source: String, text: String, required: Seq[String]): TraceTable = {
-    val lines = text.split("\r?\n", -1).toIndexedSeq.zipWithIndex.map { case (l, i) => (i + 1, l) }
-    val (comments, rest) = lines.filter(_._2.trim.nonEmpty).partition(_._2.trim.startsWith("#"))
-    if (rest.isEmpty) throw new InputError(s"$source: empty (a header row ${required.mkString(",")} is required)")
-    val (headerLine, headerText) = rest.head
-    val header = headerText.split(",", -1).map(_.trim).toIndexedSeq
+    val reader = new CsvRecordReader(source, text.stripPrefix(byteOrderMark.toString))
+    val comments = Vector.newBuilder[String]
+    /** The next row of cells; comment lines on the way are kept. */
+    @annotation.tailrec
+    def nextCells(fieldName: Int => String): Option[CsvRecord.Cells] = reader.next(fieldName) match {
+      case Some(CsvRecord.Comment(_, c)) => comments += c; nextCells(fieldName)
+      case Some(cells: CsvRecord.Cells)  => Some(cells)
+      case None                          => None
+    }
+    val (headerLine, header) = nextCells(i => s"header field ${i + 1}") match {
+      case Some(CsvRecord.Cells(line, cells)) => (line, cells)
+      case None                               => throw new InputError(s"$source: empty (a header row ${required.mkString(",")} is required)")
+    }
     if (header.exists(h => h.nonEmpty && Try(h.toDouble).isSuccess))
       throw new InputError(s"$source:$headerLine: the first row must be a header (${required.mkString(",")}), got numbers")
     header.groupBy(identity).collectFirst { case (h, hs) if hs.size > 1 => h }.foreach { dup =>
-      throw new InputError(s"$source:$headerLine: column '$dup' appears twice in the header")
+      throw new InputError(s"$source:$headerLine: column '${oneLine(dup)}' appears twice in the header")
     }
     val missing = required.filterNot(header.contains)
     if (missing.nonEmpty)
-      throw new InputError(s"$source:$headerLine: missing column(s) ${missing.map("'" + _ + "'").mkString(", ")} (header: ${header.mkString(",")})")
-    val rows = rest.tail.map { case (lineNo, line) =>
-      val cells = line.split(",", -1).map(_.trim).toIndexedSeq
+      throw new InputError(s"$source:$headerLine: missing column(s) ${missing.map("'" + _ + "'").mkString(", ")} (header: ${oneLine(header.mkString(","))})")
+    val columnName = (i: Int) => if (i < header.size) s"column '${oneLine(header(i))}'" else s"field ${i + 1}"
+    val rows = Iterator.continually(nextCells(columnName)).takeWhile(_.isDefined).flatten.map { case CsvRecord.Cells(lineNo, cells) =>
       if (cells.size != header.size)
         throw new InputError(s"$source:$lineNo: ${cells.size} values, the header has ${header.size} columns")
       lineNo -> cells.zip(header).map { case (cell, col) =>
         parseNumber(cell).getOrElse {
           val what = if (cell.toLowerCase.matches("[+-]?(nan|inf|infinity)")) "is not a finite number" else "is not a number"
-          throw new InputError(s"$source:$lineNo: column '$col': '${printable(cell)}' $what")
+          throw new InputError(s"$source:$lineNo: column '${oneLine(col)}': '${printable(cell)}' $what")
         }
       }
-    }
+    }.toIndexedSeq
     if (rows.isEmpty) throw new InputError(s"$source: no data rows after the header")
-    TraceTable(source, comments.map(_._2), header, rows)
+    TraceTable(source, comments.result(), header, rows)
   }
 }

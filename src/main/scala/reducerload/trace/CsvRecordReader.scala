@@ -1,0 +1,107 @@
+package reducerload.trace
+
+/** One logical CSV record: a `#` comment line or a row of cells, with the file line it starts on (1-based). */
+sealed trait CsvRecord { def line: Int }
+object CsvRecord {
+  final case class Comment(line: Int, text: String) extends CsvRecord
+  final case class Cells(line: Int, cells: IndexedSeq[String]) extends CsvRecord
+}
+
+/**
+ * Splits CSV text into records as spreadsheets and controllers write it (RFC 4180): fields
+ * separated by commas, optionally in double quotes (a doubled quote inside stands for one quote; a
+ * quoted field may hold commas and line breaks), lines ending in LF, CRLF or a lone CR. Blank lines
+ * are skipped; a line whose first non-blank character is `#` is a comment. Cells are trimmed.
+ *
+ * Pull-based, so the caller can name the columns in errors once it has read the header.
+ */
+final class CsvRecordReader(source: String, text: String) {
+  private var pos = 0
+  private var line = 1 // line of `pos`, counting LF, CRLF and lone CR as one break each
+
+  private def atEnd: Boolean = pos >= text.length
+  private def isBreak(c: Char): Boolean = c == '\n' || c == '\r'
+
+  /** Consume a line break at `pos` (CRLF counts once) and count it. */
+  private def skipBreak(): Unit = {
+    if (text.charAt(pos) == '\r' && pos + 1 < text.length && text.charAt(pos + 1) == '\n') pos += 2 else pos += 1
+    line += 1
+  }
+
+  private def endOfPhysicalLine(from: Int): Int = {
+    var i = from
+    while (i < text.length && !isBreak(text.charAt(i))) i += 1
+    i
+  }
+
+  private def skipBlanks(): Unit = while (!atEnd && (text.charAt(pos) == ' ' || text.charAt(pos) == '\t')) pos += 1
+
+  /**
+   * The next record, or None at the end. `fieldName(i)` describes field i (0-based) in errors, e.g.
+   * "column 'd1'" once the header is known.
+   */
+  def next(fieldName: Int => String): Option[CsvRecord] = {
+    while (!atEnd) {
+      val eol = endOfPhysicalLine(pos)
+      val physical = text.substring(pos, eol).trim
+      if (physical.isEmpty || physical.startsWith("#")) {
+        val record = if (physical.isEmpty) None else Some(CsvRecord.Comment(line, text.substring(pos, eol)))
+        pos = eol
+        if (!atEnd) skipBreak()
+        if (record.isDefined) return record
+      } else return Some(readCells(fieldName))
+    }
+    None
+  }
+
+  private def readCells(fieldName: Int => String): CsvRecord = {
+    val start = line
+    val cells = IndexedSeq.newBuilder[String]
+    var field = 0
+    var more = true
+    while (more) {
+      skipBlanks()
+      val cell =
+        if (!atEnd && text.charAt(pos) == '"') readQuoted(fieldName(field))
+        else {
+          val from = pos
+          while (!atEnd && text.charAt(pos) != ',' && !isBreak(text.charAt(pos))) pos += 1
+          text.substring(from, pos)
+        }
+      cells += cell.trim
+      field += 1
+      if (!atEnd && text.charAt(pos) == ',') pos += 1
+      else {
+        if (!atEnd) skipBreak()
+        more = false
+      }
+    }
+    CsvRecord.Cells(start, cells.result())
+  }
+
+  /** A quoted field from its opening quote; leaves `pos` at the comma or line break after it. */
+  private def readQuoted(name: String): String = {
+    val openedOn = line
+    val sb = new StringBuilder
+    pos += 1
+    var closed = false
+    while (!closed) {
+      if (atEnd)
+        throw new InputError(s"$source:$openedOn: $name: unterminated quoted field (the '\"' opened on line $openedOn is never closed)")
+      val c = text.charAt(pos)
+      if (c == '"') {
+        if (pos + 1 < text.length && text.charAt(pos + 1) == '"') { sb += '"'; pos += 2 }
+        else { pos += 1; closed = true }
+      } else if (isBreak(c)) {
+        // A line break inside quotes belongs to the field; count it so later lines keep their numbers.
+        sb += '\n'
+        skipBreak()
+      } else { sb += c; pos += 1 }
+    }
+    skipBlanks()
+    if (!atEnd && text.charAt(pos) != ',' && !isBreak(text.charAt(pos)))
+      throw new InputError(s"$source:$line: $name: unexpected text after a closing quote " +
+        s"('${TraceCsv.printable(text.substring(pos, endOfPhysicalLine(pos)))}'; a quote inside a quoted field is written twice)")
+    sb.result()
+  }
+}

@@ -1,0 +1,128 @@
+package reducerload.trace
+
+import org.scalatest.flatspec.AnyFlatSpec
+
+import java.io.ByteArrayOutputStream
+import java.nio.charset.StandardCharsets
+import java.nio.file.{Files, Path}
+import java.util.zip.GZIPOutputStream
+
+/** Trajectory CSVs as spreadsheets and controllers write them; plain ScalaTest, no simulator. */
+class TraceCsvSpec extends AnyFlatSpec {
+  behavior of "TraceCsv"
+
+  private val columns = Seq("t1", "t2", "t3", "d1", "d2", "d3", "dd1", "dd2", "dd3")
+  private val header = columns.mkString(",")
+  private val rowA = Seq("0.1", "0.2", "0.3", "1", "-1", "0.5", "2", "3", "-4")
+  private val rowB = Seq("1.5", "-0.7", "2.9", "2.5", "0.5", "-1", "-9", "9", "1e-3")
+  private val plainText = s"# robot: m3=10\n$header\n${rowA.mkString(",")}\n${rowB.mkString(",")}\n"
+  private val plain = TraceCsv.parse("plain.csv", plainText, columns)
+
+  private def tempFile(suffix: String, bytes: Array[Byte]): Path = {
+    val f = Files.createTempFile("trace-", suffix)
+    f.toFile.deleteOnExit()
+    Files.write(f, bytes)
+  }
+  private def utf8(s: String): Array[Byte] = s.getBytes(StandardCharsets.UTF_8)
+  private def gzip(bytes: Array[Byte]): Array[Byte] = {
+    val out = new ByteArrayOutputStream()
+    val z = new GZIPOutputStream(out)
+    try z.write(bytes)
+    finally z.close()
+    out.toByteArray
+  }
+
+  /** Same header and values as the plain file (line numbers may differ). */
+  private def sameAsPlain(t: TraceTable): Unit = {
+    assert(t.header == plain.header)
+    assert(t.rows.map(_._2) == plain.rows.map(_._2))
+    columns.foreach(c => assert(t.column(c) == plain.column(c), s"column $c"))
+  }
+
+  /** An InputError of one line naming the source and every word. */
+  private def refused(words: String*)(f: => Any): Unit = {
+    val e = intercept[InputError](f)
+    assert(!e.getMessage.contains("\n"), s"error spans lines: ${e.getMessage}")
+    words.foreach(w => assert(e.getMessage.contains(w), s"'${e.getMessage}' does not mention '$w'"))
+  }
+
+  it should "read a plain file (the reference for the other forms)" in {
+    assert(plain.rows.map(_._1) == Seq(3, 4))
+    assert(plain.column("dd3") == Seq(-4.0, 1e-3))
+    assert(plain.commentFields("robot") == Map("m3" -> "10"))
+  }
+
+  it should "ignore a UTF-8 byte-order mark (Excel's CSV UTF-8), in a file and in text" in {
+    val bom = Array(0xef, 0xbb, 0xbf).map(_.toByte)
+    sameAsPlain(TraceCsv.read(tempFile(".csv", bom ++ utf8(plainText)), columns))
+    sameAsPlain(TraceCsv.parse("bom.csv", "\uFEFF" + plainText, columns))
+    // Without a comment line, the mark sits right before the first column's name.
+    sameAsPlain(TraceCsv.read(tempFile(".csv", bom ++ utf8(plainText.linesIterator.drop(1).mkString("\n"))), columns))
+  }
+
+  it should "read RFC 4180 quoted fields: quoted names and numbers, blanks around quotes, doubled quotes, commas inside" in {
+    def q(cells: Seq[String]) = cells.map("\"" + _ + "\"").mkString(",")
+    sameAsPlain(TraceCsv.parse("q.csv", s"${q(columns)}\n${q(rowA)}\n${rowB.mkString(",")}\n", columns))
+    sameAsPlain(TraceCsv.parse("q.csv", s"$header\n${rowA.map(c => s""" "$c" """).mkString(",")}\n${q(rowB)}\n", columns))
+    // An extra column whose name holds a comma and a doubled quote: one column, not two.
+    val extra = TraceCsv.parse("q.csv", s"""$header,"note, with ""quotes""\"\n${rowA.mkString(",")},7\n""", columns)
+    assert(extra.header.last == "note, with \"quotes\"")
+    assert(extra.column("note, with \"quotes\"") == Seq(7.0))
+    assert(extra.column("t1") == Seq(0.1))
+    // A line break inside quotes stays in the field, and later rows keep their file line numbers.
+    val multi = TraceCsv.parse("q.csv", s"$header,\"two\nlines\"\n${rowA.mkString(",")},1\n${rowB.mkString(",")},2\n", columns)
+    assert(multi.rows.map(_._1) == Seq(3, 4))
+    refused("q.csv:4:", "column 'two?lines'", "not a number") {
+      TraceCsv.parse("q.csv", s"$header,\"two\nlines\"\n${rowA.mkString(",")},1\n${rowB.mkString(",")},x\n", columns)
+    }
+  }
+
+  it should "read CRLF and lone-CR line endings like LF" in {
+    sameAsPlain(TraceCsv.parse("crlf.csv", plainText.replace("\n", "\r\n"), columns))
+    sameAsPlain(TraceCsv.parse("cr.csv", plainText.replace("\n", "\r"), columns))
+    assert(TraceCsv.parse("cr.csv", plainText.replace("\n", "\r"), columns).rows.map(_._1) == Seq(3, 4))
+    assert(TraceCsv.parse("crlf.csv", plainText.replace("\n", "\r\n"), columns).rows.map(_._1) == Seq(3, 4))
+    refused("crlf.csv:4:", "column 'd3'", "not a number") {
+      TraceCsv.parse("crlf.csv", plainText.replace("\n", "\r\n").replace("0.5,-1", "0.5,?"), columns)
+    }
+  }
+
+  it should "decompress a .csv.gz file on the fly" in {
+    val f = tempFile(".csv.gz", gzip(utf8(plainText.replace("\n", "\r\n"))))
+    sameAsPlain(TraceCsv.read(f, columns))
+    val bom = tempFile(".csv.gz", gzip(Array(0xef, 0xbb, 0xbf).map(_.toByte) ++ utf8(plainText)))
+    sameAsPlain(TraceCsv.read(bom, columns))
+  }
+
+  it should "refuse a corrupt or truncated gzip file with one line" in {
+    val notGzip = tempFile(".csv.gz", utf8(plainText))
+    refused(notGzip.toString, "not a valid gzip file")(TraceCsv.read(notGzip, columns))
+    val whole = gzip(utf8(plainText * 50))
+    val truncated = tempFile(".csv.gz", whole.take(whole.length / 2))
+    refused(truncated.toString, "not a valid gzip file")(TraceCsv.read(truncated, columns))
+    val flipped = whole.clone()
+    flipped(whole.length / 2) = (flipped(whole.length / 2) ^ 0x55).toByte
+    val corrupt = tempFile(".csv.gz", flipped)
+    refused(corrupt.toString, "not a valid gzip file")(TraceCsv.read(corrupt, columns))
+  }
+
+  it should "refuse an unterminated quote and text after a closing quote with file:line and column" in {
+    refused("u.csv:3:", "column 'd1'", "unterminated quoted field", "line 3") {
+      TraceCsv.parse("u.csv", s"$header\n${rowA.mkString(",")}\n0.1,0.2,0.3,\"1,-1,0.5,2,3,-4\n${rowB.mkString(",")}\n", columns)
+    }
+    refused("u.csv:1:", "header field 2", "unterminated quoted field") {
+      TraceCsv.parse("u.csv", "t1,\"t2,t3\n", columns)
+    }
+    refused("u.csv:2:", "column 't2'", "after a closing quote") {
+      TraceCsv.parse("u.csv", s"$header\n0.1,\"0.2\"x,0.3,1,-1,0.5,2,3,-4\n", columns)
+    }
+  }
+
+  it should "keep the existing errors: missing column, wrong count, not a number, each one line" in {
+    refused("m.csv:1:", "missing column(s) 'd1'")(TraceCsv.parse("m.csv", s"${header.replace("d1", "v1")}\n${rowA.mkString(",")}\n", columns))
+    refused("m.csv:2:", "2 values")(TraceCsv.parse("m.csv", s"$header\n0.1,0.2\n", columns))
+    refused("m.csv:2:", "column 'dd2'", "not a finite number")(TraceCsv.parse("m.csv", s"$header\n0.1,0.2,0.3,1,-1,0.5,2,NaN,-4\n", columns))
+    refused("m.csv", "no data rows")(TraceCsv.parse("m.csv", s"# c\n$header\r\n\r\n", columns))
+    refused("m.csv", "empty")(TraceCsv.parse("m.csv", "\uFEFF# only a comment\n", columns))
+  }
+}
