@@ -67,7 +67,9 @@ class ArmDatapath(val p: ArmParams) extends Module {
       val v = operand(x).alignedTo(t)
       (v << (f.fracBits - analysis(x).format.fracBits)).asSInt.pad(f.width)
     }
-    def registered(v: SInt, t: Int) = timed(FixedHw.delay(v(f.width - 1, 0).asSInt, 1), t + 1) // proven range: the dropped top bits repeat the sign
+    // Proven range: any top bits dropped here only repeat the sign.
+    def fit(v: SInt): SInt = if (v.getWidth >= f.width) v(f.width - 1, 0).asSInt else v.pad(f.width)
+    def registered(v: SInt, t: Int) = timed(FixedHw.delay(fit(v), 1), t + 1)
     val value = p.graph(id) match {
       case Const(_) => Timed(analysis(id).raw.get.S(f.width.W), None)
       case Input(Signal.Velocity(j)) => timed(velocities(j)._1, ArmDatapath.inputCycle)
@@ -82,7 +84,7 @@ class ArmDatapath(val p: ArmParams) extends Module {
         val drop = analysis(a).format.fracBits + analysis(b).format.fracBits - f.fracBits
         val rounding = if (drop > 0) numerics.productRounding else Rounding.Truncate
         val product = FixedHw.delay(PipelinedMultiplier(operand(a).alignedTo(t), operand(b).alignedTo(t)), p.multiplierLatency - 1)
-        val fitted = FixedHw.shiftRound(product, drop, rounding)(f.width - 1, 0).asSInt // proven range
+        val fitted = fit(FixedHw.shiftRound(product, drop, rounding))
         val done = t + schedule.mulLatency(a, b)
         if (rounding == Rounding.Truncate) timed(fitted, done) else timed(FixedHw.delay(fitted, 1), done)
     }
