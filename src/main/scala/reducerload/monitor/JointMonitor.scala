@@ -71,12 +71,13 @@ class JointMonitor(p: MonitorParams, j: Int) extends Module {
     if (k + 1 < atLeastEdge2.size) atLeastEdge2(k) && !atLeastEdge2(k + 1) else atLeastEdge2(k)
   }), 1)
 
-  // ---- interpolation: power = base + floor(delta * offset / 2^usedOffsetBits) ----
+  // ---- interpolation: power = base + delta * offset / 2^usedOffsetBits, rounded half up (PowerTable.power) ----
   private val (interpA, interpB) = p.interpolationMulWidths(j)
   private val interpolation = PipelinedMultiplier(delta3.zext, offset3.zext)
   require(interpolation.getWidth == interpA + interpB, "JointMonitor: interpolation product width")
   private val interpolationAt = 3 + PipelinedMultiplier.latency(interpA, interpB)
-  private val step = (interpolation.asUInt >> table.usedOffsetBits).pad(table.baseBits)(table.baseBits - 1, 0)
+  // Rounded half up; the product is non-negative and the extra bit keeps the add from wrapping.
+  private val step = ((interpolation.asUInt +& table.half.U) >> table.usedOffsetBits).pad(table.baseBits)(table.baseBits - 1, 0)
   // Proven: base + step <= the next table point < 2^powerFracBits, so the sum keeps baseBits.
   private val power = FixedHw.delay(FixedHw.delay(base3, interpolationAt - 3) +% step, 1)
   require(interpolationAt + 1 == p.powerReadyAt(j), "JointMonitor: schedule differs from MonitorParams.powerReadyAt")

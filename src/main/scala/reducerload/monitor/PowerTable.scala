@@ -11,7 +11,8 @@ package reducerload.monitor
  *
  * Integer rule (the RTL does exactly this, [[ReducerMonitor]]'s joints read [[base]] and [[delta]]):
  *   k = a >> offsetBits, r = (a mod 2^offsetBits) >> droppedBits,
- *   power(a) = base(k) + floor(delta(k) * r / 2^usedOffsetBits)
+ *   power(a) = base(k) + floor((delta(k) * r + 2^(usedOffsetBits-1)) / 2^usedOffsetBits)
+ * (the interpolated step rounded half up: no bias; it never passes the next point, so no clamp)
  *
  * @param exponent    life exponent p in [1, 10]
  * @param codeBits    bits of the magnitude code (torque width - 1)
@@ -42,6 +43,9 @@ final case class PowerTable(exponent: Double, codeBits: Int, segmentBits: Int, f
   val delta: IndexedSeq[BigInt] = points.zip(points.tail).map { case (a, b) => b - a }
 
   val baseBits: Int = fracBits
+
+  /** Half an LSB of the interpolated step, for rounding half up. */
+  val half: BigInt = BigInt(1) << (usedOffsetBits - 1)
   val deltaBits: Int = delta.max.bitLength.max(1)
 
   /** The integer rule above: the model of the RTL's interpolation. */
@@ -49,7 +53,7 @@ final case class PowerTable(exponent: Double, codeBits: Int, segmentBits: Int, f
     require(a >= 0 && a.bitLength <= codeBits, s"PowerTable.power: magnitude code $a does not fit $codeBits bits")
     val k = (a >> offsetBits).toInt
     val r = (a & ((BigInt(1) << offsetBits) - 1)) >> droppedBits
-    base(k) + ((delta(k) * r) >> usedOffsetBits)
+    base(k) + ((delta(k) * r + half) >> usedOffsetBits)
   }
 
   /** Exact u^p of a magnitude code. */
@@ -60,7 +64,7 @@ final case class PowerTable(exponent: Double, codeBits: Int, segmentBits: Int, f
    * the chord's distance from the convex u^p (largest where the slope of u^p equals the chord's),
    * the end points' rounding (half an LSB; one at u = 1, kept below 1.0), which interpolation
    * does not enlarge, the dropped offset bits
-   * (the point moves left by less than 2^droppedBits codes) and the floor (below one LSB).
+   * (the point moves left by less than 2^droppedBits codes) and the step's rounding (half an LSB).
    */
   val errorBound: Double = {
     val lsb = 1.0 / one.toDouble
@@ -76,7 +80,7 @@ final case class PowerTable(exponent: Double, codeBits: Int, segmentBits: Int, f
         }
       val dropped = delta(k).toDouble * lsb * ((BigInt(1) << droppedBits) - 1).toDouble / math.pow(2.0, offsetBits.toDouble)
       val ends = Seq(k, k + 1).map(i => math.abs(points(i).toDouble * lsb - exact(i * h))).max
-      chord + ends + dropped + lsb
+      chord + ends + dropped + 0.5 * lsb
     }.max
   }
 
