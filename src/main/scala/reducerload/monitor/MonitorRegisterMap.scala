@@ -74,11 +74,11 @@ final case class RegisterMap(entries: Seq[RegisterEntry]) {
   private val byKey: Map[RegisterKey, RegisterEntry] = entries.map(e => e.key -> e).toMap
   def apply(key: RegisterKey): RegisterEntry = byKey.getOrElse(key, throw new NoSuchElementException(s"no register for $key"))
 
-  /** Markdown table lines: address (word and byte), name, width, meaning. */
+  /** Markdown table lines: address (word and byte), name, width, meaning (| escaped: |tau| is not a cell border). */
   def markdown: Seq[String] =
     Seq("| word | byte | name | bits | words | meaning |", "| --- | --- | --- | --- | --- | --- |") ++
       entries.map { e =>
-        f"| ${e.address}%d | 0x${4 * e.address}%04x | `${e.name}` | ${e.width}${if (e.signed) " signed" else ""} | ${e.words} | ${e.meaning} |"
+        f"| ${e.address}%d | 0x${4 * e.address}%04x | `${e.name}` | ${e.width}${if (e.signed) " signed" else ""} | ${e.words} | ${e.meaning.replace("|", "\\|")} |"
       }
 
   /** The whole bank as words, from a value per register. */
