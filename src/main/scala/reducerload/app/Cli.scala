@@ -30,9 +30,10 @@ final case class Cli(command: String, options: Map[String, String], overrides: S
         }.get
         (parsed, file)
       case None =>
-        val name = get("preset").getOrElse("default")
-        val preset = LoadParams.presets.getOrElse(name,
-          throw new InputError(s"command line: --preset '$name' is not a preset (${LoadParams.presets.keys.toSeq.sorted.mkString(", ")})"))
+        // Every joint of a robot starts from the arm preset, unless told otherwise.
+        val name = get("preset").getOrElse(if (overrides.exists(_._1 == "robot.source")) "arm" else "default")
+        val preset = LoadParams.allPresets.getOrElse(name,
+          throw new InputError(s"command line: --preset '$name' is not a preset (${LoadParams.allPresets.keys.toSeq.sorted.mkString(", ")})"))
         (ConfigFactory.parseString(Settings.render(preset, Nil)), s"preset $name")
     }
     val merged = Cli.robotDefaults(overrides).foldLeft(base: Config) { case (c, (key, value)) =>
@@ -79,7 +80,7 @@ object Cli {
 
   /** Options every design-building command accepts. */
   val designOptions: Seq[Opt] = Seq(
-    Opt("preset", "NAME", s"start from a shipped preset: ${LoadParams.presets.keys.toSeq.sorted.mkString(", ")}", "default"),
+    Opt("preset", "NAME", s"start from a shipped preset: ${LoadParams.allPresets.keys.toSeq.sorted.mkString(", ")}", "default; arm with --robot"),
     Opt("config", "FILE", "a complete configuration file (HOCON or JSON, see configs/); exclusive with --preset")
   )
 

@@ -41,9 +41,10 @@ final case class ArmParams(
   val numerics: Numerics = Numerics(maxVelocity, maxAcceleration, cordic, velocityFracBits, accelerationFracBits,
     constantFracBits, internalFracBits, outputFracBits, productRounding)
 
-  /** RNEA on graph nodes: the datapath's structure, written once. */
-  lazy val graph: Graph = ArmParams.rneaGraph(chain)
-  lazy val analysis: Analysis = new Analysis(graph, numerics)
+  /** RNEA on graph nodes, the datapath's structure written once, and the vector-level bounds proved while building it. */
+  private lazy val built: (Graph, RangeHints) = ArmParams.rneaGraph(chain, maxVelocity, maxAcceleration)
+  lazy val graph: Graph = built._1
+  lazy val analysis: Analysis = new Analysis(graph, numerics, built._2)
   lazy val schedule: Schedule = new Schedule(analysis, ArmDatapath.inputCycle, ArmDatapath.inputCycle + cordic.latency, multiplierLatency)
 
   /** Cycles from a sample on the input port to its torques on the output port. */
@@ -58,14 +59,20 @@ final case class ArmParams(
 
 object ArmParams {
 
-  /** Every joint's torque as a graph output, named after the joint. */
-  def rneaGraph(chain: SerialChain): Graph = GraphBuilder.build { b =>
-    val state = chain.joints.indices.map { j =>
-      JointState(b.trig(TrigFn.Cos, AngleSum.of(j)), b.trig(TrigFn.Sin, AngleSum.of(j)),
-        b.input(Signal.Velocity(j)), b.input(Signal.Acceleration(j)))
+  /**
+   * Every joint's torque as a graph output, named after the joint; beside it, magnitude bounds that
+   * RNEA's vectors prove over the declared ranges (rotations keep lengths), for the range analysis.
+   */
+  def rneaGraph(chain: SerialChain, maxVelocity: Seq[Double], maxAcceleration: Seq[Double]): (Graph, RangeHints) =
+    GraphBuilder.buildWithBounds { b =>
+      val va = new TrackingAlgebra(b)
+      val state = chain.joints.indices.map { j =>
+        JointState(va.leaf(b.trig(TrigFn.Cos, AngleSum.of(j)), 1.0), va.leaf(b.trig(TrigFn.Sin, AngleSum.of(j)), 1.0),
+          va.leaf(b.input(Signal.Velocity(j)), maxVelocity(j)), va.leaf(b.input(Signal.Acceleration(j)), maxAcceleration(j)))
+      }
+      val torques = Rnea.torques(chain, state)(va)
+      (chain.joints.map(_.name).zip(torques.map(_.node)), va.hints)
     }
-    chain.joints.map(_.name).zip(Rnea.torques(chain, state)(b))
-  }
 }
 
 /** The arm a configuration describes: its chain and per-joint ranges resolved against it. */

@@ -25,7 +25,7 @@ final case class OutputNumerics(name: String, range: Interval, errorBound: Doubl
  *  - outputs: `outputFracBits`, rounded half up.
  * Integer bits follow from range + error, so no node can overflow; the model checks every value.
  */
-final class Analysis(val graph: Graph, val numerics: Numerics) {
+final class Analysis(val graph: Graph, val numerics: Numerics, val hints: RangeHints = RangeHints.none) {
   import Op._
   private val n = numerics
 
@@ -38,7 +38,19 @@ final class Analysis(val graph: Graph, val numerics: Numerics) {
     (keep, fa + fb - keep)
   }
 
-  val nodes: IndexedSeq[NodeNumerics] = graph.fold[NodeNumerics] { (op, at) =>
+  val nodes: IndexedSeq[NodeNumerics] = graph.ids.foldLeft(Vector.empty[NodeNumerics]) { (done, id) =>
+    done :+ hinted(id, plain(graph(id), x => done(x.index)))
+  }
+
+  /** A node's interval intersected with its hint (both sound), its format recomputed for the tighter range. */
+  private def hinted(id: NodeId, n: NodeNumerics): NodeNumerics = hints(id) match {
+    case Some(h) if h < n.range.maxAbs && n.raw.isEmpty =>
+      val range = Interval(math.max(n.range.lo, -h), math.min(n.range.hi, h))
+      n.copy(range = range, format = FixedFormat.forRange(range.maxAbs + n.error, n.format.fracBits))
+    case _ => n
+  }
+
+  private def plain(op: Op, at: NodeId => NodeNumerics): NodeNumerics =
     op match {
       case Const(v) =>
         val raw = FixedFormat(62, n.constantFracBits).quantize(v, Rounding.HalfUp)
@@ -62,7 +74,6 @@ final class Analysis(val graph: Graph, val numerics: Numerics) {
         val error = x.range.maxAbs * y.error + x.error * y.range.maxAbs + x.error * y.error + rounding
         NodeNumerics(range, error, FixedFormat.forRange(range.maxAbs + error, frac))
     }
-  }
 
   /**
    * `cos(a) u +- sin(a) w`, the shape every rotation by a joint angle takes once folded: by

@@ -94,8 +94,8 @@ final class GraphBuilder private () extends Num[NodeId] {
         case _                                   => node(Mul(const(k), x))
       }
 
-  /** The graph of `outputs`: unreachable nodes dropped, the rest renumbered in order. */
-  private def result(outputs: Seq[(String, NodeId)]): Graph = {
+  /** The graph of `outputs` (unreachable nodes dropped, the rest renumbered in order), and the renumbering. */
+  private def result(outputs: Seq[(String, NodeId)]): (Graph, Map[NodeId, NodeId]) = {
     val live = nodes.indices.reverse.foldLeft(outputs.map(_._2.index).toSet) { (keep, i) =>
       if (keep(i)) keep ++ nodes(i).operands.map(_.index) else keep
     }
@@ -110,7 +110,7 @@ final class GraphBuilder private () extends Num[NodeId] {
         case Mul(a, b) => Mul(re(a), re(b))
         case leaf      => leaf
       })
-    Graph(ops, outputs.map { case (name, id) => Output(name, re(id)) }.toIndexedSeq)
+    (Graph(ops, outputs.map { case (name, id) => Output(name, re(id)) }.toIndexedSeq), renumber.map { case (a, b) => NodeId(a) -> NodeId(b) })
   }
 }
 
@@ -120,6 +120,14 @@ object GraphBuilder {
   /** Run `body` on a fresh builder; it returns the named outputs. */
   def build(body: GraphBuilder => Seq[(String, NodeId)]): Graph = {
     val b = new GraphBuilder
-    b.result(body(b))
+    b.result(body(b))._1
+  }
+
+  /** As [[build]], with magnitude bounds the body proved for some nodes ([[RangeHints]]), carried to the final numbering. */
+  def buildWithBounds(body: GraphBuilder => (Seq[(String, NodeId)], Map[NodeId, Double])): (Graph, RangeHints) = {
+    val b = new GraphBuilder
+    val (outputs, bounds) = body(b)
+    val (graph, renumber) = b.result(outputs)
+    (graph, RangeHints(bounds.collect { case (id, bound) if renumber.contains(id) => renumber(id) -> bound }))
   }
 }

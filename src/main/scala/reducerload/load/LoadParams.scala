@@ -216,6 +216,24 @@ object LoadParams {
     cordic = CordicParams(angleBits = 23, outputBits = 23, iterations = 20, guardBits = 3, angleGuardBits = 4),
     velocityFracBits = 17, accelerationFracBits = 17, constantFracBits = 21, internalFracBits = 17, outputFracBits = 17)
 
+  /**
+   * Every joint of an arm (model rnea; `--robot` starts from it): a 28-bit table-assisted residual
+   * CORDIC and 24 fraction bits inside, for derived bounds under 1e-3 N·m on the UR5 and the Panda
+   * at their declared ranges (where |qd| of every joint at once makes the worst case far above
+   * the torques of real motions). Shown on the built-in planar3; `--robot FILE.urdf` swaps the robot.
+   */
+  val arm: LoadParams = LoadParams(
+    model = LoadModel.Rnea,
+    cordic = CordicParams(angleBits = 28, outputBits = 28, iterations = 16,
+      architecture = reducerload.cordic.CordicArchitecture.ResidualRotation, tableBits = 9),
+    velocityFracBits = 24, accelerationFracBits = 22, constantFracBits = 28, internalFracBits = 24, outputFracBits = 20)
+
+  /** The arm presets (every joint; not in the joint-3 preset table or sweep). */
+  val armPresets: scala.collection.immutable.ListMap[String, LoadParams] = scala.collection.immutable.ListMap("arm" -> arm)
+
+  /** Every preset `--preset` accepts. */
+  def allPresets: scala.collection.immutable.ListMap[String, LoadParams] = presets ++ armPresets
+
   /** The shipped presets, in the order the README and the sweep list them. */
   val presets: scala.collection.immutable.ListMap[String, LoadParams] = scala.collection.immutable.ListMap(
     "default" -> default, "paper" -> paper, "compact" -> compact, "smallest" -> smallest, "accurate" -> accurate, "fastest" -> fastest)

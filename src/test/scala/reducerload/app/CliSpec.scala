@@ -33,6 +33,34 @@ class CliSpec extends AnyFlatSpec {
     refused(Seq("--l2", "-0.3"), "l2")
   }
 
+  it should "take a robot's every joint from --robot: the arm preset, model rnea, the URDF's velocity limits" in {
+    val ur5 = params("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15")
+    assert(ur5.model == LoadModel.Rnea && ur5.cordic == LoadParams.arm.cordic && ur5.robot.maxVelocity.isEmpty)
+    val arm = reducerload.arm.ArmConfig(ur5)
+    assert(arm.chain.size == 6 && arm.maxVelocity == Seq(3.15, 3.15, 3.15, 3.2, 3.2, 3.2) && arm.maxAcceleration == Seq.fill(6)(15.0))
+    assert(params("--robot", "planar3") == LoadParams.arm)
+    val hand = java.nio.file.Paths.get(getClass.getResource("/urdf/arm.urdf").toURI).toString
+    assert(reducerload.arm.ArmConfig(params("--robot", hand, "--tip", "l2", "--max-acceleration", "5", "--max-velocity", "2")).chain.size == 2)
+  }
+
+  it should "refuse a robot's bad ranges, tip or file with one line naming it" in {
+    def refused(args: Seq[String], words: String*): Unit = {
+      val e = intercept[InputError](params(args: _*))
+      assert(words.forall(e.getMessage.contains) && !e.getMessage.contains("\n"), e.getMessage)
+    }
+    val ur5 = Seq("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0")
+    refused(ur5, "--max-acceleration")
+    refused(ur5 ++ Seq("--max-acceleration", "[1, 2, 3, 4]"), "6 joints", "max-acceleration", "4 values")
+    refused(ur5 ++ Seq("--max-acceleration", "15", "--max-velocity", "[1, 2]"), "max-velocity", "2 values")
+    refused(Seq("--robot", "golden/robots/ur5_robot.urdf", "--max-acceleration", "15"), "--tip", "tool0")
+    refused(Seq("--robot", "golden/robots/ur5_robot.urdf", "--tip", "nowhere", "--max-acceleration", "15"), "nowhere")
+    refused(Seq("--robot", "/nonexistent/arm.urdf", "--max-acceleration", "15"), "/nonexistent/arm.urdf")
+    refused(ur5 ++ Seq("--max-acceleration", "15", "--model", "exact"), "model exact", "rnea")
+    refused(Seq("--robot", "planar3", "--datapath.cordic-units", "1"), "cordic-units")
+    val hand = java.nio.file.Paths.get(getClass.getResource("/urdf/arm.urdf").toURI).toString
+    refused(Seq("--robot", hand, "--tip", "l3", "--max-acceleration", "5", "--max-velocity", "2"), "wrist_slide", "prismatic")
+  }
+
   it should "name the file when a configuration file is not HOCON" in {
     val f = Files.createTempFile("bad", ".conf")
     Files.write(f, Array[Byte](0, 1, 2, '{'.toByte, '{'.toByte))
@@ -46,6 +74,13 @@ class CliSpec extends AnyFlatSpec {
     reducerload.config.Settings.all.foreach { s =>
       assert(h.contains("--" + s.key), s"--help lacks ${s.key}")
       assert(h.contains(s"(default ${s.render(LoadParams.default)})"))
+    }
+    Seq("--robot", "--tip", "rnea", "arm").foreach(w => assert(h.contains(w), s"--help lacks $w"))
+  }
+
+  it should "keep the shipped presets of every kind loadable" in {
+    LoadParams.allPresets.foreach { case (name, p) =>
+      assert(params("--preset", name) == p, name)
     }
   }
 }

@@ -20,11 +20,11 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "ArmDatapath"
 
   /** Every golden trace of `robot` back to back, then seeded random samples; each joint checked against Pinocchio. */
-  private def runRobot(robot: String, seed: Long, configure: ArmParams => ArmParams = identity): Unit = {
+  private def runRobot(robot: String, seed: Long): Unit = {
     val traces = ArmGolden.of(robot)
-    val first = traces.head
-    val p = configure(ArmParams(first.chain, first.maxVelocity, first.maxAcceleration))
-    traces.foreach(t => assert(t.maxVelocity == first.maxVelocity && t.maxAcceleration == first.maxAcceleration, s"${t.name}: other ranges"))
+    traces.foreach(t => assert(t.config == traces.head.config, s"${t.name}: another robot or other ranges than ${traces.head.name}"))
+    val p = ArmConfig(traces.head.config)
+    assert(p.errorBound <= ArmChecks.target, s"$robot: derived bound ${p.errorBound} misses the target ${ArmChecks.target}")
     val rng = new Random(Seeds(s"arm-$robot", seed))
     val random = IndexedSeq.fill(SimBackend.scale(1000)) {
       val (q, qd, qdd) = RandomChains.sample(rng, p.maxVelocity.map(_ * 1.1), p.maxAcceleration.map(_ * 1.1))

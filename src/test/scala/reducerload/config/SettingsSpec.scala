@@ -16,7 +16,7 @@ class SettingsSpec extends AnyFlatSpec {
   private val defaultText = Settings.render(LoadParams.default, Nil)
 
   it should "ship preset files that are exactly the presets in the code" in {
-    LoadParams.presets.foreach { case (name, p) =>
+    LoadParams.allPresets.foreach { case (name, p) =>
       val file = Paths.get("configs", s"$name.conf")
       val text = new String(Files.readAllBytes(file), "UTF-8")
       assert(text == Settings.render(p, Main.presetHeader(name)), s"$file is stale: regenerate it as its header says")

@@ -49,7 +49,7 @@ class DynamicsSpec extends AnyFlatSpec {
     val rng = new Random(Seeds("graph-vs-rnea", 32L))
     (2 to 7).foreach { n =>
       val chain = RandomChains.chain(rng, n)
-      val graph = ArmParams.rneaGraph(chain)
+      val graph = ArmParams.rneaGraph(chain, Seq.fill(n)(3.0), Seq.fill(n)(10.0))._1
       assert(!graph.ops.exists { case Op.Mul(a, b) => graph(a).isInstanceOf[Op.Const] && graph(b).isInstanceOf[Op.Const]; case _ => false })
       (0 until 20).foreach { _ =>
         val (q, qd, qdd) = RandomChains.sample(rng, Seq.fill(n)(3.0), Seq.fill(n)(10.0))
@@ -58,7 +58,7 @@ class DynamicsSpec extends AnyFlatSpec {
         a.zip(b).foreach { case (x, y) => assert(math.abs(x - y) <= 1e-9 * (1 + math.abs(x)), s"$n joints: rnea $x, graph $y") }
       }
     }
-    val planar = ArmParams.rneaGraph(Planar3.chain()).counts
+    val planar = ArmParams.rneaGraph(Planar3.chain(), Seq.fill(3)(3.0), Seq.fill(3)(10.0))._1.counts
     println(s"[dynamics] planar3 graph: $planar")
     assert(planar.sinCos == 3)
   }

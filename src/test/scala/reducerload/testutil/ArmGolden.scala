@@ -1,15 +1,18 @@
 package reducerload.testutil
 
-import reducerload.arm.{ArmSample, ArmTrajectory}
-import reducerload.load.RobotParams
-import reducerload.robot.{Planar3, SerialChain, Urdf}
+import reducerload.arm.{ArmConfig, ArmSample, ArmTrajectory}
+import reducerload.load.{LoadParams, RobotParams}
+import reducerload.robot.SerialChain
 import reducerload.trace.TraceCsv
 
 import java.nio.file.{Files, Paths}
 import scala.jdk.CollectionConverters._
 
-/** A golden arm trace from golden/arms/: samples, Pinocchio's torques for every joint, and the robot and ranges it is for. */
-final case class ArmGoldenTrace(name: String, robot: String, chain: SerialChain, maxVelocity: Seq[Double], maxAcceleration: Seq[Double],
+/**
+ * A golden arm trace from golden/arms/: samples, Pinocchio's torques for every joint, and the
+ * configuration a user would write for its robot and ranges (the `arm` preset with `--robot`).
+ */
+final case class ArmGoldenTrace(name: String, robot: String, config: LoadParams, chain: SerialChain,
   samples: IndexedSeq[ArmSample], torques: IndexedSeq[IndexedSeq[Double]])
 
 object ArmGolden {
@@ -20,14 +23,15 @@ object ArmGolden {
     val head = TraceCsv.read(path, Nil)
     val robot = head.commentFields("robot")
     val ranges = head.commentFields("ranges").map { case (k, v) => k -> v.split(",").toSeq.map(_.toDouble) }
-    val chain =
-      if (robot("source") == "builtin") Planar3.chain(RobotParams())
-      else Urdf.read(Paths.get(robot("source")), robot.get("tip").filter(_ != "-"))
+    val source = if (robot("source") == "builtin") RobotParams.planar3 else robot("source")
+    val config = LoadParams.arm.copy(robot = RobotParams(maxVelocity = ranges("vmax"), maxAcceleration = ranges("amax"), source = source,
+      tip = robot.get("tip").filter(_ != "-").getOrElse("")))
+    val chain = ArmConfig.chain(config)
     val n = chain.size
     val t = TraceCsv.read(path, ArmTrajectory.columns(n) ++ (1 to n).map(j => s"tau$j"))
     val cols = ArmTrajectory.columns(n).map(t.column)
     val tau = (1 to n).map(j => t.column(s"tau$j"))
-    ArmGoldenTrace(file.stripSuffix(".csv"), robot("name"), chain, ranges("vmax"), ranges("amax"),
+    ArmGoldenTrace(file.stripSuffix(".csv"), robot("name"), config, chain,
       t.rows.indices.map { i =>
         val v = cols.map(_(i))
         ArmSample(v.slice(0, n).toIndexedSeq, v.slice(n, 2 * n).toIndexedSeq, v.slice(2 * n, 3 * n).toIndexedSeq)
