@@ -3,11 +3,17 @@ package reducerload.app
 import com.typesafe.config.{ConfigRenderOptions, ConfigValueFactory}
 import reducerload.arm.ArmParams
 import reducerload.fixedpoint.FixedFormat
+import reducerload.monitor.{JointField, MonitorParams}
 
 import scala.jdk.CollectionConverters._
 
-/** The report of an arm emission (every joint by RNEA), computed from the parameters that built the hardware. */
-final case class ArmReport(p: ArmParams, moduleName: String, command: String, estimate: Option[Estimate] = None) {
+/**
+ * The report of an arm emission (every joint by RNEA), computed from the parameters that built the
+ * hardware; with `monitor`, of the arm with its reducer monitor ([[reducerload.arm.MonitoredArm]]):
+ * the host ports, the monitor's derivation, 20-year proof and register map too.
+ */
+final case class ArmReport(p: ArmParams, moduleName: String, command: String, estimate: Option[Estimate] = None,
+  monitor: Option[MonitorParams] = None) {
   private val n = p.numerics
   private val joints = p.chain.joints
   private val counts = p.graph.counts
@@ -21,7 +27,13 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
       joints.indices.map(j => (s"io_in_bits_qdd_$j", "in", s"${n.accelerationPortFormat.describe}, rad/s^2, declared |qdd${j + 1}| <= ${n.accelerationLimits(j)}")) ++
       Seq(("io_out_valid", "out", s"1 bit: the torques of the sample given ${p.latency} cycles earlier")) ++
       p.analysis.outputs.indices.map(j => (s"io_out_bits_tau_$j", "out", s"${p.analysis.outputPortFormat.describe}, N·m, torque of ${p.analysis.outputs(j).name}")) ++
-      joints.indices.map(j => (s"io_out_bits_outOfRange_$j", "out", s"1 bit: qd${j + 1} or qdd${j + 1} of this sample was beyond its declared range (clamped)"))
+      joints.indices.map(j => (s"io_out_bits_outOfRange_$j", "out", s"1 bit: qd${j + 1} or qdd${j + 1} of this sample was beyond its declared range (clamped)")) ++
+      monitor.toSeq.flatMap(m => Seq(
+        ("io_host_snapshot", "in", s"1 bit, pulse: copy every joint's live monitor state into the shadow bank (samples whose torques left io_out before this cycle)"),
+        ("io_host_clear", "in", "1 bit, pulse: reset the live monitor state (the torques on io_out in this cycle are the first of the new period)"),
+        ("io_host_snapshotDone", "out", s"1 bit: the shadow bank holds the snapshot (${m.snapshotLatency} cycles after the pulse)"),
+        ("io_host_readAddress", "in", s"unsigned ${m.addressBits} bits: word address into the shadow bank (register map below)"),
+        ("io_host_readData", "out", "32 bits: the word at the previous cycle's address (read latency 1, no side effects)")))
 
   def portLines: Seq[String] = "Ports:" +: ports.map { case (name, d, f) => f"  $name%-26s $d%-3s $f" }
 
@@ -40,7 +52,14 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
     s"18x18 multiplier blocks (one operator per multiplication): ${ArmReport.multiplierBlocks(p)}",
     f"Derived worst-case error bound: ${p.errorBound}%.3e N·m (largest over joints; vs double-precision RNEA at the unquantized inputs)",
     s"Output format: ${p.analysis.outputPortFormat}; widest internal node: ${p.analysis.widest._2.format}"
-  ) ++ p.cordic.report.linesIterator.toSeq
+  ) ++ p.cordic.report.linesIterator.toSeq ++ monitorLines
+
+  /** The monitor's derivation, 20-year proof and register map (plain text, for the emitted header). */
+  private def monitorLines: Seq[String] = monitor.toSeq.flatMap { m =>
+    Seq("", "Reducer life and limit monitor (docs/monitor.md):") ++ m.summaryLines.map("  " + _) ++
+      Seq(s"Register map (word address; byte address = 4 x word; multi-word values least significant word first):") ++
+      m.registerMap.entries.map(e => f"  ${e.address}%4d  ${e.name}%-40s ${e.width}%3d bits${if (e.signed) " signed" else ""}%-7s ${e.meaning}")
+  }
 
   def markdown: String = (Seq(
     s"# $moduleName",
@@ -61,7 +80,9 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
     val j = joints(i)
     f"| ${i + 1} | ${j.name} | ${j.kind} | (${j.axis.x}%.4f, ${j.axis.y}%.4f, ${j.axis.z}%.4f) | ${n.velocityLimits(i)} | ${n.accelerationLimits(i)} | " +
       f"${p.analysis.outputs(i).range.maxAbs}%.3f | ${p.errorBounds(i)}%.3e |"
-  } ++ Seq("", "## Details", "", "```") ++ summaryLines ++ Seq("```")).mkString("", "\n", "\n")
+  } ++ monitor.toSeq.flatMap(m => Seq("", "## Reducer monitor register map", "",
+    s"${m.registerMap.words} words of 32 bits, read on io_host_readAddress / io_host_readData (docs/monitor.md, \"Host interface\").", "") ++
+    m.registerMap.markdown) ++ Seq("", "## Details", "", "```") ++ summaryLines ++ Seq("```")).mkString("", "\n", "\n")
 
   def json: String = {
     def fmt(f: FixedFormat) = Map("int_bits" -> f.intBits, "frac_bits" -> f.fracBits, "width" -> f.width).asJava
@@ -88,12 +109,52 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
       "output_format" -> fmt(p.analysis.outputPortFormat),
       "cordic" -> Map("tag" -> p.cordic.tag, "latency_cycles" -> p.cordic.latency, "error_bound" -> p.cordic.errorBound).asJava,
       "estimate" -> estimate.map(_.toMap.asJava).orNull
-    )
+    ) ++ monitor.map(m => "monitor" -> ArmReport.monitorJson(m).asJava)
     ConfigValueFactory.fromMap(m.asJava).render(ConfigRenderOptions.concise().setJson(true).setFormatted(true)) + "\n"
   }
 }
 
 object ArmReport {
+
+  /** The monitor's parameters, accumulator widths with their 20-year proof, and register map, for report.json. */
+  def monitorJson(m: MonitorParams): Map[String, Any] = {
+    def fmt(f: FixedFormat) = Map("int_bits" -> f.intBits, "frac_bits" -> f.fracBits, "width" -> f.width).asJava
+    Map[String, Any](
+      "sample_period_s" -> m.samplePeriodS,
+      "target_years" -> m.targetYears,
+      "sample_budget" -> m.sampleBudget.toString,
+      "update_stage_cycles" -> m.updateStage,
+      "snapshot_latency_cycles" -> m.snapshotLatency,
+      "address_bits" -> m.addressBits,
+      "register_words" -> m.registerMap.words,
+      "joints" -> (0 until m.joints).map { j =>
+        Map[String, Any](
+          "name" -> m.jointNames(j),
+          "torque_format" -> fmt(m.torqueFormats(j)),
+          "velocity_format" -> fmt(m.velocityFormats(j)),
+          "repeated_peak_nm" -> m.repeatedPeakNm(j),
+          "repeated_peak_code" -> m.repeatedPeakCode(j).toString,
+          "momentary_peak_nm" -> m.momentaryPeakNm(j),
+          "momentary_peak_code" -> m.momentaryPeakCode(j).toString,
+          "life_exponent" -> m.lifeExponents(j),
+          "gear_ratio" -> m.gearRatios(j),
+          "histogram_bins" -> m.histogramBins(j),
+          "histogram_bin_width_nm" -> m.histogramBinWidthNm(j),
+          "power_error_bound" -> m.powerErrorBound(j),
+          "multiplier_blocks" -> m.multiplierBlocks(j),
+          "accumulators" -> m.provenAccumulators.map { f =>
+            Map[String, Any]("name" -> f.name, "bits" -> m.accumulatorBits(j, f), "max_increment" -> m.maxIncrement(j, f).toString,
+              "worst_case" -> (m.maxIncrement(j, f) * m.sampleBudget).toString).asJava
+          }.asJava,
+          "histogram_counter_bits" -> m.fieldWidth(j, JointField.HistogramBin(0))
+        ).asJava
+      }.asJava,
+      "registers" -> m.registerMap.entries.map { e =>
+        Map[String, Any]("word" -> e.address, "byte" -> 4 * e.address, "name" -> e.name, "bits" -> e.width, "words" -> e.words,
+          "signed" -> e.signed, "meaning" -> e.meaning).asJava
+      }.asJava
+    )
+  }
   import reducerload.graph.{NodeId, Op}
   import reducerload.pipeline.PipelinedMultiplier
 

@@ -2,10 +2,11 @@ package reducerload.app
 
 import chisel3.RawModule
 import circt.stage.ChiselStage
-import reducerload.arm.{ArmConfig, ArmDatapath}
+import reducerload.arm.{ArmConfig, ArmDatapath, MonitoredArm}
 import reducerload.config.Settings
 import reducerload.cordic.CordicSinCos
 import reducerload.load.{LoadDatapath, LoadParams}
+import reducerload.monitor.MonitorConfig
 import reducerload.trace.InputError
 
 import java.nio.charset.StandardCharsets
@@ -69,6 +70,14 @@ object Emit {
     def verilog(gen: => RawModule) = withBlackBoxes(ChiselStage.emitSystemVerilog(gen, Array.empty[String], firtoolOpts))
     def est(body: String, module: String) = if (estimate || fmax) Some(Estimate.run(body, module, fmax)) else None
     val (moduleName, body, latency, throughput, portLines, summaryLines, markdown, json) = top match {
+      case Top.Load if p.monitor.enabled =>
+        // LoadParams refuses the monitor for the joint-3 closed forms: here the model is rnea.
+        val arm = ArmConfig(p)
+        val monitor = MonitorConfig(arm, p.monitor)
+        val name = s"MonitoredArm_${arm.tag}"
+        val body = verilog(new MonitoredArm(arm, monitor))
+        val r = ArmReport(arm, name, command, est(body, name), Some(monitor))
+        (name, body, arm.latency, "one sample per clock", r.portLines, r.summaryLines, r.markdown, r.json)
       case Top.Load if !p.model.closedForm =>
         val arm = ArmConfig(p)
         val name = s"ArmDatapath_${arm.tag}"

@@ -4,6 +4,7 @@ import com.typesafe.config.{Config, ConfigException, ConfigValueType}
 import reducerload.cordic.{CordicArchitecture, CordicParams}
 import reducerload.fixedpoint.Rounding
 import reducerload.load.{LoadModel, LoadParams, RobotParams}
+import reducerload.monitor.{MonitorConfig, MonitorSettings}
 import reducerload.trace.InputError
 
 import scala.jdk.CollectionConverters._
@@ -71,26 +72,45 @@ object Setting {
       if (c.getValue(key).valueType() != ConfigValueType.STRING) wrongType(source, "a string", c) else c.getString(key)
   }
 
+  /** On or off (HOCON true/false). */
+  final class Switch(key: String, unit: String, help: String, aliases: Seq[String], val get: LoadParams => Boolean)
+      extends Setting(key, unit, help, aliases) {
+    def render(p: LoadParams): String = get(p).toString
+    def typeName = "true|false"
+    def read(c: Config, source: String): Any =
+      if (c.getValue(key).valueType() != ConfigValueType.BOOLEAN) wrongType(source, "true or false", c) else c.getBoolean(key)
+  }
+
   /**
    * One value per joint: a single number stands for every joint, a list gives each joint its own
-   * (the joint count comes from the robot, not from here), and `urdf` (velocities only) takes the
-   * URDF's `<limit velocity>`.
+   * (the joint count comes from the robot, not from here), and `keyword` (if any) stands for a
+   * derived value, read as an empty Seq: `urdf` takes the URDF's limits, `auto` a derived width,
+   * `none` leaves the value out. `integer` values must be whole numbers.
    */
-  final class PerJoint(key: String, unit: String, help: String, aliases: Seq[String], val get: LoadParams => Seq[Double], urdfAllowed: Boolean)
+  final class PerJoint(key: String, unit: String, help: String, aliases: Seq[String], val get: LoadParams => Seq[Double],
+    keyword: Option[String] = None, integer: Boolean = false)
       extends Setting(key, unit, help, aliases) {
+    private def show(x: Double): String = if (integer) x.toLong.toString else x.toString
     def render(p: LoadParams): String = get(p) match {
-      case Seq()  => "urdf"
-      case values => values.mkString("[", ", ", "]")
+      case Seq()  => keyword.getOrElse("[]")
+      case Seq(x) => show(x)
+      case values => values.map(show).mkString("[", ", ", "]")
     }
-    def typeName: String = "number or [n1, ..., nN]" + (if (urdfAllowed) " or urdf" else "")
-    def read(c: Config, source: String): Any = c.getValue(key).valueType() match {
-      case ConfigValueType.NUMBER => Seq(c.getDouble(key))
-      case ConfigValueType.STRING if urdfAllowed && c.getString(key) == "urdf" => Seq.empty[Double]
-      case ConfigValueType.LIST =>
-        val items = c.getList(key).asScala.toSeq
-        if (items.isEmpty || items.exists(_.valueType() != ConfigValueType.NUMBER)) wrongType(source, "a list of numbers (one per joint)", c)
-        items.map(_.unwrapped().asInstanceOf[Number].doubleValue())
-      case _ => wrongType(source, s"a number or a list of numbers${if (urdfAllowed) " or urdf" else ""}", c)
+    private val kind = if (integer) "integer" else "number"
+    def typeName: String = s"$kind or [n1, ..., nN]" + keyword.fold("")(k => s" or $k")
+    def read(c: Config, source: String): Any = {
+      def checked(xs: Seq[Double]): Seq[Double] =
+        if (integer && xs.exists(x => x != math.rint(x) || math.abs(x) >= 1e9)) wrongType(source, "an integer or a list of integers (one per joint)", c)
+        else xs
+      c.getValue(key).valueType() match {
+        case ConfigValueType.NUMBER => checked(Seq(c.getDouble(key)))
+        case ConfigValueType.STRING if keyword.contains(c.getString(key)) => Seq.empty[Double]
+        case ConfigValueType.LIST =>
+          val items = c.getList(key).asScala.toSeq
+          if (items.isEmpty || items.exists(_.valueType() != ConfigValueType.NUMBER)) wrongType(source, s"a list of ${kind}s (one per joint)", c)
+          checked(items.map(_.unwrapped().asInstanceOf[Number].doubleValue()))
+        case _ => wrongType(source, s"a $kind or a list of ${kind}s${keyword.fold("")(k => s" or $k")}", c)
+      }
     }
   }
 }
@@ -109,9 +129,9 @@ object Settings {
     new Real("robot.l3", "m", "planar3: length of link 3", Seq("l3"), _.robot.l3),
     new Real("robot.g", "m/s^2", "planar3: gravitational acceleration (t1 = 0 points link 1 down; a URDF robot has 9.81 along -z)", Seq("g"), _.robot.g),
     new PerJoint("robot.max-velocity", "rad/s", "declared max |velocity| per joint (urdf: the URDF's <limit velocity>)", Seq("max-velocity"),
-      _.robot.maxVelocity, urdfAllowed = true),
+      _.robot.maxVelocity, keyword = Some("urdf")),
     new PerJoint("robot.max-acceleration", "rad/s^2", "declared max |acceleration| per joint (a URDF has none: declare it)", Seq("max-acceleration"),
-      _.robot.maxAcceleration, urdfAllowed = false),
+      _.robot.maxAcceleration),
     new Choice("model", "", "exact (SPEC.md tau3) or paper (equation (6) as published): planar3's joint 3; rnea: every joint of any robot", Nil,
       LoadModel.all.map(_.name), _.model.name),
     new Natural("cordic.angle-bits", "bits", "binary-angle width (full turn = 2^bits)", Nil, _.cordic.angleBits),
@@ -132,7 +152,29 @@ object Settings {
     new Choice("datapath.product-rounding", "", "rounding of products to internal-frac-bits", Nil, roundings, _.productRounding.name),
     new Natural("datapath.multiplier-latency", "cycles", "registers after each multiplier", Nil, _.multiplierLatency),
     new Natural("datapath.memory-delay-min-cycles", "cycles", "delays this long or longer use block RAM (0: registers only)", Nil, _.memoryDelayMinCycles),
-    new Natural("datapath.cordic-units", "", "3: one CORDIC unit per angle, a sample every clock; 1: one shared unit, a sample every 3 clocks", Nil, _.cordicUnits)
+    new Natural("datapath.cordic-units", "", "3: one CORDIC unit per angle, a sample every clock; 1: one shared unit, a sample every 3 clocks", Nil, _.cordicUnits),
+    new Switch("monitor.enabled", "", "build the reducer life and limit monitor beside the arm datapath (model rnea; docs/monitor.md)", Nil,
+      _.monitor.enabled),
+    new PerJoint("monitor.exponent", "", "life exponent p per joint in [1, 10]: 3 strain-wave (Harmonic Drive), 3.3333333333333335 (10/3) cycloidal (RV)",
+      Nil, _.monitor.exponent),
+    new PerJoint("monitor.repeated-peak", "N·m", "repeated (start/stop) peak limit T_R per joint (urdf: the URDF's <limit effort>)", Nil,
+      _.monitor.repeatedPeakNm, keyword = Some("urdf")),
+    new PerJoint("monitor.momentary-peak", "N·m", "momentary (emergency-stop) peak limit T_M per joint (urdf: momentary-peak-factor x <limit effort>)",
+      Nil, _.monitor.momentaryPeakNm, keyword = Some("urdf")),
+    new Real("monitor.momentary-peak-factor", "", "T_M / <limit effort> when momentary-peak = urdf (catalogues: T_M near 2 T_R; 1.5 is conservative)",
+      Nil, _.monitor.momentaryPeakFactor),
+    new PerJoint("monitor.gear-ratio", "", "reduction ratio i per joint (input speed = i x joint speed), for the life formula", Nil,
+      _.monitor.gearRatio),
+    new Real("monitor.sample-period", "s", "time between valid samples: dt of the damage sums and the basis of the 20-year overflow proof", Nil,
+      _.monitor.samplePeriodS),
+    new PerJoint("monitor.histogram-bins", "", "bins of the |torque| time-at-level histogram per joint (1..256)", Nil,
+      _.monitor.histogramBins.map(_.toDouble), integer = true),
+    new PerJoint("monitor.histogram-bin-width", "N·m", "histogram bin width per joint (auto: the joint's derived torque range / bins)", Nil,
+      _.monitor.histogramBinWidthNm, keyword = Some("auto")),
+    new PerJoint("monitor.rated-torque", "N·m", "catalogue rated output torque T_N per joint, for the consumed life (none: no life figure)", Nil,
+      _.monitor.ratedTorqueNm, keyword = Some("none")),
+    new Real("monitor.rated-input-speed", "rpm", "catalogue rated input speed n_N of the life formula", Nil, _.monitor.ratedInputSpeedRpm),
+    new Real("monitor.rated-life", "h", "catalogue rated life L_n (L50) at T_N and n_N", Nil, _.monitor.ratedLifeHours)
   )
 
   val byKey: Map[String, Setting] = all.map(s => s.key -> s).toMap
@@ -159,6 +201,7 @@ object Settings {
     all.find(s => !c.hasPath(s.key)).foreach(s => throw new InputError(s"$source: missing key '${s.key}' (${s.help})"))
     val v: Map[String, Any] = all.map(s => s.key -> s.read(c, source)).toMap
     def real(k: String) = v(k).asInstanceOf[Double]
+    def bool(k: String) = v(k).asInstanceOf[Boolean]
     def int(k: String) = v(k).asInstanceOf[Int]
     def str(k: String) = v(k).asInstanceOf[String]
     def joints(k: String) = v(k).asInstanceOf[Seq[Double]]
@@ -201,10 +244,29 @@ object Settings {
         productRounding = rounding("datapath.product-rounding"),
         multiplierLatency = int("datapath.multiplier-latency"),
         memoryDelayMinCycles = int("datapath.memory-delay-min-cycles"),
-        cordicUnits = int("datapath.cordic-units")
+        cordicUnits = int("datapath.cordic-units"),
+        monitor = MonitorSettings(
+          enabled = bool("monitor.enabled"),
+          exponent = joints("monitor.exponent"),
+          repeatedPeakNm = joints("monitor.repeated-peak"),
+          momentaryPeakNm = joints("monitor.momentary-peak"),
+          momentaryPeakFactor = real("monitor.momentary-peak-factor"),
+          gearRatio = joints("monitor.gear-ratio"),
+          samplePeriodS = real("monitor.sample-period"),
+          histogramBins = joints("monitor.histogram-bins").map(_.toInt),
+          histogramBinWidthNm = joints("monitor.histogram-bin-width"),
+          ratedTorqueNm = joints("monitor.rated-torque"),
+          ratedInputSpeedRpm = real("monitor.rated-input-speed"),
+          ratedLifeHours = real("monitor.rated-life")
+        )
       )
-      // An arm is checked whole here (URDF, joint count, ranges, formats), so its errors name this configuration.
-      if (!p.model.closedForm) reducerload.arm.ArmConfig(p).analysis
+      // An arm is checked whole here (URDF, joint count, ranges, formats), and its monitor with it,
+      // so their errors name this configuration.
+      if (!p.model.closedForm) {
+        val arm = reducerload.arm.ArmConfig(p)
+        arm.analysis
+        if (p.monitor.enabled) { MonitorConfig(arm, p.monitor); MonitorConfig.rated(arm, p.monitor) }
+      }
       p
     } catch {
       case e: IllegalArgumentException => throw new InputError(s"$source: ${e.getMessage.stripPrefix("requirement failed: ")}")
@@ -220,7 +282,7 @@ object Settings {
 
   /** A complete HOCON file for `p`, grouped by section, with units and meanings as comments. */
   def render(p: LoadParams, header: Seq[String]): String = {
-    val order = Seq("", "robot", "cordic", "datapath")
+    val order = Seq("", "robot", "cordic", "datapath", "monitor")
     val body = order.flatMap { section =>
       val settings = all.filter(s => (if (s.key.contains('.')) s.key.takeWhile(_ != '.') else "") == section)
       if (settings.isEmpty) Nil

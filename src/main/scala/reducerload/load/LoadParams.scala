@@ -20,6 +20,7 @@ import reducerload.fixedpoint.{Bounded, FixedFormat, Rounding}
  * @param cordicUnits          3: one CORDIC unit per angle, one sample per clock; 1: one unit
  *                             time-shared by the three angles, one sample every 3 clocks (resource
  *                             sharing for sample rates far below the clock)
+ * @param monitor              the reducer life and limit monitor beside the arm datapath (`monitor.*` keys)
  */
 final case class LoadParams(
   robot: RobotParams = RobotParams(),
@@ -33,7 +34,8 @@ final case class LoadParams(
   productRounding: Rounding = Rounding.Truncate,
   multiplierLatency: Int = 1,
   memoryDelayMinCycles: Int = 4,
-  cordicUnits: Int = 3) {
+  cordicUnits: Int = 3,
+  monitor: reducerload.monitor.MonitorSettings = reducerload.monitor.MonitorSettings()) {
 
   Seq(
     "velocityFracBits" -> velocityFracBits,
@@ -62,6 +64,9 @@ final case class LoadParams(
     s"datapath.cordic-units = $cordicUnits: sharing CORDIC units is for the joint-3 closed forms (models exact, paper); model rnea has one unit per joint angle")
   require(robot.isPlanar3 || !model.closedForm,
     s"model ${model.name} is the planar arm's joint-3 closed form; robot ${robot.source} needs model rnea")
+
+  require(!monitor.enabled || !model.closedForm,
+    s"monitor.enabled = true needs model rnea (the monitor watches every joint of the arm datapath); model ${model.name} is planar3's joint-3 closed form")
 
   lazy val samplePeriod: Int = if (model.closedForm) 3 / cordicUnits else 1
 

@@ -152,8 +152,17 @@ object MonitorSummary {
     ), indent)
   }
 
-  /** `{"joints": [...]}`, with the reference's figures and the differences when given. */
-  def json(p: MonitorParams, hardware: Seq[JointSummary], reference: Option[Seq[JointSummary]] = None): String = {
+  /**
+   * A trajectory (one sample per sample period, from a cleared monitor) through the arm datapath's
+   * and the monitor's bit-accurate models, and through the double reference (exact RNEA torques):
+   * both summaries and the derived bounds on their differences. `.json` renders the summary file.
+   */
+  def fromTrajectory(arm: reducerload.arm.ArmParams, p: MonitorParams, samples: Seq[reducerload.arm.ArmSample],
+    rated: Seq[Option[RatedReducer]] = Nil): TrajectorySummary = TrajectorySummary.of(arm, p, samples, rated)
+
+  /** `{"joints": [...]}`, with the reference's figures, the differences and their derived bounds when given. */
+  def json(p: MonitorParams, hardware: Seq[JointSummary], reference: Option[Seq[JointSummary]] = None,
+    bounds: Option[Seq[SummaryBounds]] = None): String = {
     def list(xs: Seq[JointSummary]) = xs.map(s => "    " + jointJson(p, s)).mkString("[\n", ",\n", "\n  ]")
     val diffs = reference.map { ref =>
       hardware.zip(ref).map { case (h, r) =>
@@ -170,7 +179,19 @@ object MonitorSummary {
         ), "    ")
       }.mkString("[\n", ",\n", "\n  ]")
     }
-    val fields = Seq("joints" -> list(hardware)) ++ reference.map(r => "reference" -> list(r)) ++ diffs.map("difference" -> _)
+    val bound = bounds.map(_.map { b =>
+      "    " + obj(Seq(
+        "name" -> str(b.name),
+        "avg_torque_nm" -> opt(b.avgTorqueNm),
+        "peak_abs_nm" -> num(b.peakAbsNm),
+        "damage_sum_nm_p_rad" -> num(b.damageSum),
+        "repeated_peak_samples" -> b.repeatedPeakSamples.toString,
+        "momentary_peak_events" -> b.momentaryPeakEvents.toString,
+        "histogram" -> b.histogram.mkString("[", ", ", "]")
+      ), "    ")
+    }.mkString("[\n", ",\n", "\n  ]"))
+    val fields = Seq("sample_period_s" -> num(p.samplePeriodS), "joints" -> list(hardware)) ++ reference.map(r => "reference" -> list(r)) ++
+      diffs.map("difference" -> _) ++ bound.map("bound" -> _)
     obj(fields, "") + "\n"
   }
 }

@@ -1,0 +1,148 @@
+package reducerload.arm
+
+import chisel3._
+import chiseltest._
+import org.scalatest.flatspec.AnyFlatSpec
+import reducerload.dynamics.RandomChains
+import reducerload.graph.SampleCodes
+import reducerload.monitor._
+import reducerload.testutil.{ArmGolden, Seeds, SimBackend}
+
+import scala.collection.mutable.ArrayBuffer
+import scala.util.Random
+
+/** One clock of the test: an arm sample (index into the stream) or none, the host pulses and a read address. */
+final case class ArmMonitorCycle(sample: Option[Int], snapshot: Boolean = false, clear: Boolean = false, readAddress: Option[Int] = None)
+
+/**
+ * One simulation: the planar arm with its monitor on every golden planar3 sample, interleaved with
+ * seeded samples beyond the declared ranges and bubbles, snapshots and clears at random times.
+ * Checked: every shadow bank read through the host port equals, word for word, the bank of
+ * MonitorModel fed by ArmModel's outputs (torques, clamped velocities, flags) in the monitor's input
+ * cycles (arm input + latency); every snapshot's summary is within the derived bounds of
+ * MonitorReference fed by double-precision RNEA torques over the same samples.
+ */
+class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
+  behavior of "MonitoredArm"
+
+  /** Limits where the golden trajectories cross them: T_R at 60 %, T_M at 85 % of each joint's golden peak. */
+  private def settings(peaks: Seq[Double]) = MonitorSettings(
+    enabled = true,
+    exponent = Seq(3.0, 10.0 / 3.0, 1.5),
+    repeatedPeakNm = peaks.map(x => math.rint(6 * x) / 10),
+    momentaryPeakNm = peaks.map(x => math.rint(8.5 * x) / 10),
+    gearRatio = Seq(120.0, 100.0, 80.0),
+    samplePeriodS = 0.01,
+    histogramBins = Seq(12))
+
+  private def poke(dut: MonitoredArm, c: ArmMonitorCycle, codes: IndexedSeq[SampleCodes]): Unit = {
+    c.sample match {
+      case Some(i) =>
+        val s = codes(i)
+        dut.io.in.valid.poke(true.B)
+        s.angles.indices.foreach { j =>
+          dut.io.in.bits.q(j).poke(s.angles(j).U)
+          dut.io.in.bits.qd(j).poke(s.velocities(j).S)
+          dut.io.in.bits.qdd(j).poke(s.accelerations(j).S)
+        }
+      case None => dut.io.in.valid.poke(false.B)
+    }
+    dut.io.host.snapshot.poke(c.snapshot.B)
+    dut.io.host.clear.poke(c.clear.B)
+    dut.io.host.readAddress.poke(c.readAddress.getOrElse(0).U)
+  }
+
+  it should "keep the shadow bank bit-exact with MonitorModel fed by ArmModel, and the summaries within the derived bounds of the double reference" in {
+    val traces = ArmGolden.of("planar3")
+    val first = traces.head
+    val arm = ArmParams(first.chain, first.maxVelocity, first.maxAcceleration)
+    val peaks = arm.jointNames.indices.map(j => traces.flatMap(_.torques).map(t => math.abs(t(j))).max)
+    val m = MonitorConfig(arm, settings(peaks))
+    val model = new ArmModel(arm)
+    val rng = new Random(Seeds("monitored-arm", 1313L))
+
+    // Golden samples in order, with seeded out-of-range samples (about 1 in 20) slipped in between.
+    val golden = traces.flatMap(_.samples).toIndexedSeq
+    val outside = IndexedSeq.fill(SimBackend.scale(golden.size / 20)) {
+      val (q, qd, qdd) = RandomChains.sample(rng, arm.maxVelocity.map(_ * 1.4), arm.maxAcceleration.map(_ * 1.4))
+      ArmSample(q, qd, qdd)
+    }
+    val goldenUsed = golden.take(SimBackend.scale(golden.size))
+    val positions = outside.map(_ => rng.nextInt(goldenUsed.size + 1)).sorted
+    val samples = goldenUsed.indices.foldLeft((Vector.empty[ArmSample], positions.toList, outside.toList)) { case ((acc, ps, os), i) =>
+      val (here, later) = ps.span(_ <= i)
+      (acc ++ os.take(here.size) :+ goldenUsed(i), later, os.drop(here.size))
+    } match { case (acc, _, os) => acc ++ os }
+    val codes = samples.map(model.encode)
+    val fed = TrajectorySummary.monitorInputs(arm, codes).toIndexedSeq
+    val latency = arm.latency
+
+    // Schedule: samples with bubbles; snapshots (never while a bank is being read) and clears at random times.
+    val drive = ArrayBuffer.empty[ArmMonitorCycle]
+    val snapshots = ArrayBuffer.empty[Int]
+    val reads = scala.collection.mutable.Map.empty[Int, Int]
+    val words = m.registerMap.words
+    def snapshotAt(t: Int): Unit = { snapshots += t; (0 until words).foreach(k => reads(t + m.snapshotLatency + k) = k) }
+    def free(t: Int) = snapshots.lastOption.forall(s => t >= s + m.snapshotLatency + words)
+    val next = samples.indices.iterator.buffered
+    while (next.hasNext || drive.size < samples.size + latency + 2 || !free(drive.size)) {
+      val t = drive.size
+      val sample = if (next.hasNext && rng.nextDouble() >= 0.1) Some(next.next()) else None
+      val snap = t > latency && free(t) && rng.nextInt(400) == 0
+      if (snap) snapshotAt(t)
+      val clear = rng.nextInt(900) == 0 || (snap && rng.nextBoolean())
+      drive += ArmMonitorCycle(sample, snap, clear, reads.get(t))
+    }
+    snapshotAt(drive.size); drive += ArmMonitorCycle(None, snapshot = true)
+    while (drive.size < snapshots.last + m.snapshotLatency + words) drive += ArmMonitorCycle(None, readAddress = reads.get(drive.size))
+
+    // The model in the monitor's input cycles: cycle t carries the arm sample given at t - latency.
+    val arrivals = drive.indices.map(t => if (t >= latency) drive(t - latency).sample else None)
+    val monitorModel = new MonitorModel(m)
+    val expected = ArrayBuffer.empty[(MonitorSnapshot, Vector[Int])]
+    drive.indices.foldLeft((monitorModel.initial, Vector.empty[Int])) { case ((state, period), t) =>
+      val c = drive(t)
+      val next = monitorModel.step(state, MonitorCycle(arrivals(t).map(fed), c.snapshot, c.clear))
+      if (c.snapshot) expected += (next.shadow -> period)
+      ((next, (if (c.clear) Vector.empty else period) ++ arrivals(t).toSeq))
+    }
+    println(s"[monitored-arm] planar3: ${goldenUsed.size} golden + ${outside.size} out-of-range samples, ${drive.size} cycles, " +
+      s"${snapshots.size} snapshots, ${drive.count(_.clear)} clears, arm latency $latency, monitor snapshot latency ${m.snapshotLatency}, bank $words words")
+
+    test(new MonitoredArm(arm, m)).withAnnotations(SimBackend.annotations) { dut =>
+      dut.clock.setTimeout(0)
+      val done = ArrayBuffer.empty[Boolean]
+      val data = ArrayBuffer.empty[BigInt]
+      drive.foreach { c =>
+        poke(dut, c, codes)
+        done += dut.io.host.snapshotDone.peek().litToBoolean
+        dut.clock.step()
+        data += dut.io.host.readData.peek().litValue
+      }
+      assert(done.indices.filter(done(_)) == snapshots.map(_ + m.snapshotLatency), "snapshotDone not snapshotLatency cycles after each pulse")
+      val banks = snapshots.map(t => (0 until words).map(k => data(t + m.snapshotLatency + k)))
+      banks.zip(expected).zipWithIndex.foreach { case ((hw, (snap, _)), k) =>
+        val want = snap.bank(m)
+        if (hw != want) {
+          val (h, w) = (m.registerMap.decode(hw), m.registerMap.decode(want))
+          fail(s"snapshot $k (cycle ${snapshots(k)}): " +
+            m.registerMap.entries.filter(e => h(e.key) != w(e.key)).map(e => s"${e.name}: RTL ${h(e.key)}, model ${w(e.key)}").mkString("; "))
+        }
+      }
+      // Every period against the double reference over the same samples.
+      val checked = banks.zip(expected).zipWithIndex.map { case ((hw, (_, period)), k) =>
+        val snap = MonitorSnapshot.fromBank(m, hw)
+        val values = TrajectorySummary.referenceValues(arm, m, period.map(samples), period.map(fed))
+        val ref = MonitorReference.summarize(m, values)
+        val bounds = TrajectorySummary.bounds(arm, m, snap, ref, values)
+        val bad = TrajectorySummary.violations(MonitorSummary.fromSnapshot(m, snap), ref, bounds)
+        assert(bad.isEmpty, bad.mkString(s"snapshot $k (${period.size} samples):\n", "\n", ""))
+        (period.size, snap.joints.map(_.outOfRangeSamples).sum, snap.joints.map(_.momentaryPeakEvents).sum)
+      }
+      assert(checked.exists(_._2 > 0), "no snapshot saw an out-of-range sample")
+      assert(checked.exists(_._3 > 0), "no snapshot saw a momentary-peak event")
+      println(s"[monitored-arm] ${banks.size} banks bit-exact with the model; periods of ${checked.map(_._1).mkString(", ")} samples " +
+        s"within the derived bounds of the double reference")
+    }
+  }
+}
