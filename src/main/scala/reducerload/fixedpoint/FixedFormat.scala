@@ -22,23 +22,11 @@ object Rounding {
   }
 }
 
-/** What happens when a value does not fit its format. Wrap-around is not offered: never silent. */
-sealed abstract class Overflow(val name: String) {
-  override def toString: String = name
-}
-object Overflow {
-
-  /** Clamp to the nearest representable value and raise a flag. */
-  case object Saturate extends Overflow("saturate")
-
-  /**
-   * The format was derived from a proven range, so overflow cannot happen; no logic is spent.
-   * Bit-accurate models check the claim on every value they produce.
-   */
-  case object ProvenInRange extends Overflow("proven-in-range")
-}
-
 /**
+ * Overflow is never silent: formats are derived from proven ranges (the bit-accurate models check
+ * every value against its format), and inputs beyond their declared ranges saturate and raise a
+ * flag ([[FixedFormat.clamp]], [[FixedHw.clamp]]). There is no wrap-around mode.
+ *
  * Signed two's complement fixed-point format: one sign bit, `intBits` integer bits and `fracBits`
  * fraction bits. A raw integer `r` stands for `r * 2^-fracBits`.
  */

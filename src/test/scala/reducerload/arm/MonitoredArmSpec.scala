@@ -55,7 +55,7 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
   it should "keep the shadow bank bit-exact with MonitorModel fed by ArmModel, and the summaries within the derived bounds of the double reference" in {
     val traces = ArmGolden.of("planar3")
     val first = traces.head
-    val arm = ArmParams(first.chain, first.maxVelocity, first.maxAcceleration)
+    val arm = ArmParams(first.chain, first.config.robot.maxVelocity, first.config.robot.maxAcceleration)
     val peaks = arm.jointNames.indices.map(j => traces.flatMap(_.torques).map(t => math.abs(t(j))).max)
     val m = MonitorConfig(arm, settings(peaks))
     val model = new ArmModel(arm)

@@ -9,7 +9,7 @@ class TrajectorySummarySpec extends AnyFlatSpec {
   behavior of "MonitorSummary.fromTrajectory"
 
   private val trace = ArmGolden.load("planar3_multiturn.csv")
-  private val arm = ArmParams(trace.chain, trace.maxVelocity, trace.maxAcceleration)
+  private val arm = ArmParams(trace.chain, trace.config.robot.maxVelocity, trace.config.robot.maxAcceleration)
   /** The trajectory is sampled every 10 ms; limits where it crosses them (its peaks are about 104, 46, 30 N·m). */
   private val settings = MonitorSettings(enabled = true, repeatedPeakNm = Seq(80.0, 30.0, 20.0), momentaryPeakNm = Seq(100.0, 40.0, 28.0),
     gearRatio = Seq(120.0, 100.0, 80.0), samplePeriodS = 0.01, histogramBins = Seq(10), ratedTorqueNm = Seq(150.0, 80.0, 40.0))
