@@ -11,6 +11,7 @@ import reducerload.graph.SampleCodes
 final class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCodes] {
   private val model = new ArmModel(p)
   private val joints = p.chain.size
+  private val angleFormat = FastFixed.angleFormat(p.numerics.angleBits)
 
   val columns: Seq[String] = ArmTrajectory.columns(joints)
   val limits: Seq[(Int, Double)] =
@@ -22,7 +23,7 @@ final class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOut
   /** `model.encode` of the row's sample, in fast exact arithmetic (tested equal). */
   def encode(row: IndexedSeq[Double]): SampleCodes = {
     val n = p.numerics
-    SampleCodes((0 until joints).map(j => FastFixed.angleCode(row(j), n.angleBits)),
+    SampleCodes((0 until joints).map(j => FastFixed.angleCode(row(j), angleFormat)),
       (0 until joints).map(j => FastFixed.codeHalfUp(row(joints + j), n.velocityPortFormat)),
       (0 until joints).map(j => FastFixed.codeHalfUp(row(2 * joints + j), n.accelerationPortFormat)))
   }

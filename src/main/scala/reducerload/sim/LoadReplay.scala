@@ -6,6 +6,7 @@ import reducerload.load.{JointSample, LoadDatapath, LoadDatapathModel, LoadInput
 final class LoadReplay(val p: LoadParams) extends ReplayDesign[LoadInputCodes, LoadOutputCodes] {
   require(p.model.closedForm, s"LoadReplay: model ${p.model.name} is not a joint-3 closed form")
   private val model = new LoadDatapathModel(p)
+  private val angleFormat = FastFixed.angleFormat(p.angleBits)
 
   val columns: Seq[String] = JointSample.columns
   val limits: Seq[(Int, Double)] = {
@@ -15,7 +16,7 @@ final class LoadReplay(val p: LoadParams) extends ReplayDesign[LoadInputCodes, L
 
   /** `model.encode` of the row's sample, in fast exact arithmetic (tested equal). */
   def encode(row: IndexedSeq[Double]): LoadInputCodes = {
-    def angle(x: Double) = FastFixed.angleCode(x, p.angleBits)
+    def angle(x: Double) = FastFixed.angleCode(x, angleFormat)
     LoadInputCodes(angle(row(0)), angle(row(1)), angle(row(2)),
       p.velocityFormats.indices.map(j => FastFixed.codeHalfUp(row(3 + j), p.velocityFormats(j))),
       p.accelerationFormats.indices.map(j => FastFixed.codeHalfUp(row(6 + j), p.accelerationFormats(j))))

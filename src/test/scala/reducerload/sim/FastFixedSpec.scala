@@ -43,7 +43,7 @@ class FastFixedSpec extends AnyFlatSpec {
     val bits = LoadParams.default.angleBits
     val angles = Seq.fill(20000)((rng.nextDouble() * 2 - 1) * math.pow(10, rng.nextInt(5) - 1)) ++
       Seq.fill(2000)(2 * math.Pi * math.scalb(rng.nextInt(1 << 20) + 0.5, -bits)) ++ Seq(0.0, math.Pi, -math.Pi, 2 * math.Pi, 1e6)
-    val wrong = angles.filter(a => FastFixed.angleCode(a, bits) != model.angleCode(a))
+    val wrong = angles.filter(a => FastFixed.angleCode(a, FastFixed.angleFormat(bits)) != model.angleCode(a))
     assert(wrong.isEmpty, s"angle codes differ at ${wrong.take(5)}")
   }
 }
