@@ -9,6 +9,8 @@ import java.io.{BufferedWriter, OutputStreamWriter, Writer}
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path, StandardCopyOption}
 import scala.collection.immutable.ArraySeq
+import scala.concurrent.duration.Duration
+import scala.concurrent.{Await, ExecutionContext, Future}
 import scala.sys.process._
 import scala.util.Try
 
@@ -85,8 +87,8 @@ object Simulate {
   }
 
   /** The compiled harness of the design, from exactly the Verilog `emit` writes (cached per design by its hash). */
-  def harness(request: SimulateRequest[_, _]): CompiledHarness = {
-    val emission = Emit.emit(request.params, Top.Load, emitCommand)
+  def harness(request: SimulateRequest[_, _], elaborated: Option[Future[Emission]]): CompiledHarness = {
+    val emission = elaborated.map(Await.result(_, Duration.Inf)).getOrElse(Emit.emit(request.params, Top.Load, emitCommand))
     val start = System.nanoTime()
     val h = VerilatorHarness.compile(emission.verilog, emission.topModule, request.design.ports)
     val seconds = (System.nanoTime() - start) / 1e9
@@ -95,12 +97,17 @@ object Simulate {
     h
   }
 
-  def run(cli: Cli): Unit = execute(prepare(cli))
+  def run(cli: Cli): Unit = {
+    // Elaborate while the trajectory is read and checked (seconds each, on different cores); only
+    // in memory: the harness is built after every check. A bad command line fails here the same way.
+    val elaborated = if (cli.get("engine").forall(_ == "rtl")) Some(Future(Emit.emit(cli.params, Top.Load, emitCommand))(ExecutionContext.global)) else None
+    execute(prepare(cli), elaborated)
+  }
 
   /** Run a checked request: write the output file (all of it or nothing) and print the summary. */
-  def execute[In, Out](request: SimulateRequest[In, Out]): ReplaySummary = {
+  def execute[In, Out](request: SimulateRequest[In, Out], elaborated: Option[Future[Emission]] = None): ReplaySummary = {
     val d = request.design
-    val engine = if (request.engine == "rtl") ReplayEngine.Rtl(harness(request)) else ReplayEngine.Model
+    val engine = if (request.engine == "rtl") ReplayEngine.Rtl(harness(request, elaborated)) else ReplayEngine.Model
     val progress = ProgressLine.onTerminal(request.rows.size.toLong, s"simulate (${request.engine})")
     val summary = writeAtomically(request.output)(out => Replay.run(d, engine, request.rows, request.jobs, out, progress))
     println(s"wrote ${request.output}: ${summary.samples} samples, ${d.description}, engine ${request.engine}, ${request.jobs} job(s)")
