@@ -1,188 +1,144 @@
 package reducerload.app
 
-import chiseltest.RawTester
-import chiseltest.simulator.VerilatorBackendAnnotation
-import reducerload.arm.{ArmConfig, ArmDatapath, ArmModel, ArmOutputCodes, ArmParams, ArmSample, ArmTrajectory}
-import reducerload.dynamics.Rnea
-import reducerload.graph.SampleCodes
-import reducerload.load._
-import reducerload.sim.{ArmDriver, Cycle, LoadDriver, Stream}
+import reducerload.arm.ArmConfig
+import reducerload.load.LoadParams
+import reducerload.sim._
 import reducerload.trace.{InputError, TraceCsv}
 
+import java.io.{BufferedWriter, OutputStreamWriter, Writer}
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path, StandardCopyOption}
+import scala.collection.immutable.ArraySeq
+import scala.concurrent.duration.Duration
+import scala.concurrent.{Await, ExecutionContext, Future}
 import scala.sys.process._
 import scala.util.Try
 
-/** `run simulate`: a user's trajectory through the generated RTL on Verilator, as fast as the design takes samples. */
+/**
+ * `run simulate`: a user's trajectory through the emitted RTL on a compiled Verilator harness (or,
+ * with `--engine model`, through the bit-accurate model), in chunks on `--jobs` threads, written as
+ * one CSV line per sample with the double-precision reference and the error.
+ */
 object Simulate {
   val options: Seq[Opt] = Seq(
     Opt("input", "FILE", "trajectory CSV: header t1,t2,t3,d1,d2,d3,dd1,dd2,dd3 (joint 3), or q1..qN,qd1..qdN,qdd1..qddN (model rnea); rad, rad/s, rad/s^2"),
-    Opt("output", "FILE", "result CSV: idx,load_hw,load_ref,error,out_of_range, or idx,tauJ_hw,tauJ_ref,tauJ_error...,out_of_range (N·m)")
+    Opt("output", "FILE", "result CSV: idx,load_hw,load_ref,error,out_of_range, or idx,tauJ_hw,tauJ_ref,tauJ_error...,out_of_range (N·m)"),
+    Opt("engine", "rtl|model", "rtl: the emitted Verilog on a compiled Verilator harness; model: the bit-accurate model (same file)", "rtl"),
+    Opt("jobs", "N", "chunks of the trajectory run in parallel (harness processes or model threads)", "the number of processors")
   )
   val flags: Seq[String] = Seq("saturate")
   val flagHelp: Map[String, String] = Map(
     "saturate" -> "accept values beyond the declared ranges: the hardware clamps them and flags the sample; count them"
   )
 
-  /** Rows beyond the declared ranges: (line, column, value, limit). */
-  def outOfRange(p: LoadParams, rows: IndexedSeq[(Int, JointSample)]): Seq[(Int, String, Double, Double)] =
-    rows.flatMap { case (line, s) =>
-      val limits = p.robot.maxVelocity ++ p.robot.maxAcceleration
-      Seq("d1", "d2", "d3", "dd1", "dd2", "dd3").zip(Seq(s.d1, s.d2, s.d3, s.dd1, s.dd2, s.dd3)).zip(limits).collect {
-        case ((col, v), lim) if math.abs(v) > lim => (line, col, v, lim)
+  /** The emitted file's header names a regeneration command; a fixed one keeps the harness cache key independent of file names. */
+  val emitCommand = "./sbt \"run emit\" with the configuration of this simulation"
+
+  private val maxJobs = 256
+
+  private def required(cli: Cli, name: String): Path =
+    cli.path(name).getOrElse(throw new InputError(s"command line: simulate needs --$name FILE"))
+
+  private def jobs(cli: Cli): Int = cli.get("jobs") match {
+    case None => Runtime.getRuntime.availableProcessors.max(1)
+    case Some(v) => Try(v.toInt).toOption.filter(n => n >= 1 && n <= maxJobs)
+      .getOrElse(throw new InputError(s"command line: --jobs must be an integer from 1 to $maxJobs, got '$v'"))
+  }
+
+  private def engine(cli: Cli): String = {
+    val name = cli.get("engine").getOrElse("rtl")
+    if (!ReplayEngine.names.contains(name)) throw new InputError(s"command line: --engine must be ${ReplayEngine.names.mkString(" or ")}, got '$name'")
+    name
+  }
+
+  /** The design `params` describe: the joint-3 closed form, or every joint of an arm (model rnea). */
+  def design(params: LoadParams): ReplayDesign[_, _] =
+    if (params.model.closedForm) new LoadReplay(params) else new ArmReplay(ArmConfig(params))
+
+  /** Every check of the command line and the input file, before anything runs. */
+  def prepare(cli: Cli): SimulateRequest[_, _] = {
+    val input = required(cli, "input")
+    val output = required(cli, "output")
+    val engineName = engine(cli)
+    val jobCount = jobs(cli)
+    val parent = output.toAbsolutePath.normalize.getParent
+    if (parent != null && !Files.isDirectory(parent)) throw new InputError(s"$output: directory $parent does not exist")
+    val params = cli.params
+    val d = design(params)
+    val table = TraceCsv.read(input, d.columns)
+    // The rows as they are when the header is exactly the columns (the usual case): no copy.
+    val rows =
+      if (table.header == d.columns) table.rows.map(_._2)
+      else {
+        val at = d.columns.map(table.header.indexOf).toArray
+        table.rows.map { case (_, cells) => ArraySeq.unsafeWrapArray(at.map(cells)) }
       }
-    }
-
-  def readTrajectory(path: Path): IndexedSeq[(Int, JointSample)] = {
-    val table = TraceCsv.read(path, JointSample.columns)
-    val cols = JointSample.columns.map(table.column)
-    table.rows.indices.map(i => table.rows(i)._1 -> JointSample.fromSeq(cols.map(_(i))))
-  }
-
-  /** Run `body` with a scratch build directory under target/ (chiseltest wants a relative one), removed afterwards. */
-  private def inScratch[T](body: Seq[firrtl2.annotations.Annotation] => T): T = {
-    val scratch = java.nio.file.Paths.get("target", "simulate")
-    Files.createDirectories(scratch)
-    val dir = java.nio.file.Paths.get("").toAbsolutePath.relativize(Files.createTempDirectory(scratch.toAbsolutePath, "run-"))
-    try body(Seq(VerilatorBackendAnnotation, firrtl2.options.TargetDirAnnotation(dir.toString)))
-    finally Try(Seq("rm", "-rf", dir.toString).!)
-  }
-
-  /** Run the RTL: returns outputs in sample order and the wall-clock samples per second of the simulation. */
-  def simulate(p: LoadParams, codes: IndexedSeq[LoadInputCodes]): (IndexedSeq[LoadOutputCodes], Double) = inScratch { annotations =>
-    val outputs = Vector.newBuilder[LoadOutputCodes]
-    val seconds = new java.util.concurrent.atomic.AtomicLong // nanoseconds, set inside the simulator callback
-    RawTester.test(new LoadDatapath(p), annotations) { dut =>
-      val stimulus = Stream.spaced(codes.iterator.map(Cycle.Sample(_)), p.samplePeriod) ++ Iterator.fill(dut.latency + 1)(Cycle.Bubble)
-      val start = System.nanoTime()
-      LoadDriver.run(dut, stimulus, (_, out) => out.foreach(outputs += _))
-      seconds.set(System.nanoTime() - start)
-    }
-    (outputs.result(), codes.size / (seconds.get / 1e9).max(1e-9))
-  }
-
-  /** Run an arm's RTL, one sample per clock: outputs in sample order and samples per second. */
-  def simulateArm(p: ArmParams, codes: IndexedSeq[SampleCodes]): (IndexedSeq[ArmOutputCodes], Double) = inScratch { annotations =>
-    val outputs = Vector.newBuilder[ArmOutputCodes]
-    val seconds = new java.util.concurrent.atomic.AtomicLong
-    RawTester.test(new ArmDatapath(p), annotations) { dut =>
-      val stimulus = codes.iterator.map(Cycle.Sample(_)) ++ Iterator.fill(p.latency + 1)(Cycle.Bubble)
-      val start = System.nanoTime()
-      ArmDriver.run(dut, stimulus, (_, out) => out.foreach(outputs += _))
-      seconds.set(System.nanoTime() - start)
-    }
-    (outputs.result(), codes.size / (seconds.get / 1e9).max(1e-9))
-  }
-
-  /** Every check of the command line and the input file, before any simulation: (params, rows, output). */
-  def prepare(cli: Cli): (LoadParams, IndexedSeq[(Int, JointSample)], Path) = {
-    val input = cli.path("input").getOrElse(throw new InputError("command line: simulate needs --input FILE"))
-    val output = cli.path("output").getOrElse(throw new InputError("command line: simulate needs --output FILE"))
-    val p = cli.params
-    val rows = readTrajectory(input)
-    val beyond = outOfRange(p, rows)
-    if (beyond.nonEmpty && !cli.has("saturate")) {
-      val (line, col, v, lim) = beyond.head
-      throw new InputError(s"$input:$line: column '$col': $v is beyond the declared range |$col| <= $lim " +
+    def beyond = Iterator.range(0, rows.size).flatMap(i => d.limits.iterator.collect {
+      case (c, limit) if math.abs(rows(i)(c)) > limit => (i, c, limit)
+    })
+    if (!cli.has("saturate")) beyond.nextOption().foreach { case (i, c, limit) =>
+      val col = d.columns(c)
+      throw new InputError(s"$input:${table.rows(i)._1}: column '$col': ${rows(i)(c)} is beyond the declared range |$col| <= $limit " +
         s"(${beyond.size} value(s) in all; --saturate clamps and counts them, or widen the range)")
     }
-    (p, rows, output)
+    if (engineName == "rtl" && Try(Seq("verilator", "--version").!!(ProcessLogger(_ => ()))).isFailure)
+      throw new InputError("simulate needs Verilator on the PATH (Debian: apt-get install verilator), or --engine model")
+    SimulateRequest(params, d, rows, output, engineName, jobCount)
+  }
+
+  /** The compiled harness of the design, from exactly the Verilog `emit` writes (cached per design by its hash). */
+  def harness(request: SimulateRequest[_, _], elaborated: Option[Future[Emission]]): CompiledHarness = {
+    val emission = elaborated.map(Await.result(_, Duration.Inf)).getOrElse(Emit.emit(request.params, Top.Load, emitCommand))
+    val start = System.nanoTime()
+    val h = VerilatorHarness.compile(emission.verilog, emission.topModule, request.design.ports)
+    val seconds = (System.nanoTime() - start) / 1e9
+    println(if (h.fromCache) s"harness: ${emission.topModule}, cached build ${h.directory}"
+            else f"harness: ${emission.topModule}, built in $seconds%.0f s (cached for the next run) in ${h.directory}")
+    h
   }
 
   def run(cli: Cli): Unit = {
-    val design = cli.params
-    if (!design.model.closedForm) runArm(cli, ArmConfig(design))
-    else runJoint3(cli)
+    // Elaborate while the trajectory is read and checked (seconds each, on different cores); only
+    // in memory: the harness is built after every check. A bad command line fails here the same way.
+    val elaborated = if (cli.get("engine").forall(_ == "rtl")) Some(Future(Emit.emit(cli.params, Top.Load, emitCommand))(ExecutionContext.global)) else None
+    execute(prepare(cli), elaborated)
   }
 
-  private def requireVerilator(): Unit =
-    if (Try(Seq("verilator", "--version").!!(ProcessLogger(_ => ()))).isFailure)
-      throw new InputError("simulate needs Verilator on the PATH (Debian: apt-get install verilator)")
-
-  /** Every joint of an arm: header q1..qn,qd1..qdn,qdd1..qddn; checks before anything runs. */
-  private def runArm(cli: Cli, p: ArmParams): Unit = {
-    val input = cli.path("input").getOrElse(throw new InputError("command line: simulate needs --input FILE"))
-    val output = cli.path("output").getOrElse(throw new InputError("command line: simulate needs --output FILE"))
-    val n = p.chain.size
-    val columns = ArmTrajectory.columns(n)
-    val table = TraceCsv.read(input, columns)
-    val cols = columns.map(table.column)
-    val rows = table.rows.indices.map { i =>
-      val v = cols.map(_(i))
-      table.rows(i)._1 -> ArmSample(v.slice(0, n).toIndexedSeq, v.slice(n, 2 * n).toIndexedSeq, v.slice(2 * n, 3 * n).toIndexedSeq)
+  /** Run a checked request: write the output file (all of it or nothing) and print the summary. */
+  def execute[In, Out](request: SimulateRequest[In, Out], elaborated: Option[Future[Emission]] = None): ReplaySummary = {
+    val d = request.design
+    val engine = if (request.engine == "rtl") ReplayEngine.Rtl(harness(request, elaborated)) else ReplayEngine.Model
+    val progress = ProgressLine.onTerminal(request.rows.size.toLong, s"simulate (${request.engine})")
+    val summary = writeAtomically(request.output)(out => Replay.run(d, engine, request.rows, request.jobs, out, progress))
+    println(s"wrote ${request.output}: ${summary.samples} samples, ${d.description}, engine ${request.engine}, ${request.jobs} job(s)")
+    val worst = d.errorLabels.indices.map { j =>
+      println(f"  max |error| over in-range samples, ${d.errorLabels(j)}%-24s ${summary.maxErrors(j)}%.3e N·m (derived bound ${d.errorBounds(j)}%.3e N·m)")
+      (summary.maxErrors(j), d.errorBounds(j))
     }
-    val beyond = rows.flatMap { case (line, s) =>
-      (0 until n).flatMap { j =>
-        Seq((s"qd${j + 1}", s.qd(j), p.numerics.velocityLimits(j)), (s"qdd${j + 1}", s.qdd(j), p.numerics.accelerationLimits(j)))
-          .collect { case (col, v, lim) if math.abs(v) > lim => (line, col, v, lim) }
-      }
+    println(s"out-of-range samples (clamped, flagged): ${summary.outOfRange}")
+    val how = engine match {
+      case ReplayEngine.Rtl(_) => f"Verilator harness, ${d.throughput}, latency ${d.latency} cycles; " +
+          f"${summary.cyclesPerHarnessSecond}%.0f clock cycles/s per harness process"
+      case ReplayEngine.Model => "bit-accurate model"
     }
-    if (beyond.nonEmpty && !cli.has("saturate")) {
-      val (line, col, v, lim) = beyond.head
-      throw new InputError(s"$input:$line: column '$col': $v is beyond the declared range |$col| <= $lim " +
-        s"(${beyond.size} value(s) in all; --saturate clamps and counts them, or widen the range)")
-    }
-    requireVerilator()
-    val model = new ArmModel(p)
-    val (outs, rate) = simulateArm(p, rows.map { case (_, s) => model.encode(s) })
-    if (outs.size != rows.size) throw new IllegalStateException(s"the RTL returned ${outs.size} results for ${rows.size} samples")
-    val results = rows.zip(outs).map { case ((_, s), o) =>
-      (model.torques(o), Rnea.reference(p.chain, s.q, s.qd, s.qdd), o.outOfRange.exists(identity))
-    }
-    val header = "idx" +: (1 to n).flatMap(j => Seq(s"tau${j}_hw", s"tau${j}_ref", s"tau${j}_error")) :+ "out_of_range"
-    val lines = results.zipWithIndex.map { case ((hw, ref, oor), i) =>
-      (i.toString +: (0 until n).flatMap(j => Seq(hw(j).toString, ref(j).toString, (hw(j) - ref(j)).toString)) :+ (if (oor) "1" else "0")).mkString(",")
-    }
-    writeAtomically(output, (header.mkString(",") +: lines).mkString("", "\n", "\n"))
-    val inRange = results.filterNot(_._3)
-    println(s"wrote $output: ${rows.size} samples, robot ${p.chain.name} ($n joints), every joint by RNEA")
-    val worst = (0 until n).map { j =>
-      val err = inRange.map(r => math.abs(r._1(j) - r._2(j))).maxOption.getOrElse(0.0)
-      println(f"  ${p.jointNames(j)}%-24s max |error| $err%.3e N·m (derived bound ${p.errorBounds(j)}%.3e N·m)")
-      (err, p.errorBounds(j))
-    }
-    println(s"out-of-range samples (clamped, flagged): ${results.count(_._3)}")
-    println(f"simulation rate: $rate%.0f samples/s (Verilator, one sample per clock, latency ${p.latency} cycles)")
+    println(f"simulation rate: ${summary.samplesPerSecond}%.0f samples/s ($how)")
     worst.zipWithIndex.find { case ((e, b), _) => e > b }.foreach { case ((e, b), j) =>
-      throw new IllegalStateException(s"joint ${j + 1}: max error $e exceeds the derived bound $b")
+      throw new IllegalStateException(s"${d.errorLabels(j)}: max error $e exceeds the derived bound $b")
     }
+    summary
   }
 
-  private def runJoint3(cli: Cli): Unit = {
-    val (p, rows, output) = prepare(cli)
-    requireVerilator()
-    val model = new LoadDatapathModel(p)
-    val codes = rows.map { case (_, s) => model.encode(s) }
-    val (outs, rate) = simulate(p, codes)
-    if (outs.size != rows.size)
-      throw new IllegalStateException(s"the RTL returned ${outs.size} loads for ${rows.size} samples")
-    val results = rows.zip(outs).map { case ((_, s), o) =>
-      val hw = model.loadOf(o)
-      val ref = LoadReference.torque(p.robot, p.model, s)
-      (hw, ref, hw - ref, o.outOfRange)
-    }
-    val text = ("idx,load_hw,load_ref,error,out_of_range" +: results.zipWithIndex.map { case ((hw, ref, err, oor), i) =>
-      s"$i,$hw,$ref,$err,${if (oor) 1 else 0}"
-    }).mkString("", "\n", "\n")
-    writeAtomically(output, text)
-    val inRange = results.filterNot(_._4)
-    val maxErr = inRange.map(r => math.abs(r._3)).maxOption.getOrElse(0.0)
-    println(s"wrote $output: ${rows.size} samples, model ${p.model.name}")
-    println(f"max |error| over in-range samples: $maxErr%.3e N·m (derived bound ${p.errorBound}%.3e N·m)")
-    println(s"out-of-range samples (clamped, flagged): ${results.count(_._4)}")
-    println(f"simulation rate: $rate%.0f samples/s (Verilator, ${Report.throughput(p)}, latency ${LoadDatapath.latency(p)} cycles)")
-    if (maxErr > p.errorBound) throw new IllegalStateException(s"max error $maxErr exceeds the derived bound ${p.errorBound}")
-  }
-
-  def writeAtomically(path: Path, text: String): Unit = {
+  /** Write through `body` to a temporary file beside `path`, then move it in: all or nothing. */
+  def writeAtomically[T](path: Path)(body: Writer => T): T = {
     val abs = path.toAbsolutePath.normalize
     val parent = abs.getParent
-    if (parent != null && !Files.isDirectory(parent)) throw new InputError(s"$path: directory ${parent} does not exist")
+    if (parent != null && !Files.isDirectory(parent)) throw new InputError(s"$path: directory $parent does not exist")
     val tmp = Files.createTempFile(parent, ".partial-", ".csv")
     try {
-      Files.write(tmp, text.getBytes(StandardCharsets.UTF_8))
+      val writer = new BufferedWriter(new OutputStreamWriter(Files.newOutputStream(tmp), StandardCharsets.UTF_8), 1 << 20)
+      val result = try body(writer) finally writer.close()
       Files.move(tmp, abs, StandardCopyOption.REPLACE_EXISTING, StandardCopyOption.ATOMIC_MOVE)
+      result
     } finally Files.deleteIfExists(tmp)
   }
 }

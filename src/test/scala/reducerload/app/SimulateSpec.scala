@@ -23,11 +23,13 @@ class SimulateSpec extends AnyFlatSpec {
   private def text(s: String) = file(s.getBytes(StandardCharsets.UTF_8))
 
   /** A malformed input: one line naming the file, a non-zero exit (InputError), and no output file. */
-  private def refused(input: Path, words: String*): Unit = {
+  private def refused(input: Path, words: String*): Unit = refusedWith(input, Nil, input.toString +: words: _*)
+
+  private def refusedWith(input: Path, args: Seq[String], words: String*): Unit = {
     val out = Files.createTempDirectory("sim-out-").resolve("loads.csv")
-    val e = intercept[InputError](Main.run(Seq("simulate", "--input", input.toString, "--output", out.toString)))
+    val e = intercept[InputError](Main.run(Seq("simulate", "--input", input.toString, "--output", out.toString) ++ args))
     assert(!e.getMessage.contains("\n"), s"error spans lines: ${e.getMessage}")
-    (input.toString +: words).foreach(w => assert(e.getMessage.contains(w), s"'${e.getMessage}' does not mention '$w'"))
+    words.foreach(w => assert(e.getMessage.contains(w), s"'${e.getMessage}' does not mention '$w'"))
     assert(!Files.exists(out), "an output file was written for a bad input")
   }
 
@@ -47,6 +49,18 @@ class SimulateSpec extends AnyFlatSpec {
     refused(text(s"$header,t1\n$good,1\n"), "appears twice")
     refused(file(Array[Byte](0x7f, 'E', 'L', 'F', 0, 0, 1, 2, -1, -2)), "not a text file")
     refused(Files.createTempDirectory("not-a-file"), "no such file")
+  }
+
+  it should "refuse a bad --engine or --jobs, a missing output directory, and bad arm rows, with one line and no output" in {
+    val ok = text(s"$header\n$good\n")
+    refusedWith(ok, Seq("--engine", "fast"), "--engine must be rtl or model", "'fast'")
+    refusedWith(ok, Seq("--jobs", "0"), "--jobs must be an integer from 1 to 256", "'0'")
+    refusedWith(ok, Seq("--jobs", "two"), "--jobs", "'two'")
+    refusedWith(ok, Seq("--robot", "planar3"), "missing column(s) 'q1'")
+    val arm = text("q1,q2,q3,qd1,qd2,qd3,qdd1,qdd2,qdd3\n0,0,0,0,3.5,0,0,0,0\n")
+    refusedWith(arm, Seq("--robot", "planar3", "--engine", "model"), arm.toString + ":2:", "'qd2'", "beyond the declared range")
+    val e = intercept[InputError](Main.run(Seq("simulate", "--input", ok.toString, "--output", "/nonexistent-dir/x/loads.csv")))
+    assert(e.getMessage.contains("does not exist") && !e.getMessage.contains("\n"), e.getMessage)
   }
 
   it should "survive seeded random corruptions of a valid file with a one-line error" in {

@@ -1,0 +1,55 @@
+package reducerload.sim
+
+import reducerload.arm.{ArmModel, ArmOutputCodes, ArmParams, ArmSample, ArmTrajectory}
+import reducerload.dynamics.Rnea
+import reducerload.graph.SampleCodes
+
+/**
+ * Every joint of an arm (`ArmDatapath`, model rnea) as `run simulate` replays it: columns
+ * q1..qN,qd1..qdN,qdd1..qddN, result `idx,tau1_hw,tau1_ref,tau1_error,...,out_of_range`.
+ */
+final class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCodes] {
+  private val model = new ArmModel(p)
+  private val joints = p.chain.size
+  private val angleFormat = FastFixed.angleFormat(p.numerics.angleBits)
+
+  val columns: Seq[String] = ArmTrajectory.columns(joints)
+  val limits: Seq[(Int, Double)] =
+    (0 until joints).map(j => (joints + j, p.numerics.velocityLimits(j))) ++
+      (0 until joints).map(j => (2 * joints + j, p.numerics.accelerationLimits(j)))
+
+  private def sample(row: IndexedSeq[Double]) = ArmSample(row.slice(0, joints), row.slice(joints, 2 * joints), row.slice(2 * joints, 3 * joints))
+
+  /** `model.encode` of the row's sample, in fast exact arithmetic (tested equal). */
+  def encode(row: IndexedSeq[Double]): SampleCodes = {
+    val n = p.numerics
+    SampleCodes((0 until joints).map(j => FastFixed.angleCode(row(j), angleFormat)),
+      (0 until joints).map(j => FastFixed.codeHalfUp(row(joints + j), n.velocityPortFormat)),
+      (0 until joints).map(j => FastFixed.codeHalfUp(row(2 * joints + j), n.accelerationPortFormat)))
+  }
+  def evaluate(in: SampleCodes): ArmOutputCodes = model.evaluate(in)
+
+  lazy val ports: HarnessPorts = ArmHarnessPorts(p)
+  def harnessValues(in: SampleCodes): Seq[BigInt] = ArmHarnessPorts.values(in)
+  def fromHarness(values: IndexedSeq[BigInt]): ArmOutputCodes = ArmHarnessPorts.codes(values, p.graph.outputs.size)
+
+  def samplePeriod: Int = 1
+  def latency: Int = p.latency
+
+  val outputHeader: String =
+    ("idx" +: (1 to joints).flatMap(j => Seq(s"tau${j}_hw", s"tau${j}_ref", s"tau${j}_error")) :+ "out_of_range").mkString(",")
+
+  def result(index: Long, row: IndexedSeq[Double], out: ArmOutputCodes): ReplayLine = {
+    val s = sample(row)
+    val hw = out.tau.map(FastFixed.toDouble(_, p.analysis.outputPortFormat.fracBits)) // model.torques, fast
+    val ref = Rnea.reference(p.chain, s.q, s.qd, s.qdd)
+    val outOfRange = out.outOfRange.exists(identity)
+    val cells = index.toString +: (0 until joints).flatMap(j => Seq(hw(j).toString, ref(j).toString, (hw(j) - ref(j)).toString)) :+ (if (outOfRange) "1" else "0")
+    ReplayLine(cells.mkString(","), (0 until joints).map(j => math.abs(hw(j) - ref(j))), outOfRange)
+  }
+
+  def errorLabels: IndexedSeq[String] = p.jointNames
+  def errorBounds: IndexedSeq[Double] = p.errorBounds
+  def description: String = s"robot ${p.chain.name} ($joints joints), every joint by RNEA"
+  def throughput: String = "one sample per clock"
+}

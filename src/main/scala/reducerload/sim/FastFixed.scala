@@ -1,0 +1,59 @@
+package reducerload.sim
+
+import reducerload.fixedpoint.{FixedFormat, Rounding}
+
+/**
+ * [[FixedFormat]]'s conversions between doubles and codes, bit-identical, in double and long
+ * arithmetic where that is exact: the reference goes through BigDecimal (tens of microseconds per
+ * value), which a million-sample replay cannot afford. Anything near a rounding tie or too wide
+ * takes the reference.
+ */
+object FastFixed {
+  /** |x·2^f| below this: a double's decimal rendering (what BigDecimal(x) takes) is within 2^-13 of it. */
+  private val exactLimit = math.pow(2, 40)
+  /** Fractions closer than this to a tie take the reference path, whose decimal rendering may fall either side. */
+  private val tieMargin = math.pow(2, -10)
+  /** "No fast answer": never a result of the fast path, whose results are below 2^41 in magnitude. */
+  private val noFastAnswer = Long.MinValue
+
+  private def fastHalfUp(x: Double, fracBits: Int): Long = {
+    val scaled = math.scalb(x, fracBits) // exact: a power-of-two scaling
+    val floor = math.floor(scaled)
+    val fraction = scaled - floor // exact for |scaled| < 2^52
+    if (math.abs(scaled) < exactLimit && math.abs(fraction - 0.5) > tieMargin) floor.toLong + (if (fraction > 0.5) 1 else 0)
+    else noFastAnswer
+  }
+
+  /** `f.quantize(x, Rounding.HalfUp)`. */
+  def quantizeHalfUp(x: Double, f: FixedFormat): BigInt = {
+    val v = fastHalfUp(x, f.fracBits)
+    if (v != noFastAnswer) BigInt(v) else f.quantize(x, Rounding.HalfUp)
+  }
+
+  /** `f.fromDouble(x, Rounding.HalfUp)._1`: round to nearest, saturate at the format. */
+  def codeHalfUp(x: Double, f: FixedFormat): BigInt = {
+    val v = fastHalfUp(x, f.fracBits)
+    if (v != noFastAnswer && f.width <= 63) BigInt(v.max(f.minRaw.toLong).min(f.maxRaw.toLong))
+    else FixedFormat.saturate(quantizeHalfUp(x, f), f)._1
+  }
+
+  /** `FixedFormat.scaleDown(raw, fracBits)`: exact in doubles when the code has at most 53 bits. */
+  def toDouble(raw: BigInt, fracBits: Int): Double =
+    if (raw.bitLength <= 53) math.scalb(raw.toLong.toDouble, -fracBits) else FixedFormat.scaleDown(raw, fracBits)
+
+  /** The format the models quantize a fraction of a turn in (`FixedFormat(62, bits)`), built once per design. */
+  def angleFormat(bits: Int): FixedFormat = {
+    require(bits >= 1 && bits <= 62, s"FastFixed: angle codes of $bits bits are not supported (1 to 62)")
+    FixedFormat(62, bits)
+  }
+
+  /** A binary angle code of `rad` (full turn = 2^bits, wraps), as the models' `angleCode` computes it; `f` is [[angleFormat]]. */
+  def angleCode(rad: Double, f: FixedFormat): BigInt = {
+    require(!rad.isNaN && !rad.isInfinite, s"angle $rad is not a finite number")
+    val turns = rad / (2 * math.Pi)
+    val fraction = turns - math.floor(turns)
+    val v = fastHalfUp(fraction, f.fracBits)
+    // Two's complement: the low bits are the non-negative residue modulo the turn.
+    if (v != noFastAnswer) BigInt(v & ((1L << f.fracBits) - 1)) else f.quantize(fraction, Rounding.HalfUp).mod(BigInt(1) << f.fracBits)
+  }
+}

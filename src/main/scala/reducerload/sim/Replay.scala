@@ -1,0 +1,66 @@
+package reducerload.sim
+
+import java.io.Writer
+import scala.collection.mutable.ArrayBuffer
+
+/**
+ * A trajectory through a [[ReplayDesign]] on an engine, in chunks on `jobs` threads: each chunk
+ * converts its rows, runs them (a harness process from reset, or the model), and formats its result
+ * lines; the lines are written in sample order. The datapath keeps no state between samples, so the
+ * file does not depend on the chunking.
+ */
+object Replay {
+
+  /**
+   * Samples per chunk: a harness process each (start-up is milliseconds), or a model batch; at
+   * least one chunk per job, so short runs use every job too.
+   */
+  def chunkSize(engine: ReplayEngine, samples: Int, jobs: Int): Int = {
+    val most = engine match {
+      case ReplayEngine.Rtl(_) => 1 << 16
+      case ReplayEngine.Model  => 1 << 12
+    }
+    ((samples + jobs - 1) / jobs).min(most).max(1)
+  }
+
+  private final case class ChunkResult(text: String, maxErrors: Array[Double], outOfRange: Long, cycles: Long, harnessSeconds: Double)
+
+  /** Outputs of `inputs` on `engine`, and (cycles, process seconds) for the RTL. */
+  def outputs[In, Out](design: ReplayDesign[In, Out], engine: ReplayEngine, inputs: IndexedSeq[In]): (IndexedSeq[Out], Long, Double) =
+    engine match {
+      case ReplayEngine.Model => (inputs.map(design.evaluate), 0L, 0.0)
+      case ReplayEngine.Rtl(harness) =>
+        val outs = new ArrayBuffer[Out](inputs.size)
+        val stats = harness.stream(inputs.iterator.map(design.harnessValues), design.samplePeriod, design.latency + 1)(
+          (_, values) => outs += design.fromHarness(values))
+        if (outs.size != inputs.size)
+          throw new IllegalStateException(s"the RTL returned ${outs.size} results for ${inputs.size} samples")
+        (outs.toIndexedSeq, stats.cycles, stats.seconds)
+    }
+
+  /** Run every row, write the header and one line per sample to `out`. */
+  def run[In, Out](design: ReplayDesign[In, Out], engine: ReplayEngine, rows: IndexedSeq[IndexedSeq[Double]], jobs: Int,
+    out: Writer, progress: ProgressLine): ReplaySummary = {
+    val start = System.nanoTime()
+    val labels = design.errorLabels.size
+    val chunks = ChunkedRun(rows.size, chunkSize(engine, rows.size, jobs), jobs, n => progress.advance(n.toLong)) { range =>
+      val (outs, cycles, seconds) = outputs(design, engine, range.map(i => design.encode(rows(i))))
+      val text = new java.lang.StringBuilder(range.size * 96)
+      val maxErrors = new Array[Double](labels)
+      val flagged = range.indices.count { k =>
+        val line = design.result(range(k).toLong, rows(range(k)), outs(k))
+        text.append(line.text).append('\n')
+        if (!line.outOfRange) line.errors.indices.foreach(j => maxErrors(j) = maxErrors(j).max(line.errors(j)))
+        line.outOfRange
+      }
+      ChunkResult(text.toString, maxErrors, flagged.toLong, cycles, seconds)
+    }
+    progress.finish()
+    out.write(design.outputHeader)
+    out.write('\n')
+    chunks.foreach(c => out.write(c.text))
+    ReplaySummary(rows.size.toLong,
+      (0 until labels).map(j => chunks.map(_.maxErrors(j)).maxOption.getOrElse(0.0)),
+      chunks.map(_.outOfRange).sum, (System.nanoTime() - start) / 1e9, chunks.map(_.cycles).sum, chunks.map(_.harnessSeconds).sum)
+  }
+}

@@ -1,0 +1,42 @@
+package reducerload.sim
+
+/** One output line of a replay (no line end), the sample's |error| per joint, and whether it was flagged out of range. */
+final case class ReplayLine(text: String, errors: IndexedSeq[Double], outOfRange: Boolean)
+
+/**
+ * A design as `run simulate` replays it, whatever engine runs it: the trajectory's columns and
+ * declared ranges, a row (values in `columns` order) to input codes, the bit-accurate model, the
+ * harness ports, and one result line per sample. The RTL engine and the model engine share all of
+ * it, so their files can differ only where the RTL and the model do.
+ */
+trait ReplayDesign[In, Out] {
+  /** Required trajectory columns, in the order a row is given. */
+  def columns: Seq[String]
+
+  /** (index into `columns`, declared max |value|) of every range-checked column. */
+  def limits: Seq[(Int, Double)]
+
+  def encode(row: IndexedSeq[Double]): In
+  def evaluate(in: In): Out
+
+  def ports: HarnessPorts
+  def harnessValues(in: In): Seq[BigInt]
+  def fromHarness(values: IndexedSeq[BigInt]): Out
+
+  /** Clocks between samples the design takes, and from a sample to its result. */
+  def samplePeriod: Int
+  def latency: Int
+
+  def outputHeader: String
+  def result(index: Long, row: IndexedSeq[Double], out: Out): ReplayLine
+
+  /** What the `errors` of [[result]] are about, and each one's derived bound (N·m). */
+  def errorLabels: IndexedSeq[String]
+  def errorBounds: IndexedSeq[Double]
+
+  /** One line for the summary: what was computed. */
+  def description: String
+
+  /** How the design takes samples, for the rate line. */
+  def throughput: String
+}

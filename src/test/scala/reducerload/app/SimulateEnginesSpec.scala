@@ -1,0 +1,122 @@
+package reducerload.app
+
+import chiseltest._
+import org.scalatest.flatspec.AnyFlatSpec
+import reducerload.arm.{ArmConfig, ArmModel, ArmSample, ArmTrajectory}
+import reducerload.dynamics.Rnea
+import reducerload.load._
+import reducerload.sim.{Cycle, LoadDriver, Stream}
+import reducerload.testutil.{ArmGolden, Golden, Seeds, SimBackend}
+
+import java.nio.charset.StandardCharsets
+import java.nio.file.{Files, Path}
+import scala.collection.mutable.ArrayBuffer
+import scala.sys.process._
+import scala.util.{Random, Try}
+
+/**
+ * `run simulate` end to end on the golden traces plus rows beyond the declared ranges (--saturate):
+ * the RTL harness with one and two jobs, and the model engine, write the same file, byte for byte,
+ * as the chiseltest peek/poke path (joint 3) or the bit-accurate model (the arm; the RTL equals the
+ * model in ArmDatapathSpec), with the reference conversions (BigDecimal) of the model.
+ */
+class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
+  behavior of "simulate's engines"
+
+  private def verilatorPresent: Boolean = Try(Seq("verilator", "--version").!!(ProcessLogger(_ => ()))).isSuccess
+
+  private def csv(header: Seq[String], rows: Seq[Seq[Double]]): Path = {
+    val f = Files.createTempFile("engines-", ".csv")
+    Files.write(f, (header.mkString(",") +: rows.map(_.mkString(","))).mkString("", "\n", "\n").getBytes(StandardCharsets.UTF_8))
+    f
+  }
+
+  /** `run simulate` on `input` with `args`: the output file's text. */
+  private def simulate(input: Path, args: String*): String = {
+    val out = Files.createTempDirectory("engines-out-").resolve("out.csv")
+    Main.run(Seq("simulate", "--input", input.toString, "--output", out.toString) ++ args)
+    new String(Files.readAllBytes(out), StandardCharsets.UTF_8)
+  }
+
+  private def file(header: String, lines: Seq[String]): String = (header +: lines).mkString("", "\n", "\n")
+
+  /** The golden traces, out-of-range rows, values beyond the port formats, and exact rounding ties of the input codes. */
+  private def jointSamples(p: LoadParams, rng: Random): IndexedSeq[JointSample] = {
+    val tie = 1 + math.scalb(1.0, -p.velocityFracBits - 1)
+    Golden.all.flatMap(_.samples).toIndexedSeq ++ IndexedSeq.fill(200)(LoadChecks.outOfRangeSample(p.robot, rng)) ++ IndexedSeq(
+      JointSample(0.1, 0.2, 0.3, 1e6, -1e6, 0, 1e7, -1e7, 0),
+      JointSample(tie, -tie, tie, tie, -tie, tie, tie, -tie, tie))
+  }
+
+  /** The joint-3 file the old simulate wrote from RTL outputs: BigDecimal conversions of the model. */
+  private def jointFile(p: LoadParams, samples: IndexedSeq[JointSample], outs: IndexedSeq[LoadOutputCodes]): String = {
+    val model = new LoadDatapathModel(p)
+    assert(outs.size == samples.size)
+    file("idx,load_hw,load_ref,error,out_of_range", samples.indices.map { i =>
+      val hw = model.loadOf(outs(i))
+      val ref = LoadReference.torque(p.robot, p.model, samples(i))
+      s"$i,$hw,$ref,${hw - ref},${if (outs(i).outOfRange) 1 else 0}"
+    })
+  }
+
+  it should "write the chiseltest path's file from the harness (--jobs 1 and 2) and the model (default design)" in {
+    assume(verilatorPresent, "verilator is not installed")
+    val p = LoadParams.default
+    val samples = jointSamples(p, new Random(Seeds("simulate-engines-default", 51L)))
+    val model = new LoadDatapathModel(p)
+    val observed = ArrayBuffer.empty[LoadOutputCodes]
+    test(new LoadDatapath(p)).withAnnotations(SimBackend.annotations) { dut =>
+      val stimulus = Stream.spaced(samples.iterator.map(s => Cycle.Sample(model.encode(s))), p.samplePeriod) ++
+        Iterator.fill(dut.latency + 1)(Cycle.Bubble)
+      LoadDriver.run(dut, stimulus, (_, out) => out.foreach(observed += _))
+    }
+    val expected = jointFile(p, samples, observed.toIndexedSeq)
+    assert(expected.linesIterator.count(_.endsWith(",1")) >= 200, "too few rows flagged out of range")
+    val input = csv(JointSample.columns, samples.map(_.toSeq))
+    Seq(Seq("--jobs", "1"), Seq("--jobs", "2"), Seq("--engine", "model", "--jobs", "2")).foreach { args =>
+      assert(simulate(input, "--saturate" +: args: _*) == expected, s"simulate ${args.mkString(" ")} wrote another file")
+    }
+  }
+
+  it should "wait for ready with a shared CORDIC unit: the harness writes the model's file (compact preset)" in {
+    assume(verilatorPresent, "verilator is not installed")
+    val p = LoadParams.compact
+    assert(p.samplePeriod > 1, "the compact preset no longer shares the CORDIC unit")
+    val samples = jointSamples(p, new Random(Seeds("simulate-engines-compact", 52L)))
+    val model = new LoadDatapathModel(p)
+    val expected = jointFile(p, samples, samples.map(s => model.evaluate(model.encode(s))))
+    val input = csv(JointSample.columns, samples.map(_.toSeq))
+    Seq(Seq("--jobs", "2"), Seq("--engine", "model", "--jobs", "1")).foreach { args =>
+      assert(simulate(input, Seq("--preset", "compact", "--saturate") ++ args: _*) == expected, s"simulate ${args.mkString(" ")} wrote another file")
+    }
+  }
+
+  it should "write the model's file for every joint of the planar arm from the harness (--jobs 2) and the model" in {
+    assume(verilatorPresent, "verilator is not installed")
+    val design = Seq("--robot", "planar3")
+    val arm = ArmConfig(Cli.parse("simulate", design, Simulate.options, Simulate.flags).params)
+    val n = arm.chain.size
+    val rng = new Random(Seeds("simulate-engines-arm", 53L))
+    val beyond = IndexedSeq.fill(100) {
+      val j = rng.nextInt(n)
+      val s = ArmGolden.of("planar3").head.samples(rng.nextInt(100))
+      val limit = if (rng.nextBoolean()) arm.maxVelocity(j) else arm.maxAcceleration(j)
+      if (limit == arm.maxVelocity(j)) s.copy(qd = s.qd.updated(j, -1.5 * limit)) else s.copy(qdd = s.qdd.updated(j, 1.5 * limit))
+    }
+    val samples: IndexedSeq[ArmSample] = ArmGolden.of("planar3").flatMap(_.samples).toIndexedSeq ++ beyond
+    val model = new ArmModel(arm)
+    val expected = file(("idx" +: (1 to n).flatMap(j => Seq(s"tau${j}_hw", s"tau${j}_ref", s"tau${j}_error")) :+ "out_of_range").mkString(","),
+      samples.indices.map { i =>
+        val s = samples(i)
+        val out = model.evaluate(model.encode(s))
+        val (hw, ref) = (model.torques(out), Rnea.reference(arm.chain, s.q, s.qd, s.qdd))
+        (i.toString +: (0 until n).flatMap(j => Seq(hw(j).toString, ref(j).toString, (hw(j) - ref(j)).toString)) :+
+          (if (out.outOfRange.exists(identity)) "1" else "0")).mkString(",")
+      })
+    assert(expected.linesIterator.count(_.endsWith(",1")) >= 100)
+    val input = csv(ArmTrajectory.columns(n), samples.map(s => s.q ++ s.qd ++ s.qdd))
+    Seq(Seq("--jobs", "2"), Seq("--engine", "model", "--jobs", "1")).foreach { args =>
+      assert(simulate(input, design ++ Seq("--saturate") ++ args: _*) == expected, s"simulate ${args.mkString(" ")} wrote another file")
+    }
+  }
+}
