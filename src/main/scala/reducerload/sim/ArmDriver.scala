@@ -28,21 +28,7 @@ object ArmDriver {
     stimulus: Iterator[Cycle[SampleCodes]],
     onOutput: (Long, Option[ArmOutputCodes]) => Unit,
     onDrive: (Long, Cycle[SampleCodes]) => Unit = (_, _) => ()
-  ): Long = {
-    dut.clock.setTimeout(0)
-    stimulus.zipWithIndex.foldLeft(0L) { case (_, (c, cycle)) =>
-      c match {
-        case Cycle.Reset  => dut.reset.poke(true.B); dut.io.in.valid.poke(false.B)
-        case Cycle.Bubble => dut.io.in.valid.poke(false.B)
-        case Cycle.Sample(s) =>
-          if (!dut.io.in.ready.peek().litToBoolean) throw new IllegalStateException(s"cycle $cycle: sample driven while io_in_ready is low")
-          pokeSample(dut, s)
-      }
-      onOutput(cycle.toLong, peekOutput(dut))
-      onDrive(cycle.toLong, c)
-      dut.clock.step()
-      dut.reset.poke(false.B)
-      cycle.toLong + 1
-    }
-  }
+  ): Long =
+    StreamDriver[SampleCodes, ArmOutputCodes](dut.clock, dut.reset, dut.io.in.valid, dut.io.in.ready, pokeSample(dut, _), () => peekOutput(dut))
+      .run(stimulus, onOutput, onDrive)
 }

@@ -44,22 +44,7 @@ object LoadDriver {
     stimulus: Iterator[Cycle[LoadInputCodes]],
     onOutput: (Long, Option[LoadOutputCodes]) => Unit,
     onDrive: (Long, Cycle[LoadInputCodes]) => Unit = (_, _) => ()
-  ): Long = {
-    dut.clock.setTimeout(0)
-    stimulus.zipWithIndex.foldLeft(0L) { case (_, (c, cycle)) =>
-      c match {
-        case Cycle.Reset  => dut.reset.poke(true.B); dut.io.in.valid.poke(false.B)
-        case Cycle.Bubble => dut.io.in.valid.poke(false.B)
-        case Cycle.Sample(s) =>
-          if (!dut.io.in.ready.peek().litToBoolean)
-            throw new IllegalStateException(s"cycle $cycle: sample driven while io_in_ready is low (one sample every ${dut.p.samplePeriod} clocks)")
-          pokeSample(dut, s)
-      }
-      onOutput(cycle.toLong, peekOutput(dut))
-      onDrive(cycle.toLong, c)
-      dut.clock.step()
-      dut.reset.poke(false.B)
-      cycle.toLong + 1
-    }
-  }
+  ): Long =
+    StreamDriver[LoadInputCodes, LoadOutputCodes](dut.clock, dut.reset, dut.io.in.valid, dut.io.in.ready, pokeSample(dut, _), () => peekOutput(dut))
+      .run(stimulus, onOutput, onDrive)
 }
