@@ -77,6 +77,8 @@ object Main {
       catch {
         case e: InputError                => System.err.println(s"error: ${e.getMessage}"); 2
         case e: IllegalArgumentException => System.err.println(s"error: ${e.getMessage.stripPrefix("requirement failed: ")}"); 2
+        // A derived bound that a result exceeds: not the user's mistake, but one line and a distinct status.
+        case e: IllegalStateException => System.err.println(s"failed check: ${e.getMessage}"); 1
       }
     System.out.flush()
     if (status != 0) sys.exit(status)

@@ -1,7 +1,8 @@
 package reducerload.app
 
-import reducerload.arm.ArmConfig
+import reducerload.arm.{ArmConfig, ArmParams, ArmSample}
 import reducerload.load.LoadParams
+import reducerload.monitor.{MonitorConfig, MonitorParams, MonitorSummary}
 import reducerload.sim._
 import reducerload.trace.{InputError, TraceCsv}
 
@@ -24,7 +25,8 @@ object Simulate {
     Opt("input", "FILE", "trajectory CSV: header t1,t2,t3,d1,d2,d3,dd1,dd2,dd3 (joint 3), or q1..qN,qd1..qdN,qdd1..qddN (model rnea); rad, rad/s, rad/s^2"),
     Opt("output", "FILE", "result CSV: idx,load_hw,load_ref,error,out_of_range, or idx,tauJ_hw,tauJ_ref,tauJ_error...,out_of_range (N·m)"),
     Opt("engine", "rtl|model", "rtl: the emitted Verilog on a compiled Verilator harness; model: the bit-accurate model (same file)", "rtl"),
-    Opt("jobs", "N", "chunks of the trajectory run in parallel (harness processes or model threads)", "the number of processors")
+    Opt("jobs", "N", "chunks of the trajectory run in parallel (harness processes or model threads)", "the number of processors"),
+    Opt("summary", "FILE", "model rnea: the reducer monitor's figures per joint (monitor.* settings), from the bit-accurate models, beside the reference's (JSON)")
   )
   val flags: Seq[String] = Seq("saturate")
   val flagHelp: Map[String, String] = Map(
@@ -101,7 +103,31 @@ object Simulate {
     // Elaborate while the trajectory is read and checked (seconds each, on different cores); only
     // in memory: the harness is built after every check. A bad command line fails here the same way.
     val elaborated = if (cli.get("engine").forall(_ == "rtl")) Some(Future(Emit.emit(cli.params, Top.Load, emitCommand))(ExecutionContext.global)) else None
-    execute(prepare(cli), elaborated)
+    val request = prepare(cli)
+    val monitor = cli.path("summary").map { path =>
+      if (request.params.model.closedForm)
+        throw new InputError("command line: --summary needs model rnea (the monitor watches every joint of an arm; use --robot)")
+      val parent = path.toAbsolutePath.normalize.getParent
+      if (parent != null && !Files.isDirectory(parent)) throw new InputError(s"$path: directory $parent does not exist")
+      val arm = ArmConfig(request.params)
+      (path, arm, MonitorConfig(arm, request.params.monitor))
+    }
+    execute(request, elaborated)
+    monitor.foreach { case (path, arm, mp) => writeSummary(path, request, arm, mp) }
+  }
+
+  /**
+   * The monitor's summary of the trajectory: the arm datapath's and the monitor's bit-accurate models
+   * (which the RTL tests prove equal to `MonitoredArm` bit for bit) against the double reference,
+   * every figure checked against its derived bound.
+   */
+  private def writeSummary(path: Path, request: SimulateRequest[_, _], arm: ArmParams, mp: MonitorParams): Unit = {
+    val n = arm.chain.size
+    val samples = request.rows.map(r => ArmSample(r.slice(0, n).toIndexedSeq, r.slice(n, 2 * n).toIndexedSeq, r.slice(2 * n, 3 * n).toIndexedSeq))
+    val summary = MonitorSummary.fromTrajectory(arm, mp, samples, MonitorConfig.rated(arm, request.params.monitor))
+    writeAtomically(path)(_.write(summary.json))
+    println(s"wrote $path: reducer monitor summary of ${samples.size} samples, ${n} joints (exponent ${mp.lifeExponents.distinct.mkString("/")})")
+    summary.violations.headOption.foreach(v => throw new IllegalStateException(s"monitor summary: $v"))
   }
 
   /** Run a checked request: write the output file (all of it or nothing) and print the summary. */
