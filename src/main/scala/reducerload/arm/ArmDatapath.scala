@@ -81,12 +81,11 @@ class ArmDatapath(val p: ArmParams) extends Module {
       case Neg(a)    => val t = cycleOf(a); registered(-aligned(a, t), t)
       case Mul(a, b) =>
         val t = cycleOf(a, b)
-        val drop = analysis(a).format.fracBits + analysis(b).format.fracBits - f.fracBits
-        val rounding = if (drop > 0) numerics.productRounding else Rounding.Truncate
+        val rule = analysis.productRounding(analysis(a).format.fracBits, analysis(b).format.fracBits)
         val product = FixedHw.delay(PipelinedMultiplier(operand(a).alignedTo(t), operand(b).alignedTo(t)), p.multiplierLatency - 1)
-        val fitted = fit(FixedHw.shiftRound(product, drop, rounding))
+        val fitted = fit(FixedHw.shiftRound(product, rule.drop, rule.rounding))
         val done = t + schedule.mulLatency(a, b)
-        if (rounding == Rounding.Truncate) timed(fitted, done) else timed(FixedHw.delay(fitted, 1), done)
+        if (rule.rounding == Rounding.Truncate) timed(fitted, done) else timed(FixedHw.delay(fitted, 1), done)
     }
     require(value.at == schedule(id), s"ArmDatapath: node ${id.index} built at ${value.at}, scheduled at ${schedule(id)}")
     done :+ value
@@ -97,7 +96,7 @@ class ArmDatapath(val p: ArmParams) extends Module {
   private val results = p.graph.outputs.zip(analysis.outputs).map { case (o, info) =>
     val v = values(o.node.index).alignedTo(outAt)
     val drop = analysis.outputDrop(o)
-    val rounded = if (drop >= 0) FixedHw.shiftRound(v, drop, Rounding.HalfUp) else (v << -drop).asSInt
+    val rounded = FixedHw.rescale(v, drop, Rounding.HalfUp)
     val (code, saturated) = FixedHw.saturate(rounded, info.format)
     (code.pad(analysis.outputPortFormat.width), saturated)
   }

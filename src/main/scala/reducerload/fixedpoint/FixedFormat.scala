@@ -98,6 +98,9 @@ object FixedFormat {
       }
   }
 
+  /** Change the fraction bits by `drop`: fewer with `rounding` (drop > 0), more exactly (drop < 0). Model of FixedHw.rescale. */
+  def rescale(raw: BigInt, drop: Int, rounding: Rounding): BigInt = if (drop >= 0) shiftRound(raw, drop, rounding) else raw << -drop
+
   /** Clamp to [min, max]: (clamped raw, was it out of range?). Saturation, never wrap-around. Model of FixedHw.clamp. */
   def clamp(raw: BigInt, min: BigInt, max: BigInt): (BigInt, Boolean) =
     if (raw > max) (max, true)

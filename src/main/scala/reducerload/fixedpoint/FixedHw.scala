@@ -32,6 +32,9 @@ object FixedHw {
       }
   }
 
+  /** Change the fraction bits by `drop`: fewer with `rounding` (drop > 0), more exactly (drop < 0). */
+  def rescale(x: SInt, drop: Int, rounding: Rounding): SInt = if (drop >= 0) shiftRound(x, drop, rounding) else (x << -drop).asSInt
+
   /**
    * `x > c` for a constant `c`, as AND/OR logic instead of a subtractor: on offset binary (sign bit
    * flipped, so signed order is unsigned order), "x[i:0] > c[i:0]" is `x_i && below` where c_i = 1

@@ -12,6 +12,13 @@ final case class NodeNumerics(range: Interval, error: Double, format: FixedForma
   def computedMaxAbs: Double = range.maxAbs + error
 }
 
+/** How one multiply reaches its format: the fraction bits it keeps, the bits it drops and the rounding that drops them. */
+final case class ProductRounding(keep: Int, drop: Int, rounding: Rounding) {
+  require(drop >= 0, s"ProductRounding: cannot drop $drop bits")
+  /** Worst-case error of the dropping, in value units. */
+  def errorBound: Double = if (drop > 0) Rounding.maxErrorLsb(rounding) * math.pow(2.0, -keep) else 0.0
+}
+
 /** One output after the output stage: its format, range and error bound (N·m). */
 final case class OutputNumerics(name: String, range: Interval, errorBound: Double, format: FixedFormat)
 
@@ -32,10 +39,14 @@ final class Analysis(val graph: Graph, val numerics: Numerics, val hints: RangeH
   /** Error of sin/cos of `angle`: the CORDIC unit's, plus half a code of each input angle in the sum. */
   def trigError(angle: AngleSum): Double = n.cordic.errorBound + angle.weight * n.angleError
 
-  /** Fraction bits a multiply of operands with `fa` and `fb` fraction bits keeps, and how many it drops. */
-  def productFracBits(fa: Int, fb: Int): (Int, Int) = {
+  /**
+   * The product rule, in one place for the analysis, the model, the schedule and the hardware: a
+   * multiply keeps the operands' fraction bits up to `internalFracBits` and drops the rest with
+   * `productRounding`; when it drops nothing it is exact (no rounding, no rounding register).
+   */
+  def productRounding(fa: Int, fb: Int): ProductRounding = {
     val keep = math.min(fa + fb, n.internalFracBits)
-    (keep, fa + fb - keep)
+    ProductRounding(keep, fa + fb - keep, if (fa + fb > keep) n.productRounding else Rounding.Truncate)
   }
 
   val nodes: IndexedSeq[NodeNumerics] = graph.ids.foldLeft(Vector.empty[NodeNumerics]) { (done, id) =>
@@ -69,10 +80,9 @@ final class Analysis(val graph: Graph, val numerics: Numerics, val hints: RangeH
       case Mul(a, b) =>
         val (x, y) = (at(a), at(b))
         val range = if (a == b) x.range.squared else x.range * y.range
-        val (frac, drop) = productFracBits(x.format.fracBits, y.format.fracBits)
-        val rounding = if (drop > 0) Rounding.maxErrorLsb(n.productRounding) * math.pow(2.0, -frac) else 0.0
-        val error = x.range.maxAbs * y.error + x.error * y.range.maxAbs + x.error * y.error + rounding
-        NodeNumerics(range, error, FixedFormat.forRange(range.maxAbs + error, frac))
+        val rule = productRounding(x.format.fracBits, y.format.fracBits)
+        val error = x.range.maxAbs * y.error + x.error * y.range.maxAbs + x.error * y.error + rule.errorBound
+        NodeNumerics(range, error, FixedFormat.forRange(range.maxAbs + error, rule.keep))
     }
 
   /**
@@ -96,8 +106,7 @@ final class Analysis(val graph: Graph, val numerics: Numerics, val hints: RangeH
         val (nu, nw) = (at(u), at(w))
         def roundingOf(m: NodeId) = {
           val Mul(x, y) = graph(m): @unchecked
-          val drop = productFracBits(at(x).format.fracBits, at(y).format.fracBits)._2
-          if (drop > 0) Rounding.maxErrorLsb(n.productRounding) * math.pow(2.0, -at(m).format.fracBits) else 0.0
+          productRounding(at(x).format.fracBits, at(y).format.fracBits).errorBound
         }
         val bound = math.hypot(nu.range.maxAbs, nw.range.maxAbs)
         val error = math.hypot(nu.error, nw.error) + trigError(angle) * (nu.computedMaxAbs + nw.computedMaxAbs) + roundingOf(a) + roundingOf(b)

@@ -42,7 +42,8 @@ final class GraphModel(val analysis: Analysis) {
         case Sub(a, b)                     => align(done(a.index), fr(a), f.fracBits) - align(done(b.index), fr(b), f.fracBits)
         case Neg(a)                        => -done(a.index)
         case Mul(a, b) =>
-          FixedFormat.shiftRound(done(a.index) * done(b.index), fr(a) + fr(b) - f.fracBits, analysis.numerics.productRounding)
+          val rule = analysis.productRounding(fr(a), fr(b))
+          FixedFormat.shiftRound(done(a.index) * done(b.index), rule.drop, rule.rounding)
       }
       require(f.contains(v), s"GraphModel: node ${id.index} (${graph(id)}) = $v outside its proven format $f")
       done :+ v
@@ -60,5 +61,5 @@ final class GraphModel(val analysis: Analysis) {
 
 object GraphModel {
   /** The output stage: drop bits half up, or gain them exactly. */
-  def toOutput(raw: BigInt, drop: Int): BigInt = if (drop >= 0) FixedFormat.shiftRound(raw, drop, Rounding.HalfUp) else raw << -drop
+  def toOutput(raw: BigInt, drop: Int): BigInt = FixedFormat.rescale(raw, drop, Rounding.HalfUp)
 }

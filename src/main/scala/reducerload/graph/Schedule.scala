@@ -1,6 +1,5 @@
 package reducerload.graph
 
-import reducerload.fixedpoint.Rounding
 import reducerload.load.TimedArith
 
 /**
@@ -19,9 +18,7 @@ final class Schedule(analysis: Analysis, val inputCycle: Int, val trigCycle: Int
   /** Clocks of a multiply of these operands: the pipelined multiplier, extra registers, and a rounding adder when it rounds half up. */
   def mulLatency(a: NodeId, b: NodeId): Int = {
     val (fa, fb) = (analysis(a).format, analysis(b).format)
-    val drop = analysis.productFracBits(fa.fracBits, fb.fracBits)._2
-    val rounding = if (drop > 0) analysis.numerics.productRounding else Rounding.Truncate
-    TimedArith.mulLatency(fa.width, fb.width, multiplierLatency, rounding)
+    TimedArith.mulLatency(fa.width, fb.width, multiplierLatency, analysis.productRounding(fa.fracBits, fb.fracBits).rounding)
   }
 
   val ready: IndexedSeq[Option[Int]] = graph.fold[Option[Int]] { (op, at) =>
