@@ -17,11 +17,15 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
   private val n = p.numerics
   private val joints = p.chain.joints
   private val counts = p.graph.counts
+  private val schedule = p.schedule
+  private val ii = schedule.clocksPerSample
+  private val throughput = if (ii == 1) "one sample per clock" else s"one sample every $ii clocks"
 
   /** (port, direction, format description). */
   val ports: Seq[(String, String, String)] =
     Seq(("clock", "in", "1 bit"), ("reset", "in", "1 bit, synchronous, active high: clears every valid bit"),
-      ("io_in_valid", "in", "1 bit: a sample this cycle"), ("io_in_ready", "out", "1 bit: always high (one sample per clock)")) ++
+      ("io_in_valid", "in", "1 bit: a sample this cycle"), ("io_in_ready", "out",
+        if (ii == 1) "1 bit: always high (one sample per clock)" else s"1 bit: high one clock in $ii (a sample is taken then; the units are busy with it in between)")) ++
       joints.indices.map(j => (s"io_in_bits_q_$j", "in", s"unsigned ${n.angleBits} bits, binary angle of ${joints(j).name}: rad = code * 2 pi / 2^${n.angleBits}")) ++
       joints.indices.map(j => (s"io_in_bits_qd_$j", "in", s"${n.velocityPortFormat.describe}, rad/s, declared |qd${j + 1}| <= ${n.velocityLimits(j)}")) ++
       joints.indices.map(j => (s"io_in_bits_qdd_$j", "in", s"${n.accelerationPortFormat.describe}, rad/s^2, declared |qdd${j + 1}| <= ${n.accelerationLimits(j)}")) ++
@@ -49,7 +53,11 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
     "Joints kept:") ++ jointLines ++ Seq(
     s"Operations after constant folding and sharing: ${counts.multiplications} multiplications (${counts.constantMultiplications} by a constant), " +
       s"${counts.additions} additions/subtractions, ${counts.negations} negations, ${counts.sinCos} sin/cos pairs (CORDIC units)",
-    s"18x18 multiplier blocks (one operator per multiplication): ${ArmReport.multiplierBlocks(p)}",
+    s"Schedule: $throughput, latency ${p.latency} cycles; ${schedule.multiplierUnits} multiplier units of " +
+      (if (schedule.dedicated) "each its multiplication's width" else s"${schedule.widestShape} bits") +
+      s", ${schedule.multiplierBlocks} 18x18 blocks${schedule.request.maxMultipliers.fold("")(b => s" (budget $b)")}; " +
+      s"${schedule.cordicUnits} CORDIC units for ${counts.sinCos} angles; ${counts.additions + counts.negations} adders; " +
+      s"${schedule.heldBits} register bits hold values between cycles",
     f"Derived worst-case error bound: ${p.errorBound}%.3e N·m (largest over joints; vs double-precision RNEA at the unquantized inputs)",
     s"Output format: ${p.analysis.outputPortFormat}; widest internal node: ${p.analysis.widest._2.format}"
   ) ++ p.cordic.report.linesIterator.toSeq ++ monitorLines
@@ -64,7 +72,7 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
   def markdown: String = (Seq(
     s"# $moduleName",
     "",
-    s"- latency: ${p.latency} cycles; throughput: one sample per clock",
+    s"- latency: ${p.latency} cycles; throughput: $throughput; ${schedule.multiplierBlocks} 18x18 multiplier blocks on ${schedule.multiplierUnits} units",
     f"- derived error bound: ${p.errorBound}%.3e N·m (largest over joints)",
     s"- regenerate: `$command`",
     "",
@@ -89,7 +97,11 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
     val m = Map[String, Any](
       "top" -> moduleName,
       "latency_cycles" -> p.latency,
-      "clocks_per_sample" -> 1,
+      "clocks_per_sample" -> ii,
+      "schedule" -> Map[String, Any]("clocks_per_sample" -> ii, "multiplier_units" -> schedule.multiplierUnits,
+        "multiplier_unit_shape" -> (if (schedule.dedicated) "per operation" else schedule.widestShape.toString),
+        "multiplier_blocks" -> schedule.multiplierBlocks, "max_multipliers" -> schedule.request.maxMultipliers.map(Int.box).orNull,
+        "cordic_units" -> schedule.cordicUnits, "held_register_bits" -> schedule.heldBits).asJava,
       "command" -> command,
       "model" -> "rnea",
       "robot" -> p.chain.name,
@@ -101,7 +113,7 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
       }.asJava,
       "operations" -> Map("multiplications" -> counts.multiplications, "constant_multiplications" -> counts.constantMultiplications,
         "additions" -> counts.additions, "negations" -> counts.negations, "sin_cos" -> counts.sinCos).asJava,
-      "multiplier_blocks" -> ArmReport.multiplierBlocks(p),
+      "multiplier_blocks" -> schedule.multiplierBlocks,
       "error_bound_nm" -> p.errorBound,
       "angle_bits" -> n.angleBits,
       "velocity_format" -> fmt(n.velocityPortFormat),
@@ -155,11 +167,4 @@ object ArmReport {
       }.asJava
     )
   }
-  import reducerload.graph.{NodeId, Op}
-  import reducerload.pipeline.PipelinedMultiplier
-
-  /** 18x18 blocks of the multiplications (those by a constant included: Quartus maps them to blocks too). */
-  def multiplierBlocks(p: ArmParams): Int = p.graph.ops.collect { case Op.Mul(a, b) => (a, b) }.map { case (a: NodeId, b: NodeId) =>
-    PipelinedMultiplier.blocks(p.analysis(a).format.width, p.analysis(b).format.width)
-  }.sum
 }

@@ -5,112 +5,175 @@ import chisel3.util._
 import reducerload.cordic.CordicSinCos
 import reducerload.fixedpoint.{FixedHw, Rounding}
 import reducerload.graph._
-import reducerload.load.Timed
-import reducerload.pipeline.PipelinedMultiplier
+import reducerload.pipeline.{MemoryDelay, PipelinedMultiplier}
 
 /**
- * Every joint torque of a serial arm, one sample per clock: the hardware interpretation of the
- * graph in `p.graph`, one operator per operation, at the cycles of `p.schedule` (operands are
- * delayed to meet, long delays in block RAM). A sample enters on `io.in` (always ready) and its
- * torques leave on `io.out` exactly `p.latency` cycles later.
+ * Every joint torque of a serial arm: the hardware interpretation of the graph in `p.graph` at the
+ * cycles and on the units of `p.schedule`. A sample is taken on `io.in` when `ready` is high (every
+ * `II = p.schedule.clocksPerSample` clocks; always at II = 1) and its torques leave on `io.out`
+ * exactly `p.latency` cycles later.
  *
- * Cycle 1 registers the input; cycle 2 clamps each velocity and acceleration to its joint's
- * declared range (flagging the joint) and registers each angle sum, which enters a CORDIC unit
- * (one per distinct angle). Data registers have no reset; the valid chain does.
+ * A counter gives the cycle of the sample that entered last, modulo II (the phase); a shared unit's
+ * operand multiplexers select by it, and every value is written once per sample, at the phase of the
+ * cycle it is computed in. A value read k cycles after it is ready passes through floor(k / II) more
+ * registers written at the same phase (at II = 1: a delay line, long ones in block RAM).
+ *
+ * Cycle 1 registers the input; cycle 2 clamps each velocity and acceleration to its joint's declared
+ * range (flagging the joint). Data registers have no reset; the valid chain and the phase do.
  */
 class ArmDatapath(val p: ArmParams) extends Module {
-  override def desiredName = s"ArmDatapath_${p.tag}"
+  private val schedule = p.schedule
+  private val ii = schedule.clocksPerSample
+  override def desiredName = s"ArmDatapath_${p.tag}" + (if (ii > 1) s"_ii$ii" else "")
   val io = IO(new Bundle {
     val in = Flipped(Decoupled(new ArmInput(p)))
     val out = Valid(new ArmOutput(p))
   })
   import Op._
   private val analysis = p.analysis
-  private val schedule = p.schedule
   private val numerics = p.numerics
+  private val graph = p.graph
   private val joints = p.chain.size
-  private def timed(v: SInt, at: Int) = Timed(v, Some(at), p.memoryDelayMinCycles)
 
-  io.in.ready := true.B
-  private val in = RegNext(io.in.bits)
-  private val inValid = RegNext(io.in.valid, false.B)
+  private val phase: UInt =
+    if (ii == 1) 0.U
+    else {
+      val counter = RegInit(0.U(log2Ceil(ii).W))
+      counter := Mux(counter === (ii - 1).U, 0.U, counter + 1.U)
+      counter
+    }
+  /** True in cycle `cycle` of every sample (and in every cycle at II = 1). */
+  private def during(cycle: Int): Bool = if (ii == 1) true.B else phase === (cycle % ii).U
 
-  // Cycle 2: clamp to the declared ranges, in each joint's own format.
+  /**
+   * `stage0`, a register written at the end of cycle `ready - 1` of every sample, as seen in each
+   * cycle of `reads`: one delay line at II = 1, else a chain of registers written at the same phase.
+   */
+  private def held[T <: Data](stage0: T, ready: Int, reads: Seq[Int]): Map[Int, T] = {
+    require(reads.forall(_ >= ready), s"ArmDatapath: a value ready in cycle $ready is read earlier, in ${reads.min}")
+    if (ii == 1)
+      reads.distinct.sorted.foldLeft((Map.empty[Int, T], stage0, ready)) { case ((taps, v, t), r) =>
+        val n = r - t
+        val d = if (p.memoryDelayMinCycles > 0 && n >= p.memoryDelayMinCycles) MemoryDelay(v, n) else FixedHw.delay(v, n)
+        (taps + (r -> d), d, r)
+      }._1
+    else {
+      val depth = reads.map(r => (r - ready) / ii).maxOption.getOrElse(0)
+      val stages = (1 to depth).scanLeft(stage0)((prev, _) => RegEnable(prev, during(ready - 1)))
+      reads.map(r => r -> stages((r - ready) / ii)).toMap
+    }
+  }
+
+  io.in.ready := during(0)
+  private val accept = io.in.valid && io.in.ready
+  private val in = RegEnable(io.in.bits, during(0))
+
+  // Cycle 1: clamp to the declared ranges, in each joint's own format; registered for cycle 2.
   private def clamp(x: SInt, limit: BigInt, width: Int): (SInt, Bool) = {
     val (value, outside) = FixedHw.clamp(x, -limit, limit, width)
-    (FixedHw.delay(value, 1), RegNext(outside))
+    (RegEnable(value, during(1)), RegEnable(outside, during(1)))
   }
   private val velocities = (0 until joints).map(j => clamp(in.qd(j), numerics.velocityLimitRaw(j), numerics.velocityFormats(j).width))
   private val accelerations = (0 until joints).map(j => clamp(in.qdd(j), numerics.accelerationLimitRaw(j), numerics.accelerationFormats(j).width))
-  require(ArmDatapath.inputCycle == 2, "the input stage above is two registers deep")
-  // Cycle 3: one flag per joint (the two compares were registered apart: they were the critical path).
-  private val jointFlags = (0 until joints).map(j => RegNext(velocities(j)._2 || accelerations(j)._2))
-
-  // Cycle 2: angle sums (binary angles wrap modulo one turn, as angles do), then one CORDIC unit each.
-  private val sinCos = p.graph.angles.map { angle =>
-    val sum = angle.terms.foldLeft(0.U(numerics.angleBits.W)) { case (acc, (j, k)) =>
-      (0 until k.abs).foldLeft(acc)((a, _) => if (k > 0) a +% in.q(j) else a -% in.q(j))
-    }
-    val unit = Module(new CordicSinCos(p.cordic))
-    unit.io.in.valid := RegNext(inValid, false.B)
-    unit.io.in.bits := RegNext(sum)
-    angle -> unit.io.out.bits
-  }.toMap
-
-  // The graph, node by node, each value registered at the cycle the schedule gives it.
-  private val values: Vector[Timed] = p.graph.ids.foldLeft(Vector.empty[Timed]) { (done, id) =>
-    val f = analysis(id).format
-    def operand(x: NodeId) = done(x.index)
-    def cycleOf(ids: NodeId*) = ids.flatMap(x => done(x.index).at).maxOption.getOrElse(0)
-    /** Operand `x` at cycle `t`, its fraction bits raised to `f`'s, sign-extended to `f`'s width. */
-    def aligned(x: NodeId, t: Int): SInt = {
-      val v = operand(x).alignedTo(t)
-      (v << (f.fracBits - analysis(x).format.fracBits)).asSInt.pad(f.width)
-    }
-    // Proven range: any top bits dropped here only repeat the sign.
-    def fit(v: SInt): SInt = if (v.getWidth >= f.width) v(f.width - 1, 0).asSInt else v.pad(f.width)
-    def registered(v: SInt, t: Int) = timed(FixedHw.delay(fit(v), 1), t + 1)
-    val value = p.graph(id) match {
-      case Const(_) => Timed(analysis(id).raw.get.S(f.width.W), None)
-      case Input(Signal.Velocity(j)) => timed(velocities(j)._1, ArmDatapath.inputCycle)
-      case Input(Signal.Acceleration(j)) => timed(accelerations(j)._1, ArmDatapath.inputCycle)
-      case Trig(TrigFn.Cos, a) => timed(sinCos(a).cos, schedule.trigCycle)
-      case Trig(TrigFn.Sin, a) => timed(sinCos(a).sin, schedule.trigCycle)
-      case Add(a, b) => val t = cycleOf(a, b); registered(aligned(a, t) + aligned(b, t), t)
-      case Sub(a, b) => val t = cycleOf(a, b); registered(aligned(a, t) - aligned(b, t), t)
-      case Neg(a)    => val t = cycleOf(a); registered(-aligned(a, t), t)
-      case Mul(a, b) =>
-        val t = cycleOf(a, b)
-        val rule = analysis.productRounding(analysis(a).format.fracBits, analysis(b).format.fracBits)
-        val product = FixedHw.delay(PipelinedMultiplier(operand(a).alignedTo(t), operand(b).alignedTo(t)), p.multiplierLatency - 1)
-        val fitted = fit(FixedHw.shiftRound(product, rule.drop, rule.rounding))
-        val done = t + schedule.mulLatency(a, b)
-        if (rule.rounding == Rounding.Truncate) timed(fitted, done) else timed(FixedHw.delay(fitted, 1), done)
-    }
-    require(value.at == schedule(id), s"ArmDatapath: node ${id.index} built at ${value.at}, scheduled at ${schedule(id)}")
-    done :+ value
+  require(schedule.inputCycle == ArmDatapath.inputCycle, "the input stage above is two registers deep")
+  // Cycle 2: one flag per joint (the two compares were registered apart: they were the critical path).
+  private val jointFlags = (0 until joints).map { j =>
+    val flag = RegEnable(velocities(j)._2 || accelerations(j)._2, during(ArmDatapath.inputCycle))
+    held(flag, ArmDatapath.flagCycle, Seq(schedule.outputsReady))(schedule.outputsReady)
   }
 
-  // Output stage: every torque at one cycle, rounded half up to the output format, then registered.
+  // Angles: each joint's code from the input register, at the cycles its sums are issued.
+  private val angleTaps = (0 until joints).map(j => held(in.q(j), 1, schedule.angleReads(j)))
+  private def angleSum(angle: AngleSum, cycle: Int): UInt =
+    angle.terms.foldLeft(0.U(numerics.angleBits.W)) { case (acc, (j, k)) =>
+      // binary angles wrap modulo one turn, as angles do
+      (0 until k.abs).foldLeft(acc)((a, _) => if (k > 0) a +% angleTaps(j)(cycle) else a -% angleTaps(j)(cycle))
+    }
+  private val cordicOutputs = schedule.cordicBindings.map { bound =>
+    val unit = Module(new CordicSinCos(p.cordic))
+    val sums = bound.map { case (residue, angle) => residue -> angleSum(angle, schedule.angleSlot(angle).issue) }
+    unit.io.in.valid := true.B // no data register waits on valid; the datapath's own valid chain says which samples count
+    unit.io.in.bits := RegNext(if (sums.size == 1) sums.head._2 else MuxLookup(phase, 0.U)(sums.map { case (r, s) => r.U -> s }))
+    unit.io.out.bits
+  }
+
+  // Multiplier units: products wired in after every operand exists.
+  private def shapeOfUnit(u: Int): MulShape =
+    if (schedule.dedicated) schedule.shapeOf(schedule.mulBindings(u).head._2) else schedule.widestShape
+  private val products = schedule.mulBindings.indices.map(u => Wire(SInt((shapeOfUnit(u).wide + shapeOfUnit(u).narrow).W)))
+
+  // The graph, node by node: each value's register and the taps its readers use.
+  private val values: Vector[Map[Int, SInt]] = graph.ids.foldLeft(Vector.empty[Map[Int, SInt]]) { (done, id) =>
+    val f = analysis(id).format
+    def tap(x: NodeId, cycle: Int): SInt = graph(x) match {
+      case Const(_) => analysis(x).raw.get.S(analysis(x).format.width.W)
+      case _        => done(x.index)(cycle)
+    }
+    /** Operand `x` in cycle `t`, its fraction bits raised to `f`'s, sign-extended to `f`'s width. */
+    def aligned(x: NodeId, t: Int): SInt = (tap(x, t) << (f.fracBits - analysis(x).format.fracBits)).asSInt.pad(f.width)
+    // Proven range: any top bits dropped here only repeat the sign.
+    def fit(v: SInt): SInt = if (v.getWidth >= f.width) v(f.width - 1, 0).asSInt else v.pad(f.width)
+    val ready = schedule(id)
+    def issue = schedule.slot(id).get.issue
+    def register(v: SInt, cycle: Int): SInt = RegEnable(fit(v), during(cycle))
+    val stage0: Option[SInt] = graph(id) match {
+      case Const(_)                      => None
+      case Input(Signal.Velocity(j))     => Some(velocities(j)._1)
+      case Input(Signal.Acceleration(j)) => Some(accelerations(j)._1)
+      case Trig(fn, a) =>
+        val out = cordicOutputs(schedule.angleSlot(a).unit.get)
+        val v = if (fn == TrigFn.Cos) out.cos else out.sin
+        Some(if (schedule.capturesCordic) RegEnable(v, during(ready.get - 1)) else v)
+      case Add(a, b) => Some(register(aligned(a, issue) + aligned(b, issue), issue))
+      case Sub(a, b) => Some(register(aligned(a, issue) - aligned(b, issue), issue))
+      case Neg(a)    => Some(register(-aligned(a, issue), issue))
+      case Mul(a, b) =>
+        val rule = analysis.productRounding(analysis(a).format.fracBits, analysis(b).format.fracBits)
+        val rounded = fit(FixedHw.shiftRound(products(schedule.slot(id).get.unit.get), rule.drop, rule.rounding))
+        val captured = !schedule.dedicated || rule.rounding != Rounding.Truncate
+        Some(if (captured) RegEnable(rounded, during(ready.get - 1)) else rounded)
+    }
+    done :+ stage0.map(v => held(v, ready.get, schedule.reads(id.index))).getOrElse(Map.empty)
+  }
+
+  schedule.mulBindings.zipWithIndex.foreach { case (bound, u) =>
+    val shape = shapeOfUnit(u)
+    def operands(id: NodeId): (SInt, SInt) = {
+      val Mul(a, b) = graph(id): @unchecked
+      val r = schedule.slot(id).get.issue
+      def tap(x: NodeId) = graph(x) match {
+        case Const(_) => analysis(x).raw.get.S(analysis(x).format.width.W)
+        case _        => values(x.index)(r)
+      }
+      val (wide, narrow) = if (analysis(a).format.width >= analysis(b).format.width) (tap(a), tap(b)) else (tap(b), tap(a))
+      (wide.pad(shape.wide), narrow.pad(shape.narrow))
+    }
+    def select(pick: ((SInt, SInt)) => SInt, width: Int): SInt =
+      if (bound.size == 1) pick(operands(bound.head._2))
+      else MuxLookup(phase, 0.S(width.W))(bound.map { case (r, id) => r.U -> pick(operands(id)) })
+    val product = PipelinedMultiplier(select(_._1, shape.wide), select(_._2, shape.narrow))
+    products(u) := FixedHw.delay(product, p.multiplierLatency - 1)
+  }
+
+  // Output stage: every torque in one cycle, rounded half up to the output format, then registered.
   private val outAt = schedule.outputsReady
-  private val results = p.graph.outputs.zip(analysis.outputs).map { case (o, info) =>
-    val v = values(o.node.index).alignedTo(outAt)
-    val drop = analysis.outputDrop(o)
-    val rounded = FixedHw.rescale(v, drop, Rounding.HalfUp)
+  private val results = graph.outputs.zip(analysis.outputs).map { case (o, info) =>
+    val v = values(o.node.index)(outAt)
+    val rounded = FixedHw.rescale(v, analysis.outputDrop(o), Rounding.HalfUp)
     val (code, saturated) = FixedHw.saturate(rounded, info.format)
     (code.pad(analysis.outputPortFormat.width), saturated)
   }
   private val anySaturated = results.map(_._2).reduce(_ || _)
-  private val outBits = Reg(new ArmOutput(p))
+  private val outBits = Wire(new ArmOutput(p))
   outBits.tau := VecInit(results.map(_._1))
-  outBits.outOfRange := VecInit(jointFlags.map(f => FixedHw.delay(f, outAt - ArmDatapath.flagCycle) || anySaturated))
-  io.out.bits := outBits
-  io.out.valid := ShiftRegister(inValid, p.latency - 1, false.B, true.B)
+  outBits.outOfRange := VecInit(jointFlags.map(_ || anySaturated))
+  io.out.bits := RegEnable(outBits, during(outAt))
+  io.out.valid := ShiftRegister(accept, p.latency, false.B, true.B)
 }
 
 object ArmDatapath {
 
-  /** Cycle at which the clamped velocities and accelerations and the angle sums are in registers. */
+  /** Cycle at which the clamped velocities and accelerations are in registers. */
   val inputCycle: Int = 2
 
   /** Cycle at which each joint's out-of-range flag is in its register. */

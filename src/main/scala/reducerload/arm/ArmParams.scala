@@ -26,7 +26,8 @@ final case class ArmParams(
   outputFracBits: Int = 20,
   productRounding: Rounding = Rounding.Truncate,
   multiplierLatency: Int = 1,
-  memoryDelayMinCycles: Int = 4) {
+  memoryDelayMinCycles: Int = 4,
+  scheduleRequest: ScheduleRequest = ScheduleRequest()) {
 
   require(maxVelocity.size == chain.size,
     s"robot ${chain.name} has ${chain.size} joints but max-velocity gives ${maxVelocity.size} value(s)")
@@ -45,7 +46,7 @@ final case class ArmParams(
   private lazy val built: (Graph, RangeHints) = ArmParams.rneaGraph(chain, maxVelocity, maxAcceleration)
   lazy val graph: Graph = built._1
   lazy val analysis: Analysis = new Analysis(graph, numerics, built._2)
-  lazy val schedule: Schedule = new Schedule(analysis, ArmDatapath.inputCycle, ArmDatapath.inputCycle + cordic.latency, multiplierLatency)
+  lazy val schedule: Schedule = new Schedule(analysis, scheduleRequest, cordic.latency, multiplierLatency, ArmDatapath.inputCycle)
 
   /** Cycles from a sample on the input port to its torques on the output port. */
   def latency: Int = schedule.latency
@@ -107,6 +108,7 @@ object ArmConfig {
       perJoint(c, p.robot.maxAcceleration, "max-acceleration", None),
       cordic = p.cordic, velocityFracBits = p.velocityFracBits, accelerationFracBits = p.accelerationFracBits,
       constantFracBits = p.constantFracBits, internalFracBits = p.internalFracBits, outputFracBits = p.outputFracBits,
-      productRounding = p.productRounding, multiplierLatency = p.multiplierLatency, memoryDelayMinCycles = p.memoryDelayMinCycles)
+      productRounding = p.productRounding, multiplierLatency = p.multiplierLatency, memoryDelayMinCycles = p.memoryDelayMinCycles,
+      scheduleRequest = p.schedule)
   }
 }

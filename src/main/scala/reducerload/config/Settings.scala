@@ -81,6 +81,18 @@ object Setting {
       if (c.getValue(key).valueType() != ConfigValueType.BOOLEAN) wrongType(source, "true or false", c) else c.getBoolean(key)
   }
 
+  /** A whole number, or `keyword` for a derived or absent value (read as None). */
+  final class Count(key: String, unit: String, help: String, aliases: Seq[String], keyword: String, val get: LoadParams => Option[Int])
+      extends Setting(key, unit, help, aliases) {
+    def render(p: LoadParams): String = get(p).fold(keyword)(_.toString)
+    def typeName = s"integer or $keyword"
+    def read(c: Config, source: String): Any = c.getValue(key).valueType() match {
+      case ConfigValueType.STRING if c.getString(key) == keyword => Option.empty[Int]
+      case ConfigValueType.NUMBER if { val d = c.getDouble(key); d == math.rint(d) && math.abs(d) < 1e9 } => Some(c.getDouble(key).toInt)
+      case _ => wrongType(source, s"an integer or $keyword", c)
+    }
+  }
+
   /**
    * One value per joint: a single number stands for every joint, a list gives each joint its own
    * (the joint count comes from the robot, not from here), and `keyword` (if any) stands for a
@@ -153,6 +165,12 @@ object Settings {
     new Natural("datapath.multiplier-latency", "cycles", "registers after each multiplier", Nil, _.multiplierLatency),
     new Natural("datapath.memory-delay-min-cycles", "cycles", "delays this long or longer use block RAM (0: registers only)", Nil, _.memoryDelayMinCycles),
     new Natural("datapath.cordic-units", "", "3: one CORDIC unit per angle, a sample every clock; 1: one shared unit, a sample every 3 clocks", Nil, _.cordicUnits),
+    new Count("schedule.clocks-per-sample", "clocks", "model rnea: clocks between samples (the initiation interval; auto: the fewest the multiplier budget allows)",
+      Seq("clocks-per-sample"), "auto", _.schedule.clocksPerSample),
+    new Count("schedule.max-multipliers", "18x18 blocks", "model rnea: multiplier blocks the datapath may use (none: no budget)", Seq("max-multipliers"),
+      "none", _.schedule.maxMultipliers),
+    new Count("schedule.cordic-units", "", "model rnea: sin/cos units shared by the joint angles (auto: the fewest that keep clocks-per-sample)", Nil,
+      "auto", _.schedule.cordicUnits),
     new Switch("monitor.enabled", "", "build the reducer life and limit monitor beside the arm datapath (model rnea; docs/monitor.md)", Nil,
       _.monitor.enabled),
     new PerJoint("monitor.exponent", "", "life exponent p per joint in [1, 10]: 3 strain-wave (Harmonic Drive), 3.3333333333333335 (10/3) cycloidal (RV)",
@@ -205,6 +223,7 @@ object Settings {
     def int(k: String) = v(k).asInstanceOf[Int]
     def str(k: String) = v(k).asInstanceOf[String]
     def joints(k: String) = v(k).asInstanceOf[Seq[Double]]
+    def count(k: String) = v(k).asInstanceOf[Option[Int]]
     val planar = str("robot.source") == reducerload.load.RobotParams.planar3
     def ranges(k: String) = joints(k) match { // planar3 has three joints: one number stands for all three
       case Seq(x) if planar => Seq.fill(3)(x)
@@ -245,6 +264,7 @@ object Settings {
         multiplierLatency = int("datapath.multiplier-latency"),
         memoryDelayMinCycles = int("datapath.memory-delay-min-cycles"),
         cordicUnits = int("datapath.cordic-units"),
+        schedule = reducerload.graph.ScheduleRequest(count("schedule.clocks-per-sample"), count("schedule.max-multipliers"), count("schedule.cordic-units")),
         monitor = MonitorSettings(
           enabled = bool("monitor.enabled"),
           exponent = joints("monitor.exponent"),
@@ -264,7 +284,7 @@ object Settings {
       // so their errors name this configuration.
       if (!p.model.closedForm) {
         val arm = reducerload.arm.ArmConfig(p)
-        arm.analysis
+        arm.schedule
         if (p.monitor.enabled) { MonitorConfig(arm, p.monitor); MonitorConfig.rated(arm, p.monitor) }
       }
       p
@@ -282,7 +302,7 @@ object Settings {
 
   /** A complete HOCON file for `p`, grouped by section, with units and meanings as comments. */
   def render(p: LoadParams, header: Seq[String]): String = {
-    val order = Seq("", "robot", "cordic", "datapath", "monitor")
+    val order = Seq("", "robot", "cordic", "datapath", "schedule", "monitor")
     val body = order.flatMap { section =>
       val settings = all.filter(s => (if (s.key.contains('.')) s.key.takeWhile(_ != '.') else "") == section)
       if (settings.isEmpty) Nil

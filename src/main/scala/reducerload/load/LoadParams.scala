@@ -21,6 +21,7 @@ import reducerload.fixedpoint.{Bounded, FixedFormat, Rounding}
  *                             time-shared by the three angles, one sample every 3 clocks (resource
  *                             sharing for sample rates far below the clock)
  * @param monitor              the reducer life and limit monitor beside the arm datapath (`monitor.*` keys)
+ * @param schedule             model rnea: clocks per sample, multiplier budget, CORDIC units (`schedule.*` keys; see [[reducerload.graph.Schedule]])
  */
 final case class LoadParams(
   robot: RobotParams = RobotParams(),
@@ -35,7 +36,8 @@ final case class LoadParams(
   multiplierLatency: Int = 1,
   memoryDelayMinCycles: Int = 4,
   cordicUnits: Int = 3,
-  monitor: reducerload.monitor.MonitorSettings = reducerload.monitor.MonitorSettings()) {
+  monitor: reducerload.monitor.MonitorSettings = reducerload.monitor.MonitorSettings(),
+  schedule: reducerload.graph.ScheduleRequest = reducerload.graph.ScheduleRequest()) {
 
   Seq(
     "velocityFracBits" -> velocityFracBits,
@@ -64,6 +66,9 @@ final case class LoadParams(
     s"datapath.cordic-units = $cordicUnits: sharing CORDIC units is for the joint-3 closed forms (models exact, paper); model rnea has one unit per joint angle")
   require(robot.isPlanar3 || !model.closedForm,
     s"model ${model.name} is the planar arm's joint-3 closed form; robot ${robot.source} needs model rnea")
+
+  require(!model.closedForm || schedule == reducerload.graph.ScheduleRequest(),
+    s"schedule.* applies to model rnea (every joint of an arm); the joint-3 closed form ${model.name} shares CORDIC units by datapath.cordic-units")
 
   require(!monitor.enabled || !model.closedForm,
     s"monitor.enabled = true needs model rnea (the monitor watches every joint of the arm datapath); model ${model.name} is planar3's joint-3 closed form")

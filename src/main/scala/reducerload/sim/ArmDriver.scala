@@ -27,8 +27,9 @@ object ArmDriver {
     dut: ArmDatapath,
     stimulus: Iterator[Cycle[SampleCodes]],
     onOutput: (Long, Option[ArmOutputCodes]) => Unit,
-    onDrive: (Long, Cycle[SampleCodes]) => Unit = (_, _) => ()
+    onDrive: (Long, Cycle[SampleCodes]) => Unit = (_, _) => (),
+    holdUntilReady: Boolean = false
   ): Long =
     StreamDriver[SampleCodes, ArmOutputCodes](dut.clock, dut.reset, dut.io.in.valid, dut.io.in.ready, pokeSample(dut, _), () => peekOutput(dut))
-      .run(stimulus, onOutput, onDrive)
+      .run(stimulus, onOutput, onDrive, holdUntilReady)
 }

@@ -33,7 +33,7 @@ final class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOut
   def harnessValues(in: SampleCodes): Seq[BigInt] = ArmHarnessPorts.values(in)
   def fromHarness(values: IndexedSeq[BigInt]): ArmOutputCodes = ArmHarnessPorts.codes(values, p.graph.outputs.size)
 
-  def samplePeriod: Int = 1
+  def samplePeriod: Int = p.schedule.clocksPerSample
   def latency: Int = p.latency
 
   val outputHeader: String =

@@ -3,30 +3,40 @@ package reducerload.sim
 import chisel3._
 import chiseltest._
 
+import scala.annotation.tailrec
+
 /**
  * Drives a ready/valid pipeline cycle by cycle through chiseltest: the one loop every design's
  * driver shares. A sample driven while `ready` is low is an error of the stimulus (space it with
- * [[Stream.spaced]]), not a silent drop.
+ * [[Stream.spaced]]), not a silent drop; with `holdUntilReady` it is offered again every clock until
+ * the design takes it (back-pressure), and those clocks are reported as bubbles, since nothing entered.
  */
 final case class StreamDriver[I, O](clock: Clock, reset: Reset, inValid: Bool, inReady: Bool, poke: I => Unit, peek: () => Option[O]) {
 
-  /** Drive `stimulus`, report each cycle's output (before the edge) and what was driven; returns the cycles run. */
-  def run(stimulus: Iterator[Cycle[I]], onOutput: (Long, Option[O]) => Unit, onDrive: (Long, Cycle[I]) => Unit = (_: Long, _: Cycle[I]) => ()): Long = {
+  /** Drive `stimulus`, report each cycle's output (before the edge) and what entered the design; returns the cycles run. */
+  def run(stimulus: Iterator[Cycle[I]], onOutput: (Long, Option[O]) => Unit, onDrive: (Long, Cycle[I]) => Unit = (_: Long, _: Cycle[I]) => (),
+    holdUntilReady: Boolean = false): Long = {
     clock.setTimeout(0)
-    stimulus.zipWithIndex.foldLeft(0L) { case (_, (c, cycle)) =>
-      c match {
-        case Cycle.Reset  => reset.poke(true.B); inValid.poke(false.B)
-        case Cycle.Bubble => inValid.poke(false.B)
-        case Cycle.Sample(s) =>
-          if (!inReady.peek().litToBoolean) throw new IllegalStateException(s"cycle $cycle: sample driven while io_in_ready is low")
-          inValid.poke(true.B)
-          poke(s)
+    @tailrec def loop(cycle: Long, pending: Option[Cycle[I]]): Long =
+      pending.orElse(stimulus.nextOption()) match {
+        case None => cycle
+        case Some(c) =>
+          val (entered, held) = c match {
+            case Cycle.Reset  => reset.poke(true.B); inValid.poke(false.B); (c, None)
+            case Cycle.Bubble => inValid.poke(false.B); (c, None)
+            case Cycle.Sample(s) =>
+              val ready = inReady.peek().litToBoolean
+              if (!ready && !holdUntilReady) throw new IllegalStateException(s"cycle $cycle: sample driven while io_in_ready is low")
+              inValid.poke(true.B)
+              poke(s)
+              if (ready) (c, None) else (Cycle.Bubble, Some(c))
+          }
+          onOutput(cycle, peek())
+          onDrive(cycle, entered)
+          clock.step()
+          reset.poke(false.B)
+          loop(cycle + 1, held)
       }
-      onOutput(cycle.toLong, peek())
-      onDrive(cycle.toLong, c)
-      clock.step()
-      reset.poke(false.B)
-      cycle.toLong + 1
-    }
+    loop(0L, None)
   }
 }

@@ -3,7 +3,7 @@ package reducerload.arm
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.dynamics.{RandomChains, Rnea}
-import reducerload.graph.SampleCodes
+import reducerload.graph.{SampleCodes, ScheduleRequest}
 import reducerload.sim.{ArmDriver, Cycle, Stream}
 import reducerload.testutil.{ArmGolden, Seeds, SimBackend}
 
@@ -20,17 +20,18 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "ArmDatapath"
 
   /** Every golden trace of `robot` back to back, then seeded random samples; each joint checked against Pinocchio. */
-  private def runRobot(robot: String, seed: Long): Unit = {
+  private def runRobot(robot: String, seed: Long, schedule: ScheduleRequest = ScheduleRequest()): Unit = {
     val traces = ArmGolden.of(robot)
     traces.foreach(t => assert(t.config == traces.head.config, s"${t.name}: another robot or other ranges than ${traces.head.name}"))
-    val p = ArmConfig(traces.head.config)
+    val p = ArmConfig(traces.head.config).copy(scheduleRequest = schedule)
     assert(p.errorBound <= ArmChecks.target, s"$robot: derived bound ${p.errorBound} misses the target ${ArmChecks.target}")
     val rng = new Random(Seeds(s"arm-$robot", seed))
     val random = IndexedSeq.fill(SimBackend.scale(1000)) {
       val (q, qd, qdd) = RandomChains.sample(rng, p.maxVelocity.map(_ * 1.1), p.maxAcceleration.map(_ * 1.1))
       ArmSample(q, qd, qdd)
     }
-    ArmChecks.run(this, robot, p, traces.flatMap(_.samples).toIndexedSeq, random, rng, traces.flatMap(_.torques).toIndexedSeq)
+    val label = if (p.schedule.clocksPerSample == 1) robot else s"$robot II=${p.schedule.clocksPerSample}"
+    ArmChecks.run(this, label, p, traces.flatMap(_.samples).toIndexedSeq, random, rng, traces.flatMap(_.torques).toIndexedSeq)
   }
 
   it should "compute every torque of the planar arm within 1e-3 N·m of Pinocchio, bit-exact with the model" in {
@@ -44,6 +45,16 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
   it should "compute every torque of the Panda within 1e-3 N·m of Pinocchio, bit-exact with the model" in {
     runRobot("panda", 43L)
   }
+
+  it should "share multipliers and CORDIC units on planar3 (2, 3 and 40 clocks per sample), bit-exact under back-pressure" in {
+    runRobot("planar3", 44L, ScheduleRequest(clocksPerSample = Some(2)))
+    runRobot("planar3", 45L, ScheduleRequest(clocksPerSample = Some(3), cordicUnits = Some(1)))
+    runRobot("planar3", 46L, ScheduleRequest(clocksPerSample = Some(40)))
+  }
+
+  it should "fit the UR5 in the 66 multiplier blocks of an EP4CE30, bit-exact under back-pressure" in {
+    runRobot("ur5", 47L, ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)))
+  }
 }
 
 /** Test logic, apart from the simulator calls (those are in ArmDriver). */
@@ -52,7 +63,11 @@ object ArmChecks {
   /** The fixed accuracy target of the arm presets, N·m, beside each joint's derived bound. */
   val target: Double = 1e-3
 
-  /** Runs golden samples then random ones through the RTL; checks bits against the model and torques against references. */
+  /**
+   * Runs golden samples then random ones through the RTL, each offered until the design takes it
+   * (back-pressure); checks bits against the model at the reported latency after the cycle each
+   * sample entered, the interval between samples, and torques against the references.
+   */
   def run(
     spec: AnyFlatSpec with ChiselScalatestTester,
     label: String,
@@ -70,11 +85,19 @@ object ArmChecks {
       IndexedSeq.fill(latency + 1)(Cycle.Bubble)
     test(new ArmDatapath(p)).withAnnotations(SimBackend.annotations) { dut =>
       val observed = ArrayBuffer.empty[Option[ArmOutputCodes]]
-      ArmDriver.run(dut, stim.iterator, (_, out) => observed += out)
-      val expected = Stream.expected[SampleCodes](stim, latency).map(_.map(model.evaluate))
+      val entered = ArrayBuffer.empty[Cycle[SampleCodes]]
+      ArmDriver.run(dut, stim.iterator, (_, out) => observed += out, (_, c) => entered += c, holdUntilReady = true)
+      val expected = Stream.expected[SampleCodes](entered.toIndexedSeq, latency).map(_.map(model.evaluate))
       val bad = Stream.mismatches[ArmOutputCodes, ArmOutputCodes](expected, observed.toIndexedSeq, _ == _)
       assert(bad.isEmpty, bad.mkString(s"$label: RTL differs from the model:\n", "\n", ""))
-      val hw = golden.indices.map(k => observed(latency + k).getOrElse(fail(s"$label: golden sample $k produced no output")))
+      // Samples offered back to back enter exactly every clocksPerSample clocks, never closer.
+      val takenAt = entered.indices.filter(t => entered(t).isInstanceOf[Cycle.Sample[_]])
+      val gaps = takenAt.zip(takenAt.drop(1)).map { case (a, b) => b - a }
+      val period = p.schedule.clocksPerSample
+      assert(gaps.take(golden.size - 1).forall(_ == period), s"$label: golden samples entered ${gaps.take(golden.size - 1).distinct} clocks apart, not $period")
+      val betweenResets = takenAt.zip(takenAt.drop(1)).filterNot { case (a, b) => (a until b).exists(entered(_) == Cycle.Reset) }
+      assert(betweenResets.forall { case (a, b) => b - a >= period }, s"$label: two samples entered less than $period clocks apart")
+      val hw = golden.indices.map(k => observed(takenAt(k) + latency).getOrElse(fail(s"$label: golden sample $k produced no output")))
       assert(hw.forall(!_.outOfRange.exists(identity)), s"$label: an in-range golden sample raised outOfRange")
       val tau = hw.map(model.torques)
       val ref = golden.map(s => Rnea.reference(p.chain, s.q, s.qd, s.qdd))
@@ -89,7 +112,8 @@ object ArmChecks {
         assert(err <= p.errorBounds(j) + 1e-9, s"$label joint ${j + 1}: error vs Pinocchio $err above the derived bound ${p.errorBounds(j)}")
         assert(err <= ArmChecks.target, s"$label joint ${j + 1}: error vs Pinocchio $err above the target ${ArmChecks.target} N·m")
       }
-      println(s"[arm] $label: latency $latency cycles, ${p.graph.counts}, outputs bit-exact with the model over ${stim.size} cycles")
+      println(s"[arm] $label: latency $latency cycles, one sample per $period clocks, ${p.schedule.multiplierBlocks} multiplier blocks, " +
+        s"${p.graph.counts}, outputs bit-exact with the model over ${entered.size} cycles")
     }
   }
 }

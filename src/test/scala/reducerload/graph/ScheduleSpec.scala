@@ -1,0 +1,121 @@
+package reducerload.graph
+
+import org.scalatest.flatspec.AnyFlatSpec
+import reducerload.arm.{ArmConfig, ArmParams}
+import reducerload.pipeline.PipelinedMultiplier
+import reducerload.testutil.ArmGolden
+
+/**
+ * The modulo schedule's promises, checked from the graph and the hardware's timing rules, not from
+ * the schedule's own bookkeeping: every operand is ready when read, no unit takes two operations in
+ * one residue, every value is read before a later sample overwrites it, the budget holds; and
+ * infeasible requests are refused naming the setting.
+ */
+class ScheduleSpec extends AnyFlatSpec {
+  behavior of "Schedule"
+
+  private lazy val ur5: ArmParams = ArmConfig(ArmGolden.of("ur5").head.config)
+  private lazy val planar3: ArmParams = ArmConfig(ArmGolden.of("planar3").head.config)
+
+  private def scheduled(p: ArmParams, request: ScheduleRequest): ArmParams = p.copy(scheduleRequest = request)
+
+  /** Checks a schedule against the rules it must obey; returns it for figures. */
+  private def check(p: ArmParams): Schedule = {
+    val s = p.schedule
+    val g = p.graph
+    val ii = s.clocksPerSample
+    g.ids.foreach { id =>
+      val op = g(id)
+      op match {
+        case Op.Const(_) => assert(s(id).isEmpty)
+        case _ =>
+          val issue = s.slot(id).get.issue
+          op.operands.foreach { x =>
+            s(x).foreach(ready => assert(ready <= issue, s"node ${id.index} reads node ${x.index} in cycle $issue, ready only in $ready"))
+          }
+          val latency = op match {
+            case Op.Mul(a, b) =>
+              val shape = if (ii == 1) MulShape.of(p.analysis(a).format.width, p.analysis(b).format.width) else s.widestShape
+              val rounds = p.analysis.productRounding(p.analysis(a).format.fracBits, p.analysis(b).format.fracBits).drop > 0 &&
+                p.productRounding != reducerload.fixedpoint.Rounding.Truncate
+              PipelinedMultiplier.latency(shape.wide, shape.narrow) + p.multiplierLatency - 1 + (if (ii > 1 || rounds) 1 else 0)
+            case Op.Trig(_, _) => 1 + p.cordic.latency + (if (ii > 1 || s.cordicUnits < g.angles.size) 1 else 0)
+            case Op.Input(_)   => 1
+            case _             => 1
+          }
+          assert(s(id).get == issue + latency, s"node ${id.index} ($op): ready ${s(id).get}, issued $issue + latency $latency")
+      }
+    }
+    // One operation per unit and residue; every multiply and every angle on a unit.
+    val mulSlots = g.ids.filter(g(_).isInstanceOf[Op.Mul]).map(id => s.slot(id).get)
+    assert(mulSlots.map(sl => (sl.unit.get, sl.issue % ii)).distinct.size == mulSlots.size, "two multiplies share a unit in one residue")
+    assert(mulSlots.forall(_.unit.get < s.multiplierUnits))
+    val angleSlots = g.angles.map(s.angleSlot)
+    assert(angleSlots.map(sl => (sl.unit.get, sl.issue % ii)).distinct.size == angleSlots.size, "two angles share a CORDIC unit in one residue")
+    // Readers: the output stage reads after every output is ready; latency is that plus the output register.
+    g.outputs.foreach(o => assert(s(o.node).get <= s.outputsReady))
+    assert(s.latency == g.outputs.map(o => s(o.node).get).max + 1)
+    s.request.maxMultipliers.foreach(b => assert(s.multiplierBlocks <= b, s"${s.multiplierBlocks} blocks above the budget $b"))
+    assert(s.multiplierUnits.toLong * ii >= mulSlots.size)
+    s
+  }
+
+  private def figures(label: String, p: ArmParams): Unit = {
+    val s = p.schedule
+    println(f"[schedule] $label%-28s II ${s.clocksPerSample}%3d  mul units ${s.multiplierUnits}%3d (${if (s.dedicated) "own width" else s.widestShape.toString}%-8s) " +
+      f"blocks ${s.multiplierBlocks}%4d  cordic ${s.cordicUnits}%2d  latency ${s.latency}%4d  held bits ${s.heldBits}%7d")
+  }
+
+  it should "give every operation its own operator at one sample per clock (the ASAP schedule)" in {
+    Seq("planar3" -> planar3, "ur5" -> ur5).foreach { case (name, p) =>
+      val s = check(p)
+      figures(s"$name II=1", p)
+      assert(s.clocksPerSample == 1 && s.dedicated && s.multiplierUnits == p.graph.counts.multiplications)
+      // ASAP: each node ready at the latest operand plus its own latency, nothing later.
+      p.graph.ids.foreach { id =>
+        val earliest = p.graph(id).operands.flatMap(s(_)).maxOption.getOrElse(0)
+        p.graph(id) match {
+          case _: Op.Mul | _: Op.Add | _: Op.Sub | _: Op.Neg => assert(s.slot(id).get.issue == earliest, s"node ${id.index} not ASAP")
+          case _                                              =>
+        }
+      }
+    }
+  }
+
+  it should "share multipliers and CORDIC units at any interval, within budget" in {
+    Seq(2, 3, 7, 16, 40).foreach { ii =>
+      Seq("planar3" -> planar3, "ur5" -> ur5).foreach { case (name, p) =>
+        val q = scheduled(p, ScheduleRequest(clocksPerSample = Some(ii)))
+        check(q)
+        figures(s"$name II=$ii", q)
+      }
+    }
+    val shared = scheduled(planar3, ScheduleRequest(clocksPerSample = Some(3), cordicUnits = Some(1)))
+    assert(check(shared).cordicUnits == 1)
+  }
+
+  it should "derive the fewest clocks per sample from a multiplier budget" in {
+    Seq(66, 40, 16, 6).foreach { budget =>
+      val q = scheduled(ur5, ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(budget)))
+      val s = check(q)
+      figures(s"ur5 budget $budget", q)
+      assert(s.multiplierBlocks <= budget)
+      // One clock fewer would need more blocks than the budget.
+      if (s.clocksPerSample > 1) {
+        val tighter = scala.util.Try(scheduled(ur5, ScheduleRequest(Some(s.clocksPerSample - 1), Some(budget))).schedule)
+        assert(tighter.isFailure, s"budget $budget: ${s.clocksPerSample - 1} clocks per sample would also fit")
+      }
+    }
+  }
+
+  it should "refuse infeasible requests naming the setting and what would work" in {
+    def refusal(r: ScheduleRequest): String = intercept[IllegalArgumentException](scheduled(ur5, r).schedule).getMessage
+    val widest = ur5.schedule.widestShape.blocks
+    assert(refusal(ScheduleRequest(None, Some(widest - 1))).contains("schedule.max-multipliers"))
+    val tight = refusal(ScheduleRequest(Some(2), Some(66)))
+    assert(tight.contains("schedule.max-multipliers = 66") && tight.contains("clocks-per-sample >="), tight)
+    val cordic = refusal(ScheduleRequest(Some(1), None, Some(1)))
+    assert(cordic.contains("schedule.cordic-units = 1"), cordic)
+    assert(intercept[IllegalArgumentException](ScheduleRequest(Some(0))).getMessage.contains("schedule.clocks-per-sample"))
+  }
+}
