@@ -19,7 +19,7 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
   private val counts = p.graph.counts
   private val schedule = p.schedule
   private val ii = schedule.clocksPerSample
-  private val throughput = if (ii == 1) "one sample per clock" else s"one sample every $ii clocks"
+  val throughput: String = if (ii == 1) "one sample per clock" else s"one sample every $ii clocks"
 
   /** (port, direction, format description). */
   val ports: Seq[(String, String, String)] =
@@ -53,8 +53,7 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
     "Joints kept:") ++ jointLines ++ Seq(
     s"Operations after constant folding and sharing: ${counts.multiplications} multiplications (${counts.constantMultiplications} by a constant), " +
       s"${counts.additions} additions/subtractions, ${counts.negations} negations, ${counts.sinCos} sin/cos pairs (CORDIC units)",
-    s"Schedule: $throughput, latency ${p.latency} cycles; ${schedule.multiplierUnits} multiplier units of " +
-      (if (schedule.dedicated) "each its multiplication's width" else s"${schedule.widestShape} bits") +
+    s"Schedule: $throughput, latency ${p.latency} cycles; multiplier units: ${schedule.unitSummary} (operand bits)" +
       s", ${schedule.multiplierBlocks} 18x18 blocks${schedule.request.maxMultipliers.fold("")(b => s" (budget $b)")}; " +
       s"${schedule.cordicUnits} CORDIC units for ${counts.sinCos} angles; ${counts.additions + counts.negations} adders; " +
       s"${schedule.heldBits} register bits hold values between cycles",
@@ -72,7 +71,7 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
   def markdown: String = (Seq(
     s"# $moduleName",
     "",
-    s"- latency: ${p.latency} cycles; throughput: $throughput; ${schedule.multiplierBlocks} 18x18 multiplier blocks on ${schedule.multiplierUnits} units",
+    s"- latency: ${p.latency} cycles; throughput: $throughput; ${schedule.multiplierBlocks} 18x18 multiplier blocks (${schedule.multiplierUnits} multiplier units, ${schedule.cordicUnits} CORDIC units)",
     f"- derived error bound: ${p.errorBound}%.3e N·m (largest over joints)",
     s"- regenerate: `$command`",
     "",
@@ -99,7 +98,7 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
       "latency_cycles" -> p.latency,
       "clocks_per_sample" -> ii,
       "schedule" -> Map[String, Any]("clocks_per_sample" -> ii, "multiplier_units" -> schedule.multiplierUnits,
-        "multiplier_unit_shape" -> (if (schedule.dedicated) "per operation" else schedule.widestShape.toString),
+        "multiplier_unit_shapes" -> schedule.unitSummary,
         "multiplier_blocks" -> schedule.multiplierBlocks, "max_multipliers" -> schedule.request.maxMultipliers.map(Int.box).orNull,
         "cordic_units" -> schedule.cordicUnits, "held_register_bits" -> schedule.heldBits).asJava,
       "command" -> command,

@@ -24,7 +24,7 @@ import reducerload.pipeline.{MemoryDelay, PipelinedMultiplier}
 class ArmDatapath(val p: ArmParams) extends Module {
   private val schedule = p.schedule
   private val ii = schedule.clocksPerSample
-  override def desiredName = s"ArmDatapath_${p.tag}" + (if (ii > 1) s"_ii$ii" else "")
+  override def desiredName = s"ArmDatapath_${p.tag}"
   val io = IO(new Bundle {
     val in = Flipped(Decoupled(new ArmInput(p)))
     val out = Valid(new ArmOutput(p))
@@ -98,8 +98,7 @@ class ArmDatapath(val p: ArmParams) extends Module {
   }
 
   // Multiplier units: products wired in after every operand exists.
-  private def shapeOfUnit(u: Int): MulShape =
-    if (schedule.dedicated) schedule.shapeOf(schedule.mulBindings(u).head._2) else schedule.widestShape
+  private def shapeOfUnit(u: Int): MulShape = schedule.unitShape(u)
   private val products = schedule.mulBindings.indices.map(u => Wire(SInt((shapeOfUnit(u).wide + shapeOfUnit(u).narrow).W)))
 
   // The graph, node by node: each value's register and the taps its readers use.

@@ -46,7 +46,7 @@ final case class ArmParams(
   private lazy val built: (Graph, RangeHints) = ArmParams.rneaGraph(chain, maxVelocity, maxAcceleration)
   lazy val graph: Graph = built._1
   lazy val analysis: Analysis = new Analysis(graph, numerics, built._2)
-  lazy val schedule: Schedule = new Schedule(analysis, scheduleRequest, cordic.latency, multiplierLatency, ArmDatapath.inputCycle)
+  lazy val schedule: Schedule = new Schedule(analysis, scheduleRequest, cordic, multiplierLatency, ArmDatapath.inputCycle)
 
   /** Cycles from a sample on the input port to its torques on the output port. */
   def latency: Int = schedule.latency
@@ -55,7 +55,9 @@ final case class ArmParams(
   def errorBounds: IndexedSeq[Double] = analysis.outputs.map(_.errorBound)
   def errorBound: Double = errorBounds.max
 
-  def tag: String = s"${chain.name.replaceAll("[^A-Za-z0-9]", "_")}_${chain.size}dof"
+  /** Names the design: robot, joints and, when samples are spaced, the clocks per sample. */
+  def tag: String = s"${chain.name.replaceAll("[^A-Za-z0-9]", "_")}_${chain.size}dof" +
+    (if (schedule.clocksPerSample > 1) s"_ii${schedule.clocksPerSample}" else "")
 }
 
 object ArmParams {

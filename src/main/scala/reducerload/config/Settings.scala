@@ -167,7 +167,7 @@ object Settings {
     new Natural("datapath.cordic-units", "", "3: one CORDIC unit per angle, a sample every clock; 1: one shared unit, a sample every 3 clocks", Nil, _.cordicUnits),
     new Count("schedule.clocks-per-sample", "clocks", "model rnea: clocks between samples (the initiation interval; auto: the fewest the multiplier budget allows)",
       Seq("clocks-per-sample"), "auto", _.schedule.clocksPerSample),
-    new Count("schedule.max-multipliers", "18x18 blocks", "model rnea: multiplier blocks the datapath may use (none: no budget)", Seq("max-multipliers"),
+    new Count("schedule.max-multipliers", "18x18 blocks", "model rnea: 18x18 multiplier blocks the datapath may use, its CORDIC units' included (none: no budget; a monitor's come on top)", Seq("max-multipliers"),
       "none", _.schedule.maxMultipliers),
     new Count("schedule.cordic-units", "", "model rnea: sin/cos units shared by the joint angles (auto: the fewest that keep clocks-per-sample)", Nil,
       "auto", _.schedule.cordicUnits),

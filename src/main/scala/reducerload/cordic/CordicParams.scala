@@ -137,6 +137,9 @@ final case class CordicParams(
 
   val residual: Boolean = architecture == CordicArchitecture.ResidualRotation
 
+  /** 18x18 blocks of one unit: the residual rotation's three products (z to radians, x zr, y zr), none for classic. */
+  val multiplierBlocks: Int = if (residual) 3 else 0
+
   // ---- residual rotation (architecture = residual) ----
 
   /** 2 pi in 17 bits (Q3.13): z (turns) times it fits one 18x18 multiplier with room for its sign. */

@@ -1,5 +1,6 @@
 package reducerload.graph
 
+import reducerload.cordic.CordicParams
 import reducerload.fixedpoint.Rounding
 import reducerload.load.TimedArith
 import reducerload.pipeline.PipelinedMultiplier
@@ -25,7 +26,13 @@ final case class MulShape(wide: Int, narrow: Int) {
 }
 object MulShape {
   def of(a: Int, b: Int): MulShape = MulShape(math.max(a, b), math.min(a, b))
+
+  /** 17-bit chunks of each operand ([[PipelinedMultiplier]]): what a product costs in blocks and clocks. */
+  def chunks(s: MulShape): (Int, Int) = (PipelinedMultiplier.chunkCount(s.wide), PipelinedMultiplier.chunkCount(s.narrow))
 }
+
+/** Multiplies that need the same 18x18 blocks, and the shape of a unit that takes any of them. */
+final case class MulClass(shape: MulShape, ops: IndexedSeq[NodeId])
 
 /** Where and when an operation runs: its unit (multiplies and sin/cos only) and the cycle it reads its operands. */
 final case class Slot(unit: Option[Int], issue: Int)
@@ -57,7 +64,7 @@ private final case class ScheduleState(ready: Vector[Option[Int]], slots: Vector
  * @param inputCycle cycle at which the clamped velocities and accelerations are in registers (their
  *                   raw codes and the angles are in the input register from cycle 1)
  */
-final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordicLatency: Int, multiplierLatency: Int, val inputCycle: Int) {
+final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordic: CordicParams, multiplierLatency: Int, val inputCycle: Int) {
   import Op._
   private val graph = analysis.graph
   private val ids = graph.ids
@@ -70,52 +77,80 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
     MulShape.of(analysis(a).format.width, analysis(b).format.width)
   }
 
-  /** The widest operand shape of any multiply: every shared unit is built this wide. */
-  val widestShape: MulShape = muls.map(shapeOf).reduceOption(_ max _).getOrElse(MulShape(2, 2))
-
   private def ceilDiv(a: Int, b: Int) = (a + b - 1) / b
 
-  /** Blocks of `units` multiplier units at interval `ii`: dedicated units are each their own op's shape. */
-  private def blocksFor(ii: Int, units: Int): Int =
-    if (ii == 1 && units >= muls.size) muls.map(shapeOf(_).blocks).sum else units * widestShape.blocks
+  /**
+   * Multiplies grouped by the 18x18 blocks their operands need (17-bit chunks per operand): a shared
+   * unit of a class is as wide as its widest multiply, so a few wide products do not make every unit
+   * wide. Narrowest class first.
+   */
+  val classes: IndexedSeq[MulClass] = muls.groupBy(id => MulShape.chunks(shapeOf(id))).toIndexedSeq.sortBy(_._1)
+    .map { case (_, ops) => MulClass(ops.map(shapeOf).reduce(_ max _), ops) }
 
   /** Shortest interval the CORDIC units allow. */
   private def cordicBound(units: Int): Int = ceilDiv(angles.size, units)
 
+  /** CORDIC units at interval `ii`: asked, or the fewest that keep it. */
+  private def cordicUnitsAt(ii: Int): Int = request.cordicUnits.getOrElse(math.max(1, ceilDiv(angles.size, ii)))
+
+  /** 18x18 blocks at interval `ii`: per class, the fewest units that take its multiplies in `ii` slots each, and the CORDIC units'. */
+  private def blocksFor(ii: Int): Int = classes.map(c => ceilDiv(c.ops.size, ii) * c.shape.blocks).sum + cordicUnitsAt(ii) * cordic.multiplierBlocks
+
+  /** The fewest blocks any interval needs: one unit per class, the fewest CORDIC units. */
+  private val leastBlocks: Int = blocksFor(math.max(1, math.max(muls.size, angles.size)))
+
+  /** Shortest interval within `budget` blocks that the CORDIC units allow. */
+  private def fewestClocks(budget: Int): Option[Int] =
+    (1 to math.max(1, math.max(muls.size, angles.size))).find(c => blocksFor(c) <= budget && cordicBound(cordicUnitsAt(c)) <= c)
+
   /** The initiation interval: asked, or the fewest clocks the multiplier budget and CORDIC units allow. */
   val clocksPerSample: Int = request.clocksPerSample.getOrElse {
     val byCordic = request.cordicUnits.map(cordicBound).getOrElse(1)
-    request.maxMultipliers match {
-      case None => byCordic
-      case Some(budget) =>
-        require(muls.isEmpty || budget >= widestShape.blocks,
-          s"schedule.max-multipliers = $budget is below one multiplier of the widest product ($widestShape bits: ${widestShape.blocks} blocks); " +
-            s"use at least ${widestShape.blocks}")
-        val units = if (muls.isEmpty) 1 else budget / widestShape.blocks
-        val byBudget = if (muls.nonEmpty && blocksFor(1, muls.size) <= budget) 1 else ceilDiv(muls.size, units)
-        math.max(byBudget, byCordic)
+    val byBudget = request.maxMultipliers.map { budget =>
+      fewestClocks(budget).getOrElse(throw new IllegalArgumentException(
+        s"schedule.max-multipliers = $budget is below one multiplier unit per operand width (${classes.map(_.shape).mkString(", ")} bits) " +
+          s"and the CORDIC units' products: $leastBlocks blocks; use at least $leastBlocks"))
     }
+    math.max(byBudget.getOrElse(1), byCordic)
   }
   private val ii = clocksPerSample
-
-  /** Multiplier units: one per multiply at II = 1, else the fewest that fit every multiply in II slots. */
-  val multiplierUnits: Int = if (ii == 1) muls.size else ceilDiv(muls.size, ii)
 
   /** Whether each multiply has its own unit (II = 1: no operand multiplexers, no capture register unless it rounds). */
   val dedicated: Boolean = ii == 1
 
-  /** 18x18 blocks the multiplier units use. */
-  val multiplierBlocks: Int = blocksFor(ii, multiplierUnits)
+  /** Each multiplier unit's shape: one unit per multiply at II = 1, else per class the fewest that fit its multiplies in II slots. */
+  private val unitShapes: IndexedSeq[MulShape] =
+    if (dedicated) classes.flatMap(_.ops.map(shapeOf)) else classes.flatMap(c => Seq.fill(ceilDiv(c.ops.size, ii))(c.shape))
+  def multiplierUnits: Int = unitShapes.size
 
-  request.maxMultipliers.foreach { budget =>
-    val fewest = if (muls.isEmpty) 1 else math.max(1, (1 to 4096).find(c => blocksFor(c, if (c == 1) muls.size else ceilDiv(muls.size, c)) <= budget).getOrElse(4096))
-    require(multiplierBlocks <= budget,
-      s"schedule.max-multipliers = $budget is below the $multiplierBlocks blocks that schedule.clocks-per-sample = $ii needs " +
-        s"(${muls.size} multiplies on $multiplierUnits units of $widestShape bits); use clocks-per-sample >= $fewest or max-multipliers >= $multiplierBlocks")
+  /** The operand widths unit `u` is built for: its one multiply's at II = 1, its class's widest otherwise. */
+  def unitShape(u: Int): MulShape = if (dedicated) shapeOf(mulBindings(u).head._2) else unitShapes(u)
+
+  /** Units per shape, for reports: "15 x 35x31, 1 x 36x31", or one per multiply. */
+  def unitSummary: String =
+    if (dedicated) s"$multiplierUnits units, one per multiply at its own width"
+    else unitShapes.groupBy(identity).toSeq.sortBy(_._1.blocks).map { case (sh, us) => s"${us.size} x $sh" }.mkString(", ")
+
+  /** Units of each class, as a range of unit numbers (at II = 1 a multiply's own unit is found by `place`). */
+  private val classUnits: Map[Int, Range] = {
+    val sizes = classes.map(c => if (dedicated) c.ops.size else ceilDiv(c.ops.size, ii))
+    classes.indices.map(k => k -> (sizes.take(k).sum until sizes.take(k + 1).sum)).toMap
   }
+  private val classOf: Map[NodeId, Int] = classes.zipWithIndex.flatMap { case (c, k) => c.ops.map(_ -> k) }.toMap
 
   /** CORDIC units: asked, or the fewest that keep the interval. */
-  val cordicUnits: Int = request.cordicUnits.getOrElse(math.max(1, ceilDiv(angles.size, ii)))
+  val cordicUnits: Int = cordicUnitsAt(ii)
+
+  /** 18x18 blocks of the datapath: its multiplier units' and its CORDIC units' (the whole budget). */
+  val multiplierBlocks: Int = unitShapes.map(_.blocks).sum + cordicUnits * cordic.multiplierBlocks
+
+  request.maxMultipliers.foreach { budget =>
+    require(multiplierBlocks <= budget,
+      s"schedule.max-multipliers = $budget is below the $multiplierBlocks blocks that schedule.clocks-per-sample = $ii needs " +
+        s"(${muls.size} multiplies on $multiplierUnits units, $cordicUnits CORDIC units); " +
+        fewestClocks(budget).fold(s"use max-multipliers >= $multiplierBlocks")(c => s"use clocks-per-sample >= $c or max-multipliers >= $multiplierBlocks"))
+  }
+
   require(angles.isEmpty || cordicBound(cordicUnits) <= ii,
     s"schedule.cordic-units = $cordicUnits cannot compute ${angles.size} sin/cos pairs in schedule.clocks-per-sample = $ii clocks; " +
       s"use cordic-units >= ${ceilDiv(angles.size, ii)} or clocks-per-sample >= ${cordicBound(cordicUnits)}")
@@ -127,17 +162,17 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
   def mulLatency(id: NodeId): Int = {
     val Mul(a, b) = graph(id): @unchecked
     val rounds = analysis.productRounding(analysis(a).format.fracBits, analysis(b).format.fracBits).rounding != Rounding.Truncate
-    val shape = if (dedicated) shapeOf(id) else widestShape
+    val shape = if (dedicated) shapeOf(id) else classes(classOf(id)).shape
     TimedArith.mulLatency(shape.wide, shape.narrow, multiplierLatency, Rounding.Truncate) +
       (if (!dedicated || rounds) 1 else 0)
   }
 
   /** Clocks from an angle's issue (its sum read from the input register) to sin/cos in registers. */
-  val trigLatency: Int = 1 + cordicLatency + (if (capturesCordic) 1 else 0)
+  val trigLatency: Int = 1 + cordic.latency + (if (capturesCordic) 1 else 0)
 
   /** The first cycle from `earliest` whose residue has a free unit among `units` (multipliers or CORDIC units). */
-  private def place(taken: Set[(Boolean, Int, Int)], isMul: Boolean, units: Int, earliest: Int): Slot =
-    Iterator.from(earliest).flatMap(r => (0 until units).find(u => !taken((isMul, u, r % ii))).map(u => Slot(Some(u), r)))
+  private def place(taken: Set[(Boolean, Int, Int)], isMul: Boolean, units: Range, earliest: Int): Slot =
+    Iterator.from(earliest).flatMap(r => units.find(u => !taken((isMul, u, r % ii))).map(u => Slot(Some(u), r)))
       .next()
 
   private val state: ScheduleState = ids.foldLeft(ScheduleState(Vector.empty, Vector.empty, Set.empty, Map.empty)) { (s, id) =>
@@ -151,13 +186,13 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
           case Some(slot) => plain(Some(slot.issue + trigLatency), Some(slot))
           case None =>
             // The angle's joints are in the input register from cycle 1.
-            val slot = place(s.taken, isMul = false, cordicUnits, 1)
+            val slot = place(s.taken, isMul = false, 0 until cordicUnits, 1)
             s.copy(ready = s.ready :+ Some(slot.issue + trigLatency), slots = s.slots :+ Some(slot),
               taken = s.taken + ((false, slot.unit.get, slot.issue % ii)), angleSlots = s.angleSlots + (angle -> slot))
         }
       case Mul(a, b) =>
         val earliest = math.max(at(a), at(b))
-        val slot = place(s.taken, isMul = true, multiplierUnits, earliest)
+        val slot = place(s.taken, isMul = true, classUnits(classOf(id)), earliest)
         s.copy(ready = s.ready :+ Some(slot.issue + mulLatency(id)), slots = s.slots :+ Some(slot),
           taken = s.taken + ((true, slot.unit.get, slot.issue % ii)))
       case op =>

@@ -57,8 +57,21 @@ class CliSpec extends AnyFlatSpec {
     refused(Seq("--robot", "/nonexistent/arm.urdf", "--max-acceleration", "15"), "/nonexistent/arm.urdf")
     refused(ur5 ++ Seq("--max-acceleration", "15", "--model", "exact"), "model exact", "rnea")
     refused(Seq("--robot", "planar3", "--datapath.cordic-units", "1"), "cordic-units")
+    refused(ur5 ++ Seq("--max-acceleration", "15", "--max-multipliers", "5", "--clocks-per-sample", "auto"), "schedule.max-multipliers = 5", "use at least")
+    refused(ur5 ++ Seq("--max-acceleration", "15", "--max-multipliers", "66", "--clocks-per-sample", "4"), "schedule.max-multipliers = 66",
+      "clocks-per-sample >= 18")
+    refused(ur5 ++ Seq("--max-acceleration", "15", "--schedule.cordic-units", "2"), "schedule.cordic-units = 2", "5 sin/cos")
+    refused(ur5 ++ Seq("--max-acceleration", "15", "--clocks-per-sample", "0"), "schedule.clocks-per-sample")
+    refused(ur5 ++ Seq("--max-acceleration", "15", "--clocks-per-sample", "fast"), "schedule.clocks-per-sample", "auto")
+    refused(Seq("--clocks-per-sample", "4"), "schedule.*", "closed form")
     val hand = java.nio.file.Paths.get(getClass.getResource("/urdf/arm.urdf").toURI).toString
     refused(Seq("--robot", hand, "--tip", "l3", "--max-acceleration", "5", "--max-velocity", "2"), "wrist_slide", "prismatic")
+  }
+
+  it should "derive the clocks per sample from a multiplier budget" in {
+    val ur5 = reducerload.arm.ArmConfig(params("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15",
+      "--max-multipliers", "66", "--clocks-per-sample", "auto"))
+    assert(ur5.schedule.clocksPerSample == 18 && ur5.schedule.multiplierBlocks <= 66, s"${ur5.schedule.clocksPerSample} clocks, ${ur5.schedule.multiplierBlocks} blocks")
   }
 
   it should "name the file when a configuration file is not HOCON" in {

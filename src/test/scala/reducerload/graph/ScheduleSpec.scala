@@ -35,7 +35,9 @@ class ScheduleSpec extends AnyFlatSpec {
           }
           val latency = op match {
             case Op.Mul(a, b) =>
-              val shape = if (ii == 1) MulShape.of(p.analysis(a).format.width, p.analysis(b).format.width) else s.widestShape
+              val own = MulShape.of(p.analysis(a).format.width, p.analysis(b).format.width)
+              val shape = s.unitShape(s.slot(id).get.unit.get)
+              assert(shape.wide >= own.wide && shape.narrow >= own.narrow, s"node ${id.index}: a $own multiply on a $shape unit")
               val rounds = p.analysis.productRounding(p.analysis(a).format.fracBits, p.analysis(b).format.fracBits).drop > 0 &&
                 p.productRounding != reducerload.fixedpoint.Rounding.Truncate
               PipelinedMultiplier.latency(shape.wide, shape.narrow) + p.multiplierLatency - 1 + (if (ii > 1 || rounds) 1 else 0)
@@ -62,7 +64,7 @@ class ScheduleSpec extends AnyFlatSpec {
 
   private def figures(label: String, p: ArmParams): Unit = {
     val s = p.schedule
-    println(f"[schedule] $label%-28s II ${s.clocksPerSample}%3d  mul units ${s.multiplierUnits}%3d (${if (s.dedicated) "own width" else s.widestShape.toString}%-8s) " +
+    println(f"[schedule] $label%-28s II ${s.clocksPerSample}%3d  mul units ${s.multiplierUnits}%3d (${s.unitSummary}%-20s) " +
       f"blocks ${s.multiplierBlocks}%4d  cordic ${s.cordicUnits}%2d  latency ${s.latency}%4d  held bits ${s.heldBits}%7d")
   }
 
@@ -95,7 +97,7 @@ class ScheduleSpec extends AnyFlatSpec {
   }
 
   it should "derive the fewest clocks per sample from a multiplier budget" in {
-    Seq(66, 40, 16, 6).foreach { budget =>
+    Seq(66, 40, 16, ur5.schedule.classes.map(_.shape.blocks).sum + ur5.cordic.multiplierBlocks).foreach { budget =>
       val q = scheduled(ur5, ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(budget)))
       val s = check(q)
       figures(s"ur5 budget $budget", q)
@@ -110,8 +112,9 @@ class ScheduleSpec extends AnyFlatSpec {
 
   it should "refuse infeasible requests naming the setting and what would work" in {
     def refusal(r: ScheduleRequest): String = intercept[IllegalArgumentException](scheduled(ur5, r).schedule).getMessage
-    val widest = ur5.schedule.widestShape.blocks
-    assert(refusal(ScheduleRequest(None, Some(widest - 1))).contains("schedule.max-multipliers"))
+    val least = ur5.schedule.classes.map(_.shape.blocks).sum + ur5.cordic.multiplierBlocks
+    val few = refusal(ScheduleRequest(None, Some(least - 1)))
+    assert(few.contains("schedule.max-multipliers") && few.contains(s"use at least $least"), few)
     val tight = refusal(ScheduleRequest(Some(2), Some(66)))
     assert(tight.contains("schedule.max-multipliers = 66") && tight.contains("clocks-per-sample >="), tight)
     val cordic = refusal(ScheduleRequest(Some(1), None, Some(1)))
