@@ -115,24 +115,27 @@ class ArmDatapath(val p: ArmParams) extends Module {
     val ready = schedule(id)
     def issue = schedule.slot(id).get.issue
     def register(v: SInt, cycle: Int): SInt = RegEnable(fit(v), during(cycle))
-    val stage0: Option[SInt] = graph(id) match {
-      case Const(_)                      => None
-      case Input(Signal.Velocity(j))     => Some(velocities(j)._1)
-      case Input(Signal.Acceleration(j)) => Some(accelerations(j)._1)
+    /** The value's register, seen by its readers. */
+    def kept(stage0: SInt): Map[Int, SInt] = held(stage0, ready.get, schedule.reads(id.index))
+    val taps: Map[Int, SInt] = graph(id) match {
+      case Const(_)                      => Map.empty
+      case Input(Signal.Velocity(j))     => kept(velocities(j)._1)
+      case Input(Signal.Acceleration(j)) => kept(accelerations(j)._1)
       case Trig(fn, a) =>
         val out = cordicOutputs(schedule.angleSlot(a).unit.get)
         val v = if (fn == TrigFn.Cos) out.cos else out.sin
-        Some(if (schedule.capturesCordic) RegEnable(v, during(ready.get - 1)) else v)
-      case Add(a, b) => Some(register(aligned(a, issue) + aligned(b, issue), issue))
-      case Sub(a, b) => Some(register(aligned(a, issue) - aligned(b, issue), issue))
-      case Neg(a)    => Some(register(-aligned(a, issue), issue))
+        kept(if (schedule.capturesCordic) RegEnable(v, during(ready.get - 1)) else v)
+      case Add(a, b) => kept(register(aligned(a, issue) + aligned(b, issue), issue))
+      case Sub(a, b) => kept(register(aligned(a, issue) - aligned(b, issue), issue))
+      case Neg(a)    => kept(register(-aligned(a, issue), issue))
       case Mul(a, b) =>
         val rule = analysis.productRounding(analysis(a).format.fracBits, analysis(b).format.fracBits)
         val rounded = fit(FixedHw.shiftRound(products(schedule.slot(id).get.unit.get), rule.drop, rule.rounding))
         val captured = !schedule.dedicated || rule.rounding != Rounding.Truncate
-        Some(if (captured) RegEnable(rounded, during(ready.get - 1)) else rounded)
+        if (schedule.forwarded(id)) Map(ready.get - 1 -> rounded) // its one reader takes it off the unit's output
+        else kept(if (captured) RegEnable(rounded, during(ready.get - 1)) else rounded)
     }
-    done :+ stage0.map(v => held(v, ready.get, schedule.reads(id.index))).getOrElse(Map.empty)
+    done :+ taps
   }
 
   schedule.mulBindings.zipWithIndex.foreach { case (bound, u) =>

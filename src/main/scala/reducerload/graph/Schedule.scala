@@ -38,7 +38,8 @@ final case class MulClass(shape: MulShape, ops: IndexedSeq[NodeId])
 final case class Slot(unit: Option[Int], issue: Int)
 
 /** The list scheduler's state after each node: ready cycles, issues, occupied (is multiplier, unit, residue), angles placed. */
-private final case class ScheduleState(ready: Vector[Option[Int]], slots: Vector[Option[Slot]], taken: Set[(Boolean, Int, Int)], angleSlots: Map[AngleSum, Slot])
+private final case class ScheduleState(ready: Vector[Option[Int]], slots: Vector[Option[Slot]], taken: Set[(Boolean, Int, Int)],
+  angleSlots: Map[AngleSum, Slot], forwarded: Set[NodeId])
 
 /**
  * Modulo schedule of a graph: a sample enters every `clocksPerSample` clocks (the initiation
@@ -175,7 +176,13 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
     Iterator.from(earliest).flatMap(r => units.find(u => !taken((isMul, u, r % ii))).map(u => Slot(Some(u), r)))
       .next()
 
-  private val state: ScheduleState = ids.foldLeft(ScheduleState(Vector.empty, Vector.empty, Set.empty, Map.empty)) { (s, id) =>
+  /** Readers of each node: operand occurrences and outputs. */
+  private val uses: IndexedSeq[Int] = {
+    val counts = (ids.flatMap(id => graph(id).operands) ++ graph.outputs.map(_.node)).groupBy(_.index).view.mapValues(_.size).toMap
+    ids.map(id => counts.getOrElse(id.index, 0))
+  }
+
+  private val state: ScheduleState = ids.foldLeft(ScheduleState(Vector.empty, Vector.empty, Set.empty, Map.empty, Set.empty)) { (s, id) =>
     def at(x: NodeId) = s.ready(x.index).getOrElse(0)
     def plain(ready: Option[Int], slot: Option[Slot]) = s.copy(ready = s.ready :+ ready, slots = s.slots :+ slot)
     graph(id) match {
@@ -196,10 +203,19 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
         s.copy(ready = s.ready :+ Some(slot.issue + mulLatency(id)), slots = s.slots :+ Some(slot),
           taken = s.taken + ((true, slot.unit.get, slot.issue % ii)))
       case op =>
-        val r = op.operands.map(at).max
-        plain(Some(r + 1), Some(Slot(None, r)))
+        // A shared unit's product is on its output for one cycle, then captured. A product with this
+        // adder as its only reader is taken straight from the unit in that cycle when the other
+        // operand is ready by then: the adder's register holds it, no capture register, one cycle less.
+        def forwardable(x: NodeId) = !dedicated && graph(x).isInstanceOf[Mul] && uses(x.index) == 1
+        def earliest(x: NodeId) = if (forwardable(x)) at(x) - 1 else at(x)
+        val r = op.operands.map(earliest).max
+        val direct = op.operands.filter(x => forwardable(x) && at(x) - 1 == r)
+        plain(Some(r + 1), Some(Slot(None, r))).copy(forwarded = s.forwarded ++ direct)
     }
   }
+
+  /** Multiplies whose only reader takes the product from the unit's output in the cycle before `ready`: they have no register. */
+  def forwarded(id: NodeId): Boolean = state.forwarded(id)
 
   /** Cycle from which each node's value of the current sample is in its register (None: a constant). */
   val ready: IndexedSeq[Option[Int]] = state.ready
@@ -241,7 +257,7 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
   }
 
   /** Register bits that hold values between their cycles (stage chains, see the hardware), for reports. */
-  def heldBits: Long = ids.map { id =>
+  def heldBits: Long = ids.filterNot(forwarded).map { id =>
     val last = reads(id.index).maxOption
     (apply(id), last) match {
       case (Some(t), Some(l)) => (if (ii == 1) (l - t + 1).toLong else ((l - t) / ii + 1).toLong) * analysis(id).format.width

@@ -31,7 +31,14 @@ class ScheduleSpec extends AnyFlatSpec {
         case _ =>
           val issue = s.slot(id).get.issue
           op.operands.foreach { x =>
-            s(x).foreach(ready => assert(ready <= issue, s"node ${id.index} reads node ${x.index} in cycle $issue, ready only in $ready"))
+            // A forwarded product is read off its unit's output, the cycle before its register would hold it.
+            val readable = s(x).map(r => if (s.forwarded(x)) r - 1 else r)
+            readable.foreach(ready => assert(ready <= issue, s"node ${id.index} reads node ${x.index} in cycle $issue, ready only in $ready"))
+            if (s.forwarded(x)) {
+              assert(readable.get == issue, s"forwarded node ${x.index} read in cycle $issue, on the unit's output only in ${readable.get}")
+              assert(g.ids.count(u => g(u).operands.contains(x)) == 1 && !g.outputs.exists(_.node == x), s"forwarded node ${x.index} has other readers")
+              assert(op.isInstanceOf[Op.Add] || op.isInstanceOf[Op.Sub] || op.isInstanceOf[Op.Neg])
+            }
           }
           val latency = op match {
             case Op.Mul(a, b) =>
