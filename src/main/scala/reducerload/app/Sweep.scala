@@ -22,8 +22,9 @@ object Sweep {
   val options: Seq[Opt] = Seq(
     Opt("out", "DIR", "where sweep.csv, sweep.md and the plots go", "sweep"),
     Opt("jobs", "N", "estimates run at once (1..16; each place and route uses one core)", "the number of cores"))
-  val flags: Seq[String] = Seq("fmax")
-  val flagHelp: Map[String, String] = Map("fmax" -> "place and route every point on ECP5 for the Fmax proxy (1 to 5 minutes each)")
+  val flags: Seq[String] = Seq("fmax", "arms")
+  val flagHelp: Map[String, String] = Map("fmax" -> "place and route every point on ECP5 for the Fmax proxy (1 to 5 minutes each)",
+    "arms" -> "sweep every joint of planar3, the UR5 and the Panda over the schedule (clocks per sample, multiplier budget) instead of the joint-3 grid")
 
   /** The grid: named points, each a complete configuration. */
   def grid: Seq[(String, LoadParams)] = {
@@ -85,6 +86,10 @@ object Sweep {
       scala.util.Try(v.toInt).filter(j => j >= 1 && j <= 16)
         .getOrElse(throw new InputError(s"command line: --jobs must be an integer in 1..16, got '$v'"))
     }.getOrElse(Runtime.getRuntime.availableProcessors.min(16))
+    if (cli.has("arms")) {
+      val command = "./sbt \"run sweep --arms" + cli.path("out").map(d => s" --out $d").getOrElse("") + (if (fmax) " --fmax" else "") + "\""
+      return ArmSweep.run(out, fmax, jobs, command)
+    }
     // A preset equal to a grid point is measured once (place and route takes minutes). Elaboration
     // and the golden error run here in turn; the estimates (external processes) run `jobs` at once,
     // after the first one alone has set up the tools' virtual environments.

@@ -81,6 +81,14 @@ class SweepDocsSpec extends AnyFlatSpec {
     Seq("error_vs_les.png", "memory_vs_precision.png").foreach(f => assert(Files.exists(Paths.get("docs", "sweep", f)), s"docs/sweep/$f missing"))
   }
 
+  it should "show the arm table that run sweep --arms wrote into docs/sweep" in {
+    val readme = new String(Files.readAllBytes(Paths.get("README.md")), "UTF-8")
+    val table = new String(Files.readAllBytes(Paths.get("docs", "sweep", "arms.md")), "UTF-8").linesIterator.filter(_.startsWith("|")).toSeq
+    assert(table.size > 2)
+    table.foreach(row => assert(readme.contains(row), s"README lacks the arm sweep row: $row"))
+    assert(Files.exists(Paths.get("docs", "sweep", "arms_pareto.png")), "docs/sweep/arms_pareto.png missing")
+  }
+
   it should "quote the sweep's own figures in the preset comparison beside the paper" in {
     val readme = new String(Files.readAllBytes(Paths.get("README.md")), "UTF-8").linesIterator.toSeq
     val csv = new String(Files.readAllBytes(Paths.get("docs", "sweep", "sweep.csv")), "UTF-8").linesIterator.map(_.split(",", -1).toSeq).toSeq

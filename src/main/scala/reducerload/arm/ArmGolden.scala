@@ -1,6 +1,5 @@
-package reducerload.testutil
+package reducerload.arm
 
-import reducerload.arm.{ArmConfig, ArmSample, ArmTrajectory}
 import reducerload.load.{LoadParams, RobotParams}
 import reducerload.robot.SerialChain
 import reducerload.trace.TraceCsv
@@ -9,7 +8,7 @@ import java.nio.file.{Files, Paths}
 import scala.jdk.CollectionConverters._
 
 /**
- * A golden arm trace from golden/arms/: samples, Pinocchio's torques for every joint, and the
+ * A golden arm trace from golden/arms/ (the tests' references and the sweep's measured errors): samples, Pinocchio's torques for every joint, and the
  * configuration a user would write for its robot and ranges (the `arm` preset with `--robot`).
  */
 final case class ArmGoldenTrace(name: String, robot: String, config: LoadParams, chain: SerialChain,
