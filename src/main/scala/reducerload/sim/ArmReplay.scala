@@ -51,5 +51,5 @@ final class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOut
   def errorLabels: IndexedSeq[String] = p.jointNames
   def errorBounds: IndexedSeq[Double] = p.errorBounds
   def description: String = s"robot ${p.chain.name} ($joints joints), every joint by RNEA"
-  def throughput: String = "one sample per clock"
+  def throughput: String = if (samplePeriod == 1) "one sample per clock" else s"one sample every $samplePeriod clocks"
 }
