@@ -42,6 +42,19 @@ class ArmDatapath(val p: ArmParams) extends Module {
       counter := Mux(counter === (ii - 1).U, 0.U, counter + 1.U)
       counter
     }
+  /**
+   * The entry of the current phase: a multiplexer tree indexed by the phase. Residues no operation
+   * uses repeat the entry before them (any value would do; a repeat lets synthesis merge inputs).
+   */
+  private def byPhase[T <: Data](entries: Seq[(Int, T)]): T =
+    if (entries.size == 1) entries.head._2
+    else {
+      val table = entries.toMap
+      val first = entries.minBy(_._1)._2
+      val filled = (0 until ii).scanLeft(Option.empty[T])((prev, r) => table.get(r).orElse(prev)).tail.map(_.getOrElse(first))
+      VecInit(filled)(phase)
+    }
+
   /** True in cycle `cycle` of every sample (and in every cycle at II = 1). */
   private def during(cycle: Int): Bool = if (ii == 1) true.B else phase === (cycle % ii).U
 
@@ -93,7 +106,7 @@ class ArmDatapath(val p: ArmParams) extends Module {
     val unit = Module(new CordicSinCos(p.cordic))
     val sums = bound.map { case (residue, angle) => residue -> angleSum(angle, schedule.angleSlot(angle).issue) }
     unit.io.in.valid := true.B // no data register waits on valid; the datapath's own valid chain says which samples count
-    unit.io.in.bits := RegNext(if (sums.size == 1) sums.head._2 else MuxLookup(phase, 0.U)(sums.map { case (r, s) => r.U -> s }))
+    unit.io.in.bits := RegNext(byPhase(sums))
     unit.io.out.bits
   }
 
@@ -150,10 +163,8 @@ class ArmDatapath(val p: ArmParams) extends Module {
       val (wide, narrow) = if (analysis(a).format.width >= analysis(b).format.width) (tap(a), tap(b)) else (tap(b), tap(a))
       (wide.pad(shape.wide), narrow.pad(shape.narrow))
     }
-    def select(pick: ((SInt, SInt)) => SInt, width: Int): SInt =
-      if (bound.size == 1) pick(operands(bound.head._2))
-      else MuxLookup(phase, 0.S(width.W))(bound.map { case (r, id) => r.U -> pick(operands(id)) })
-    val product = PipelinedMultiplier(select(_._1, shape.wide), select(_._2, shape.narrow))
+    def select(pick: ((SInt, SInt)) => SInt): SInt = byPhase(bound.map { case (r, id) => r -> pick(operands(id)) })
+    val product = PipelinedMultiplier(select(_._1), select(_._2))
     products(u) := FixedHw.delay(product, p.multiplierLatency - 1)
   }
 
