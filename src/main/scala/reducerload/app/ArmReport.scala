@@ -58,6 +58,8 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
       s"${schedule.cordicUnits} CORDIC units for ${counts.sinCos} angles; ${counts.additions + counts.negations} adders; " +
       s"${schedule.heldBits} register bits hold values between cycles",
     f"Derived worst-case error bound: ${p.errorBound}%.3e N·m (largest over joints; vs double-precision RNEA at the unquantized inputs)",
+    s"Fraction bits: velocity ${p.velocityFracBits}, acceleration ${p.accelerationFracBits}, constants ${p.constantFracBits}, " +
+      s"products and sums ${p.internalFracBits}, output ${p.outputFracBits} (numeric.target-error, when set, chose them)",
     s"Output format: ${p.analysis.outputPortFormat}; widest internal node: ${p.analysis.widest._2.format}"
   ) ++ p.cordic.report.linesIterator.toSeq ++ monitorLines
 
@@ -114,6 +116,8 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
         "additions" -> counts.additions, "negations" -> counts.negations, "sin_cos" -> counts.sinCos).asJava,
       "multiplier_blocks" -> schedule.multiplierBlocks,
       "error_bound_nm" -> p.errorBound,
+      "frac_bits" -> Map("velocity" -> p.velocityFracBits, "acceleration" -> p.accelerationFracBits, "constant" -> p.constantFracBits,
+        "internal" -> p.internalFracBits, "output" -> p.outputFracBits).asJava,
       "angle_bits" -> n.angleBits,
       "velocity_format" -> fmt(n.velocityPortFormat),
       "acceleration_format" -> fmt(n.accelerationPortFormat),

@@ -45,7 +45,8 @@ final case class ArmParams(
   /** RNEA on graph nodes, the datapath's structure written once, and the vector-level bounds proved while building it. */
   private lazy val built: (Graph, RangeHints) = ArmParams.rneaGraph(chain, maxVelocity, maxAcceleration)
   lazy val graph: Graph = built._1
-  lazy val analysis: Analysis = new Analysis(graph, numerics, built._2)
+  lazy val rangeHints: RangeHints = built._2
+  lazy val analysis: Analysis = new Analysis(graph, numerics, rangeHints)
   lazy val schedule: Schedule = new Schedule(analysis, scheduleRequest, cordic, multiplierLatency, ArmDatapath.inputCycle)
 
   /** Cycles from a sample on the input port to its torques on the output port. */
@@ -92,22 +93,49 @@ object ArmConfig {
   private def perJoint(chain: SerialChain, values: Seq[Double], key: String, fromUrdf: Option[IndexedSeq[Option[Double]]]): Seq[Double] =
     values.size match {
       case 0 =>
-        val limits = fromUrdf.getOrElse(throw new IllegalArgumentException(s"robot.$key must be declared for ${chain.name}"))
+        val limits = fromUrdf.getOrElse(throw new IllegalArgumentException(s"$key must be declared for ${chain.name}"))
         chain.joints.zip(limits).map { case (j, l) =>
-          l.getOrElse(throw new IllegalArgumentException(s"joint ${j.name} has no <limit velocity> in the URDF: declare robot.$key"))
+          l.getOrElse(throw new IllegalArgumentException(s"joint ${j.name} has no <limit velocity> in the URDF: declare $key"))
         }
       case 1                      => Seq.fill(chain.size)(values.head)
       case n if n == chain.size => values
-      case n => throw new IllegalArgumentException(s"robot ${chain.name} has ${chain.size} joints but robot.$key gives $n values")
+      case n => throw new IllegalArgumentException(s"robot ${chain.name} has ${chain.size} joints but $key gives $n values")
     }
 
-  /** The arm datapath's parameters from a configuration whose model is rnea. */
+  /** The arm datapath's parameters from a configuration whose model is rnea (fraction bits fitted to `numeric.target-error` if set). */
   def apply(p: LoadParams): ArmParams = {
+    val asSet = configured(p)
+    if (p.targetError.isEmpty) asSet else fitted(asSet, perJoint(asSet.chain, p.targetError, "numeric.target-error", None))
+  }
+
+  /** Fraction-bit offsets tried for a target error: every kind of value moves together. */
+  val fracBitShifts: Range = -16 to 16
+
+  /**
+   * `p` with every fraction-bit setting moved by the same number of bits: the fewest for which each
+   * joint's derived bound meets its target (fewer bits: narrower operands, adders and registers,
+   * fewer multiplier blocks once an operand drops below a 17-bit chunk boundary). The graph does not
+   * change, only its analysis, so each try costs one analysis.
+   */
+  def fitted(p: ArmParams, targets: Seq[Double]): ArmParams = {
+    def shifted(d: Int) = scala.util.Try(p.copy(velocityFracBits = p.velocityFracBits + d, accelerationFracBits = p.accelerationFracBits + d,
+      constantFracBits = p.constantFracBits + d, internalFracBits = p.internalFracBits + d, outputFracBits = p.outputFracBits + d)).toOption
+    def bounds(q: ArmParams) = scala.util.Try(new Analysis(p.graph, q.numerics, p.rangeHints).outputs.map(_.errorBound)).toOption
+    def meets(q: ArmParams) = bounds(q).exists(_.zip(targets).forall { case (b, t) => b <= t })
+    fracBitShifts.iterator.flatMap(shifted).find(meets).getOrElse {
+      val best = fracBitShifts.reverseIterator.flatMap(shifted).flatMap(bounds).next()
+      val (worst, j) = best.zip(targets).map { case (b, t) => b / t }.zipWithIndex.maxBy(_._1)
+      throw new IllegalArgumentException(f"numeric.target-error ${targets(j)}%.3g N·m for ${p.jointNames(j)} cannot be met: with the most fraction bits (up to 40) " +
+        f"its bound is ${best(j)}%.3g N·m, dominated by the sin/cos unit (raise cordic.output-bits)")
+    }
+  }
+
+  private def configured(p: LoadParams): ArmParams = {
     require(!p.model.closedForm, s"model ${p.model.name} is a joint-3 closed form, not an arm")
     val c = chain(p)
     ArmParams(c,
-      perJoint(c, p.robot.maxVelocity, "max-velocity", Some(c.joints.map(_.velocityLimit))),
-      perJoint(c, p.robot.maxAcceleration, "max-acceleration", None),
+      perJoint(c, p.robot.maxVelocity, "robot.max-velocity", Some(c.joints.map(_.velocityLimit))),
+      perJoint(c, p.robot.maxAcceleration, "robot.max-acceleration", None),
       cordic = p.cordic, velocityFracBits = p.velocityFracBits, accelerationFracBits = p.accelerationFracBits,
       constantFracBits = p.constantFracBits, internalFracBits = p.internalFracBits, outputFracBits = p.outputFracBits,
       productRounding = p.productRounding, multiplierLatency = p.multiplierLatency, memoryDelayMinCycles = p.memoryDelayMinCycles,

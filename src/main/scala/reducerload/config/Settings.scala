@@ -171,6 +171,8 @@ object Settings {
       "none", _.schedule.maxMultipliers),
     new Count("schedule.cordic-units", "", "model rnea: sin/cos units shared by the joint angles (auto: the fewest that keep clocks-per-sample)", Nil,
       "auto", _.schedule.cordicUnits),
+    new PerJoint("numeric.target-error", "N·m", "model rnea: derived error bound to meet per joint; the datapath's fraction bits become the fewest that meet it " +
+      "(none: as set above)", Seq("target-error"), _.targetError, keyword = Some("none")),
     new Switch("monitor.enabled", "", "build the reducer life and limit monitor beside the arm datapath (model rnea; docs/monitor.md)", Nil,
       _.monitor.enabled),
     new PerJoint("monitor.exponent", "", "life exponent p per joint in [1, 10]: 3 strain-wave (Harmonic Drive), 3.3333333333333335 (10/3) cycloidal (RV)",
@@ -264,6 +266,7 @@ object Settings {
         multiplierLatency = int("datapath.multiplier-latency"),
         memoryDelayMinCycles = int("datapath.memory-delay-min-cycles"),
         cordicUnits = int("datapath.cordic-units"),
+        targetError = joints("numeric.target-error"),
         schedule = reducerload.graph.ScheduleRequest(count("schedule.clocks-per-sample"), count("schedule.max-multipliers"), count("schedule.cordic-units")),
         monitor = MonitorSettings(
           enabled = bool("monitor.enabled"),
@@ -302,7 +305,7 @@ object Settings {
 
   /** A complete HOCON file for `p`, grouped by section, with units and meanings as comments. */
   def render(p: LoadParams, header: Seq[String]): String = {
-    val order = Seq("", "robot", "cordic", "datapath", "schedule", "monitor")
+    val order = Seq("", "robot", "cordic", "datapath", "numeric", "schedule", "monitor")
     val body = order.flatMap { section =>
       val settings = all.filter(s => (if (s.key.contains('.')) s.key.takeWhile(_ != '.') else "") == section)
       if (settings.isEmpty) Nil

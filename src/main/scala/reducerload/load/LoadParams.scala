@@ -21,6 +21,8 @@ import reducerload.fixedpoint.{Bounded, FixedFormat, Rounding}
  *                             time-shared by the three angles, one sample every 3 clocks (resource
  *                             sharing for sample rates far below the clock)
  * @param monitor              the reducer life and limit monitor beside the arm datapath (`monitor.*` keys)
+ * @param targetError          model rnea: N·m per joint (one value: every joint; empty: none); the fraction bits become
+ *                             the fewest that meet it (see [[reducerload.arm.ArmConfig]])
  * @param schedule             model rnea: clocks per sample, multiplier budget, CORDIC units (`schedule.*` keys; see [[reducerload.graph.Schedule]])
  */
 final case class LoadParams(
@@ -37,7 +39,8 @@ final case class LoadParams(
   memoryDelayMinCycles: Int = 4,
   cordicUnits: Int = 3,
   monitor: reducerload.monitor.MonitorSettings = reducerload.monitor.MonitorSettings(),
-  schedule: reducerload.graph.ScheduleRequest = reducerload.graph.ScheduleRequest()) {
+  schedule: reducerload.graph.ScheduleRequest = reducerload.graph.ScheduleRequest(),
+  targetError: Seq[Double] = Nil) {
 
   Seq(
     "velocityFracBits" -> velocityFracBits,
@@ -69,6 +72,10 @@ final case class LoadParams(
 
   require(!model.closedForm || schedule == reducerload.graph.ScheduleRequest(),
     s"schedule.* applies to model rnea (every joint of an arm); the joint-3 closed form ${model.name} shares CORDIC units by datapath.cordic-units")
+
+  require(!model.closedForm || targetError.isEmpty,
+    s"numeric.target-error applies to model rnea (every joint of an arm); the joint-3 closed form ${model.name} takes its fraction bits as set")
+  targetError.foreach(t => require(!t.isNaN && t > 0 && t < 1e6, s"numeric.target-error must be positive N·m, got $t"))
 
   require(!monitor.enabled || !model.closedForm,
     s"monitor.enabled = true needs model rnea (the monitor watches every joint of the arm datapath); model ${model.name} is planar3's joint-3 closed form")

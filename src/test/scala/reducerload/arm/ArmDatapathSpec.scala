@@ -20,17 +20,18 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "ArmDatapath"
 
   /** Every golden trace of `robot` back to back, then seeded random samples; each joint checked against Pinocchio. */
-  private def runRobot(robot: String, seed: Long, schedule: ScheduleRequest = ScheduleRequest()): Unit = {
+  private def runRobot(robot: String, seed: Long, schedule: ScheduleRequest = ScheduleRequest(), targetError: Seq[Double] = Nil): Unit = {
     val traces = ArmGolden.of(robot)
     traces.foreach(t => assert(t.config == traces.head.config, s"${t.name}: another robot or other ranges than ${traces.head.name}"))
-    val p = ArmConfig(traces.head.config).copy(scheduleRequest = schedule)
+    val p = ArmConfig(traces.head.config.copy(targetError = targetError)).copy(scheduleRequest = schedule)
     assert(p.errorBound <= ArmChecks.target, s"$robot: derived bound ${p.errorBound} misses the target ${ArmChecks.target}")
     val rng = new Random(Seeds(s"arm-$robot", seed))
     val random = IndexedSeq.fill(SimBackend.scale(1000)) {
       val (q, qd, qdd) = RandomChains.sample(rng, p.maxVelocity.map(_ * 1.1), p.maxAcceleration.map(_ * 1.1))
       ArmSample(q, qd, qdd)
     }
-    val label = if (p.schedule.clocksPerSample == 1) robot else s"$robot II=${p.schedule.clocksPerSample}"
+    val label = (if (p.schedule.clocksPerSample == 1) robot else s"$robot II=${p.schedule.clocksPerSample}") +
+      (if (targetError.isEmpty) "" else s" target ${targetError.mkString(",")} (F=${p.internalFracBits})")
     ArmChecks.run(this, label, p, traces.flatMap(_.samples).toIndexedSeq, random, rng, traces.flatMap(_.torques).toIndexedSeq)
   }
 
@@ -54,6 +55,10 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   it should "fit the UR5 in the 66 multiplier blocks of an EP4CE30, bit-exact under back-pressure" in {
     runRobot("ur5", 47L, ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)))
+  }
+
+  it should "meet a 1e-3 N·m target on the UR5 with the fewest fraction bits, in 66 blocks" in {
+    runRobot("ur5", 48L, ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)), targetError = Seq(1e-3))
   }
 }
 

@@ -129,3 +129,33 @@ class ScheduleSpec extends AnyFlatSpec {
     assert(intercept[IllegalArgumentException](ScheduleRequest(Some(0))).getMessage.contains("schedule.clocks-per-sample"))
   }
 }
+
+/** `numeric.target-error`: the fewest fraction bits whose derived bounds meet the target, checked against one bit fewer. */
+class TargetErrorSpec extends AnyFlatSpec {
+  behavior of "numeric.target-error"
+
+  private lazy val ur5 = ArmGolden.of("ur5").head.config
+
+  it should "pick the fewest fraction bits that meet the target on every joint" in {
+    Seq(1e-2, 1e-3, 4e-4).foreach { target =>
+      val p = ArmConfig(ur5.copy(targetError = Seq(target)))
+      assert(p.errorBounds.forall(_ <= target), s"target $target: bounds ${p.errorBounds}")
+      val fewer = ArmConfig.fitted(p, Seq.fill(p.chain.size)(Double.MaxValue)) // any bits meet this: the fewest allowed
+      val oneLess = scala.util.Try(p.copy(velocityFracBits = p.velocityFracBits - 1, accelerationFracBits = p.accelerationFracBits - 1,
+        constantFracBits = p.constantFracBits - 1, internalFracBits = p.internalFracBits - 1, outputFracBits = p.outputFracBits - 1))
+      oneLess.foreach(q => assert(q.errorBounds.zipWithIndex.exists { case (b, _) => b > target }, s"target $target: one bit fewer also meets it"))
+      assert(fewer.internalFracBits <= p.internalFracBits)
+      println(f"[target] ur5 target $target%.0e N·m: internal frac bits ${p.internalFracBits}, worst bound ${p.errorBound}%.3e, " +
+        s"widest node ${p.analysis.widest._2.format}, ${p.copy(scheduleRequest = ScheduleRequest(None, Some(66))).schedule.unitSummary}")
+    }
+    val perJoint = ArmConfig(ur5.copy(targetError = Seq(1e-3, 1e-3, 1e-3, 1e-4, 1e-4, 1e-5)))
+    assert(perJoint.errorBounds.zip(Seq(1e-3, 1e-3, 1e-3, 1e-4, 1e-4, 1e-5)).forall { case (b, t) => b <= t })
+  }
+
+  it should "refuse a target the sin/cos unit cannot reach, and a wrong number of targets" in {
+    val e = intercept[IllegalArgumentException](ArmConfig(ur5.copy(targetError = Seq(1e-12))))
+    assert(e.getMessage.contains("numeric.target-error") && e.getMessage.contains("cordic.output-bits"), e.getMessage)
+    val n = intercept[IllegalArgumentException](ArmConfig(ur5.copy(targetError = Seq(1e-3, 1e-3))))
+    assert(n.getMessage.contains("numeric.target-error gives 2 values"), n.getMessage)
+  }
+}
