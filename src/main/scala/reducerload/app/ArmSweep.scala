@@ -25,22 +25,27 @@ object ArmSweep {
 
   val robots: Seq[String] = Seq("planar3", "ur5", "panda")
 
-  /** The schedule axis: intervals from one clock to hundreds, and the fewest clocks within an EP4CE30's 66 blocks. */
-  val schedules: Seq[(String, ScheduleRequest)] =
-    Seq(1, 4, 16, 64, 256).map(c => s"ii$c" -> ScheduleRequest(clocksPerSample = Some(c))) :+
-      ("budget66" -> ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)))
+  /**
+   * The schedule axis: intervals from one clock to hundreds, and the fewest clocks within an
+   * EP4CE30's 66 blocks; then two of them with the fraction bits fitted to 1e-3 N·m (`numeric.target-error`).
+   */
+  val schedules: Seq[(String, ScheduleRequest, Seq[Double])] =
+    Seq(1, 4, 16, 64, 256).map(c => (s"ii$c", ScheduleRequest(clocksPerSample = Some(c)), Nil)) ++ Seq(
+      ("budget66", ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)), Nil),
+      ("budget66-t1e-3", ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)), Seq(1e-3)),
+      ("ii64-t1e-3", ScheduleRequest(clocksPerSample = Some(64)), Seq(1e-3)))
 
   final case class Row(robot: String, point: String, p: ArmParams, errors: IndexedSeq[Double], estimate: Estimate) {
     private val s = p.schedule
     def fmax: Option[Double] = estimate.fmaxEcp5Mhz
     def samplesPerSecond: Double = s.samplesPerSecond(fmax.getOrElse(nominalMhz) * 1e6)
-    def cells: Seq[String] = Seq(robot, point, p.chain.size.toString, s.clocksPerSample.toString, s.latency.toString,
+    def cells: Seq[String] = Seq(robot, point, p.chain.size.toString, p.internalFracBits.toString, s.clocksPerSample.toString, s.latency.toString,
       f"${s.latency * 1000 / fmax.getOrElse(nominalMhz)}%.0f", f"$samplesPerSecond%.3g", s.multiplierUnits.toString, s.cordicUnits.toString,
       s.multiplierBlocks.toString, estimate.mult18x18.toString, estimate.les.toString, estimate.registers.toString, estimate.memoryBits.toString,
       fmax.map(f => f"$f%.1f").getOrElse(""), f"${errors.max}%.2e", f"${p.errorBound}%.2e",
       errors.map(e => f"$e%.1e").mkString(" "), p.errorBounds.map(e => f"$e%.1e").mkString(" "))
   }
-  val header: Seq[String] = Seq("robot", "schedule", "joints", "clocks_per_sample", "latency_cycles", "latency_ns", "samples_per_s",
+  val header: Seq[String] = Seq("robot", "schedule", "joints", "internal_frac_bits", "clocks_per_sample", "latency_cycles", "latency_ns", "samples_per_s",
     "mul_units", "cordic_units", "mult_blocks", "est_mult18x18", "est_les", "registers", "memory_bits", "fmax_ecp5_mhz",
     "max_error_nm", "bound_nm", "max_error_per_joint", "bound_per_joint")
 
@@ -55,9 +60,14 @@ object ArmSweep {
 
   def run(out: Path, fmax: Boolean, jobs: Int, command: String): Unit = {
     val designs = robots.flatMap { robot =>
-      val base = reducerload.arm.ArmConfig(ArmGolden.of(robot).head.config)
-      val errors = goldenErrors(base, robot)
-      schedules.map { case (point, request) =>
+      val config = ArmGolden.of(robot).head.config
+      // The numerics, and so the errors, depend on the target only: once per target.
+      val byTarget = schedules.map(_._3).distinct.map { t =>
+        val base = reducerload.arm.ArmConfig(config.copy(targetError = t))
+        t -> (base, goldenErrors(base, robot))
+      }.toMap
+      schedules.map { case (point, request, target) =>
+        val (base, errors) = byTarget(target)
         val p = base.copy(scheduleRequest = request)
         println(s"sweep: elaborating $robot $point (${p.schedule.clocksPerSample} clocks per sample)")
         val top = s"ArmDatapath_${p.tag}"
