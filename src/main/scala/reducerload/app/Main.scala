@@ -12,6 +12,7 @@ object Main {
   val commands: Seq[(String, String, Seq[Opt], Seq[String])] = Seq(
     ("emit", "emit SystemVerilog, report.md, report.json and config.conf", Emit.options, Emit.flags),
     ("simulate", "stream a trajectory CSV through the RTL on Verilator and compare with the reference", Simulate.options, Simulate.flags),
+    ("trajectory", "write a seeded random trajectory CSV within the design's declared ranges (for simulate benchmarks)", Trajectory.options, Nil),
     ("sweep", "design-space benchmark: error, latency, resources (and Fmax) over a grid; CSV, markdown, plots", Sweep.options, Sweep.flags),
     ("soak", "stream many seeded random samples (bubbles, resets, out-of-range inputs) through the RTL, check each against the model", Soak.options, Nil),
     ("config", "print the effective configuration as a complete HOCON file (a starting point for --config)", Nil, Nil),
@@ -57,6 +58,7 @@ object Main {
       case "help"     => println(help)
       case "emit"     => Emit.run(Cli.parse("emit", rest, Emit.options, Emit.flags), commandLine)
       case "simulate" => Simulate.run(Cli.parse("simulate", rest, Simulate.options, Simulate.flags))
+      case "trajectory" => Trajectory.run(Cli.parse("trajectory", rest, Trajectory.options))
       case "sweep"    => Sweep.run(Cli.parse("sweep", rest, Sweep.options, Sweep.flags, design = false))
       case "soak"     => Soak.main(Cli.parse("soak", rest, Soak.options))
       case "settings-table" => Cli.parse("settings-table", rest, Nil, design = false); println(Settings.markdownTable)

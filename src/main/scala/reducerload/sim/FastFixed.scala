@@ -56,4 +56,43 @@ object FastFixed {
     // Two's complement: the low bits are the non-negative residue modulo the turn.
     if (v != noFastAnswer) BigInt(v & ((1L << f.fracBits) - 1)) else f.quantize(fraction, Rounding.HalfUp).mod(BigInt(1) << f.fracBits)
   }
+
+  // ---- long arithmetic of the models (FastLoadModel), for formats of at most 62 bits ----
+
+  /** The least and greatest raw code of `f` as longs (`f.minRaw`, `f.maxRaw`); `f` is at most 63 bits wide. */
+  def minOf(f: FixedFormat): Long = { require(f.width <= 63, s"FastFixed: $f is wider than 63 bits"); -(1L << (f.width - 1)) }
+  def maxOf(f: FixedFormat): Long = { require(f.width <= 63, s"FastFixed: $f is wider than 63 bits"); (1L << (f.width - 1)) - 1 }
+
+  /** `FixedFormat.shiftRound` of a long. */
+  def shiftRound(raw: Long, drop: Int, rounding: Rounding): Long = {
+    require(drop >= 0 && drop < 63, s"shiftRound: cannot drop $drop bits of a long")
+    if (drop == 0) raw
+    else rounding match {
+      case Rounding.Truncate => raw >> drop
+      case Rounding.HalfUp   => Math.addExact(raw, 1L << (drop - 1)) >> drop
+    }
+  }
+
+  /**
+   * `FixedFormat.shiftRound(a * b, drop, rounding)` on the exact 128-bit product; the result must fit
+   * a long (otherwise an ArithmeticException, never a wrapped value).
+   */
+  def mulShiftRound(a: Long, b: Long, drop: Int, rounding: Rounding): Long = {
+    require(drop >= 0 && drop < 127, s"mulShiftRound: cannot drop $drop bits")
+    var lo = a * b
+    var hi = Math.multiplyHigh(a, b)
+    if (rounding == Rounding.HalfUp && drop > 0) {
+      if (drop - 1 < 64) {
+        val sum = lo + (1L << (drop - 1))
+        if (java.lang.Long.compareUnsigned(sum, lo) < 0) hi += 1
+        lo = sum
+      } else hi += 1L << (drop - 1 - 64)
+    }
+    val (result, rest) =
+      if (drop == 0) (lo, hi)
+      else if (drop < 64) ((lo >>> drop) | (hi << (64 - drop)), hi >> drop)
+      else (hi >> (drop - 64), hi >> 63)
+    if (rest != (result >> 63)) throw new ArithmeticException(s"mulShiftRound: $a * $b >> $drop does not fit a long")
+    result
+  }
 }

@@ -6,6 +6,8 @@ import reducerload.load.{JointSample, LoadDatapath, LoadDatapathModel, LoadInput
 final class LoadReplay(val p: LoadParams) extends ReplayDesign[LoadInputCodes, LoadOutputCodes] {
   require(p.model.closedForm, s"LoadReplay: model ${p.model.name} is not a joint-3 closed form")
   private val model = new LoadDatapathModel(p)
+  /** The model in long arithmetic when the formats allow (tested equal to `model`). */
+  private val fast = if (FastLoadModel.supports(p)) Some(new FastLoadModel(p)) else None
   private val angleFormat = FastFixed.angleFormat(p.angleBits)
 
   val columns: Seq[String] = JointSample.columns
@@ -21,7 +23,7 @@ final class LoadReplay(val p: LoadParams) extends ReplayDesign[LoadInputCodes, L
       p.velocityFormats.indices.map(j => FastFixed.codeHalfUp(row(3 + j), p.velocityFormats(j))),
       p.accelerationFormats.indices.map(j => FastFixed.codeHalfUp(row(6 + j), p.accelerationFormats(j))))
   }
-  def evaluate(in: LoadInputCodes): LoadOutputCodes = model.evaluate(in)
+  def evaluate(in: LoadInputCodes): LoadOutputCodes = fast.fold(model.evaluate(in))(_.evaluate(in))
 
   lazy val ports: HarnessPorts = LoadHarnessPorts(p)
   def harnessValues(in: LoadInputCodes): Seq[BigInt] = LoadHarnessPorts.values(in)

@@ -54,6 +54,34 @@ final class CsvRecordReader(source: String, text: String) {
     None
   }
 
+  /**
+   * The next record when it is a plain data row (the usual case, read without building strings):
+   * exactly `into.length` unquoted numbers ([[DecimalCell]]), then a line break or the end. Fills
+   * `into` and returns the row's line; otherwise returns -1 and consumes nothing, and [[next]] reads
+   * the record (a comment, a blank line, quotes, a bad cell, a wrong count) by the full rules.
+   */
+  def nextNumbers(into: Array[Double]): Int = {
+    var i = pos
+    var k = 0
+    while (k < into.length) {
+      val from = i
+      while (i < text.length && { val c = text.charAt(i); c != ',' && c != '"' && !isBreak(c) }) i += 1
+      if (i < text.length && text.charAt(i) == '"') return -1
+      val v = DecimalCell.parse(text, from, i)
+      if (v.isNaN) return -1
+      into(k) = v
+      k += 1
+      if (k < into.length) {
+        if (i < text.length && text.charAt(i) == ',') i += 1 else return -1
+      }
+    }
+    if (i < text.length && !isBreak(text.charAt(i))) return -1
+    val at = line
+    pos = i
+    if (!atEnd) skipBreak()
+    at
+  }
+
   private def readCells(fieldName: Int => String): CsvRecord = {
     val start = line
     val cells = IndexedSeq.newBuilder[String]

@@ -4,6 +4,8 @@ import java.nio.charset.{CharacterCodingException, CodingErrorAction, StandardCh
 import java.io.{ByteArrayInputStream, IOException}
 import java.nio.file.{Files, Path}
 import java.util.zip.GZIPInputStream
+import scala.collection.immutable.ArraySeq
+import scala.collection.mutable.ArrayBuffer
 import scala.util.Try
 
 /** A user error in an input file: one line naming the file, row and column. */
@@ -73,10 +75,18 @@ object TraceCsv {
     val raw = Files.readAllBytes(path)
     val bytes = if (isGzip(path)) gunzip(source, raw) else raw
     val text =
-      try StandardCharsets.UTF_8.newDecoder().onMalformedInput(CodingErrorAction.REPORT).decode(java.nio.ByteBuffer.wrap(bytes)).toString
+      // Plain ASCII (the usual trajectory) is valid UTF-8 as it is: no decoder pass.
+      if (isAscii(bytes)) new String(bytes, StandardCharsets.ISO_8859_1)
+      else try StandardCharsets.UTF_8.newDecoder().onMalformedInput(CodingErrorAction.REPORT).decode(java.nio.ByteBuffer.wrap(bytes)).toString
       catch { case _: CharacterCodingException => throw new InputError(s"$source: not a text file (invalid UTF-8)") }
     if (text.contains('\u0000')) throw new InputError(s"$source: not a text file (contains NUL bytes)")
     parse(source, text, required)
+  }
+
+  private def isAscii(bytes: Array[Byte]): Boolean = {
+    var i = 0
+    while (i < bytes.length && bytes(i) >= 0) i += 1
+    i == bytes.length
   }
 
   def parse(source: String, text: String, required: Seq[String]): TraceTable = {
@@ -102,16 +112,31 @@ object TraceCsv {
     if (missing.nonEmpty)
       throw new InputError(s"$source:$headerLine: missing column(s) ${missing.map("'" + _ + "'").mkString(", ")} (header: ${oneLine(header.mkString(","))})")
     val columnName = (i: Int) => if (i < header.size) s"column '${oneLine(header(i))}'" else s"field ${i + 1}"
-    val rows = Iterator.continually(nextCells(columnName)).takeWhile(_.isDefined).flatten.map { case CsvRecord.Cells(lineNo, cells) =>
+    def numbers(lineNo: Int, cells: IndexedSeq[String]): IndexedSeq[Double] = {
       if (cells.size != header.size)
         throw new InputError(s"$source:$lineNo: ${cells.size} values, the header has ${header.size} columns")
-      lineNo -> cells.zip(header).map { case (cell, col) =>
+      ArraySeq.unsafeWrapArray(cells.zip(header).map { case (cell, col) =>
         parseNumber(cell).getOrElse {
           val what = if (cell.toLowerCase.matches("[+-]?(nan|inf|infinity)")) "is not a finite number" else "is not a number"
           throw new InputError(s"$source:$lineNo: column '${oneLine(col)}': '${printable(cell)}' $what")
         }
+      }.toArray)
+    }
+    // Plain rows take the reader's fast path; any other record (comments, quotes, errors) the general one.
+    val rows = {
+      val all = new ArrayBuffer[(Int, IndexedSeq[Double])]
+      var more = true // runtime loop state
+      while (more) {
+        val values = new Array[Double](header.size)
+        val fast = reader.nextNumbers(values)
+        if (fast >= 0) all += fast -> ArraySeq.unsafeWrapArray(values)
+        else nextCells(columnName) match {
+          case Some(CsvRecord.Cells(lineNo, cells)) => all += lineNo -> numbers(lineNo, cells)
+          case None                                 => more = false
+        }
       }
-    }.toIndexedSeq
+      all.toIndexedSeq
+    }
     if (rows.isEmpty) throw new InputError(s"$source: no data rows after the header")
     TraceTable(source, comments.result(), header, rows)
   }

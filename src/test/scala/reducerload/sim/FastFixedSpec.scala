@@ -2,7 +2,8 @@ package reducerload.sim
 
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.fixedpoint.{FixedFormat, Rounding}
-import reducerload.load.{LoadDatapathModel, LoadParams}
+import reducerload.cordic.CordicModel
+import reducerload.load.{LoadChecks, LoadDatapathModel, LoadInputCodes, LoadParams}
 import reducerload.testutil.Seeds
 
 import scala.util.Random
@@ -45,5 +46,53 @@ class FastFixedSpec extends AnyFlatSpec {
       Seq.fill(2000)(2 * math.Pi * math.scalb(rng.nextInt(1 << 20) + 0.5, -bits)) ++ Seq(0.0, math.Pi, -math.Pi, 2 * math.Pi, 1e6)
     val wrong = angles.filter(a => FastFixed.angleCode(a, FastFixed.angleFormat(bits)) != model.angleCode(a))
     assert(wrong.isEmpty, s"angle codes differ at ${wrong.take(5)}")
+  }
+
+  it should "multiply and round like FixedFormat.shiftRound on the exact product, or refuse" in {
+    val rng = new Random(Seeds("fast-fixed-multiply", 63L))
+    def long(bits: Int) = rng.nextLong() >> (64 - bits)
+    val cases = Seq.fill(50000)((long(1 + rng.nextInt(63)), long(1 + rng.nextInt(63)), rng.nextInt(127))) ++
+      Seq((Long.MinValue, Long.MinValue, 126), (Long.MaxValue, Long.MinValue, 63), (-1L, 1L, 1), (3L, 1L, 1), (-3L, 1L, 1), (5L, -7L, 0))
+    for ((a, b, drop) <- cases; rounding <- Seq(Rounding.HalfUp, Rounding.Truncate)) {
+      val exact = FixedFormat.shiftRound(BigInt(a) * BigInt(b), drop, rounding)
+      if (exact.isValidLong) assert(FastFixed.mulShiftRound(a, b, drop, rounding) == exact.toLong, s"$a * $b >> $drop ($rounding)")
+      else assertThrows[ArithmeticException](FastFixed.mulShiftRound(a, b, drop, rounding))
+    }
+  }
+
+  it should "compute CORDIC sin/cos codes like CordicModel for every preset (exhaustive below 17 angle bits)" in {
+    val rng = new Random(Seeds("fast-cordic", 64L))
+    LoadParams.allPresets.values.map(_.cordic).toSeq.distinct.foreach { c =>
+      val model = new CordicModel(c)
+      val fast = new FastCordic(c)
+      val angles = if (c.angleBits <= 16) (0L until (1L << c.angleBits)) else Seq.fill(30000)(rng.nextLong() & ((1L << c.angleBits) - 1))
+      val out = new Array[Long](2)
+      val wrong = angles.filter { a =>
+        fast.sinCosRaw(a, out, 0)
+        val (cos, sin) = model.sinCosRaw(BigInt(a))
+        out(0) != cos || out(1) != sin
+      }
+      assert(wrong.isEmpty, s"${c.tag}: sin/cos differ at angle codes ${wrong.take(5)}")
+    }
+  }
+
+  it should "evaluate the joint-3 datapath like LoadDatapathModel, out-of-range inputs included, for every preset" in {
+    val rng = new Random(Seeds("fast-load-model", 65L))
+    LoadParams.presets.foreach { case (name, p) =>
+      assert(FastLoadModel.supports(p), s"preset $name: the long model does not cover it")
+      val model = new LoadDatapathModel(p)
+      val fast = new FastLoadModel(p)
+      val samples = Seq.fill(4000)(LoadChecks.randomSample(p.robot, rng)).map(model.encode) ++
+        Seq.fill(1000)(LoadChecks.outOfRangeSample(p.robot, rng)).map(model.encode) ++
+        // Extreme codes of the input formats: clamped and flagged.
+        Seq.fill(200) {
+          val e = model.encode(LoadChecks.randomSample(p.robot, rng))
+          def extreme(f: FixedFormat) = if (rng.nextBoolean()) f.maxRaw else f.minRaw
+          LoadInputCodes(e.t1, e.t2, e.t3, p.velocityFormats.map(extreme), p.accelerationFormats.map(extreme))
+        }
+      val wrong = samples.filter(s => fast.evaluate(s) != model.evaluate(s))
+      assert(wrong.isEmpty, s"preset $name: differs at ${wrong.take(3)}")
+      assert(samples.exists(s => model.evaluate(s).outOfRange) && samples.exists(s => !model.evaluate(s).outOfRange))
+    }
   }
 }

@@ -1,11 +1,13 @@
 package reducerload.trace
 
 import org.scalatest.flatspec.AnyFlatSpec
+import reducerload.testutil.Seeds
 
 import java.io.ByteArrayOutputStream
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path}
 import java.util.zip.GZIPOutputStream
+import scala.util.Random
 
 /** Trajectory CSVs as spreadsheets and controllers write them; plain ScalaTest, no simulator. */
 class TraceCsvSpec extends AnyFlatSpec {
@@ -124,5 +126,53 @@ class TraceCsvSpec extends AnyFlatSpec {
     refused("m.csv:2:", "column 'dd2'", "not a finite number")(TraceCsv.parse("m.csv", s"$header\n0.1,0.2,0.3,1,-1,0.5,2,NaN,-4\n", columns))
     refused("m.csv", "no data rows")(TraceCsv.parse("m.csv", s"# c\n$header\r\n\r\n", columns))
     refused("m.csv", "empty")(TraceCsv.parse("m.csv", "\uFEFF# only a comment\n", columns))
+  }
+
+  /** Cells as files hold them: every rendering of doubles, integers, and near misses of the grammar. */
+  private def fuzzCell(rng: Random): String = {
+    def digits(n: Int) = Seq.fill(n)(rng.nextInt(10)).mkString
+    val x = (rng.nextDouble() * 2 - 1) * math.pow(10, rng.nextInt(40) - 20)
+    rng.nextInt(12) match {
+      case 0 => x.toString
+      case 1 => s"%.${rng.nextInt(20)}f".format(x)
+      case 2 => s"%.${rng.nextInt(20)}e".format(x).replace("e", if (rng.nextBoolean()) "e" else "E")
+      case 3 => s"${if (rng.nextBoolean()) "-" else "+"}${digits(rng.nextInt(25))}.${digits(rng.nextInt(25))}"
+      case 4 => s"${digits(1 + rng.nextInt(20))}e${if (rng.nextBoolean()) "-" else ""}${digits(1 + rng.nextInt(4))}"
+      case 5 => s".${digits(1 + rng.nextInt(20))}"
+      case 6 => s"${digits(1 + rng.nextInt(3))}."
+      case 7 => Seq.fill(1 + rng.nextInt(8))("0123456789.+-eE xd".charAt(rng.nextInt(18))).mkString // mostly not numbers
+      case 8 => s"${" " * rng.nextInt(3)}${rng.nextLong()}${"\t" * rng.nextInt(2)}"
+      case 9 => Seq("1e400", "-1e400", "1e-400", "0", "-0", "-0.0", "4.9e-324", "1.7976931348623157e308", "9007199254740993", "NaN", "inf", "").apply(rng.nextInt(12))
+      case 10 => s"${digits(1 + rng.nextInt(18))}e${rng.nextInt(60) - 30}"
+      case _ => java.lang.Double.toString(java.lang.Double.longBitsToDouble(rng.nextLong()))
+    }
+  }
+
+  it should "read a cell's number straight from the text exactly as the general parser does (seeded fuzz corpus)" in {
+    val rng = new Random(Seeds("decimal-cell", 71L))
+    val cells = Seq.fill(200000)(fuzzCell(rng))
+    val wrong = cells.filter { c =>
+      val fast = DecimalCell.parse(c, 0, c.length)
+      TraceCsv.parseNumber(c.trim) match {
+        case Some(v) => java.lang.Double.doubleToRawLongBits(fast) != java.lang.Double.doubleToRawLongBits(v)
+        case None    => !fast.isNaN
+      }
+    }
+    assert(wrong.isEmpty, s"fast and general parse differ on ${wrong.take(5).map("'" + _ + "'").mkString(", ")}")
+    assert(cells.count(c => TraceCsv.parseNumber(c.trim).isDefined) > cells.size / 2, "the corpus is mostly numbers")
+  }
+
+  it should "read plain rows (fast path) and quoted rows (general path) of a fuzzed file alike, errors included" in {
+    val rng = new Random(Seeds("trace-csv-fast-rows", 72L))
+    (0 until 200).foreach { round =>
+      val rows = Seq.fill(1 + rng.nextInt(30))(Seq.fill(columns.size)(fuzzCell(rng)).map(c => if (rng.nextInt(4) == 0) c else (rng.nextDouble() * 10).toString))
+      val ends = Seq("\n", "\r\n", "\r")(rng.nextInt(3))
+      def text(quote: Boolean) =
+        (header +: rows.map(_.map(c => if (quote) "\"" + c + "\"" else c).mkString(","))).mkString(ends) + (if (rng.nextBoolean()) ends else "")
+      def outcome(t: String) = scala.util.Try(TraceCsv.parse(s"f$round.csv", t, columns)).toEither.left.map(_.getMessage)
+        .map(t => t.rows.map { case (line, v) => line -> v.map(java.lang.Double.doubleToRawLongBits) })
+      val plainRead = outcome(text(quote = false))
+      assert(plainRead == outcome(text(quote = true)), s"round $round: ${rows.take(3)}")
+    }
   }
 }

@@ -1,0 +1,137 @@
+package reducerload.sim
+
+import reducerload.cordic.CordicParams
+import reducerload.fixedpoint.{FixedFormat, Rounding}
+import reducerload.load.{LoadArith, LoadInputCodes, LoadOutputCodes, LoadParams, LoadRecipe, RecipeInputs}
+
+/**
+ * [[reducerload.cordic.CordicModel.sinCosRaw]] in long arithmetic, for units whose formats all fit
+ * 62 bits: same operations in the same order, every intermediate checked against the same format
+ * (tested equal to the model, see FastFixedSpec). The BigInt model stays the reference.
+ */
+final class FastCordic(p: CordicParams) {
+  private def fits(f: FixedFormat) = f.width <= 62
+  private val zFormats = (p.firstIteration to p.iterations).map(p.zFormat)
+  require((zFormats ++ Seq(p.xyFormat, p.outputFormat) ++ (if (p.residual) Seq(p.zrFormat) else Nil)).forall(fits),
+    s"FastCordic ${p.tag}: a format is wider than 62 bits")
+
+  private val lowBits = p.residualBits - p.tableBits
+  require(lowBits >= 1, s"FastCordic ${p.tag}: no residual bits below the table index")
+  private val segmentMask = (1L << p.tableBits) - 1
+  private val lowMask = (1L << lowBits) - 1
+  private val centre = 1L << (lowBits - 1)
+  private val startX = p.startTable.map(_._1.toLong).toArray
+  private val startY = p.startTable.map(_._2.toLong).toArray
+  private val atan = p.atanTable.map(_.toLong).toArray
+  private val zMin = zFormats.map(FastFixed.minOf).toArray // index i - firstIteration
+  private val zMax = zFormats.map(FastFixed.maxOf).toArray
+  private val (xyMin, xyMax) = (FastFixed.minOf(p.xyFormat), FastFixed.maxOf(p.xyFormat))
+  private val (outMin, outMax) = (FastFixed.minOf(p.outputFormat), FastFixed.maxOf(p.outputFormat))
+  private val (zrMin, zrMax) = if (p.residual) (FastFixed.minOf(p.zrFormat), FastFixed.maxOf(p.zrFormat)) else (0L, 0L)
+  private val zrShift = p.zFracBits + p.twoPiFracBits - p.xyFormat.fracBits
+  private val operandDrop = p.xyFormat.fracBits - p.residualOperandFracBits
+  private val twoPi = p.twoPiRaw.toLong
+  require(!p.residual || (zrShift >= 0 && operandDrop >= 0), s"FastCordic ${p.tag}: negative shift in the residual rotation")
+
+  private def check(v: Long, min: Long, max: Long, what: String): Long = {
+    if (v < min || v > max) throw new IllegalArgumentException(s"CordicModel ${p.tag}: $what = $v outside [$min, $max]")
+    v
+  }
+
+  /** Raw (cos, sin) of `angle` into `out(at)`, `out(at + 1)`. */
+  def sinCosRaw(angle: Long, out: Array[Long], at: Int): Unit = {
+    require(angle >= 0 && angle < (1L << p.angleBits), s"CordicModel: angle code $angle is not a ${p.angleBits}-bit code")
+    val quadrant = (angle >> p.residualBits).toInt
+    val segment = ((angle >> lowBits) & segmentMask).toInt
+    var x = startX(segment)
+    var y = startY(segment)
+    var z = check(((angle & lowMask) - centre) << p.angleGuardBits, zMin(0), zMax(0), "z at the first iteration")
+    var i = p.firstIteration
+    while (i < p.iterations) {
+      val dx = y >> i
+      val dy = x >> i
+      if (z >= 0) { x -= dx; y += dy; z -= atan(i) } else { x += dx; y -= dy; z += atan(i) }
+      check(z, zMin(i + 1 - p.firstIteration), zMax(i + 1 - p.firstIteration), s"z after iteration $i")
+      check(x, xyMin, xyMax, s"x after iteration $i")
+      check(y, xyMin, xyMax, s"y after iteration $i")
+      i += 1
+    }
+    if (p.residual) {
+      val zr = check(Math.multiplyExact(z, twoPi) >> zrShift, zrMin, zrMax, "zr")
+      val (xt, yt) = (x >> operandDrop, y >> operandDrop)
+      val nx = x - (Math.multiplyExact(yt, zr) >> p.residualOperandFracBits)
+      val ny = y + (Math.multiplyExact(xt, zr) >> p.residualOperandFracBits)
+      x = check(nx, xyMin, xyMax, "x after the residual rotation")
+      y = check(ny, xyMin, xyMax, "y after the residual rotation")
+    }
+    val (c, s) = quadrant match {
+      case 0 => (x, y)
+      case 1 => (-y, x)
+      case 2 => (-x, -y)
+      case _ => (y, -x)
+    }
+    out(at) = check(FastFixed.shiftRound(c, p.guardBits, p.outputRounding), outMin, outMax, "output")
+    out(at + 1) = check(FastFixed.shiftRound(s, p.guardBits, p.outputRounding), outMin, outMax, "output")
+  }
+}
+
+/** [[reducerload.load.IntArith]] in longs: exact, every result checked against its proven format (at most 62 bits). */
+object LongArith extends LoadArith[Long] {
+  private def checked(v: Long, out: FixedFormat, what: String): Long = {
+    if (out.width > 62 || v < FastFixed.minOf(out) || v > FastFixed.maxOf(out))
+      throw new IllegalArgumentException(s"LoadDatapathModel: $what = $v outside its proven format $out")
+    v
+  }
+  def add(a: Long, aFmt: FixedFormat, b: Long, bFmt: FixedFormat, bShift: Int, out: FixedFormat): Long = {
+    require(aFmt.fracBits == bFmt.fracBits && out.fracBits == aFmt.fracBits, s"add: fraction bits differ ($aFmt, $bFmt -> $out)")
+    require(bFmt.width + bShift <= 62, s"add: $bFmt << $bShift is wider than 62 bits")
+    checked(a + (b << bShift), out, "sum")
+  }
+  def mul(a: Long, aFmt: FixedFormat, b: Long, bFmt: FixedFormat, out: FixedFormat, rounding: Rounding): Long =
+    checked(FastFixed.mulShiftRound(a, b, aFmt.fracBits + bFmt.fracBits - out.fracBits, rounding), out, "product")
+  def constant(raw: BigInt, fmt: FixedFormat): Long = raw.toLong
+}
+
+/**
+ * [[reducerload.load.LoadDatapathModel.evaluate]] in long arithmetic: the same [[LoadRecipe]] on
+ * [[LongArith]] and three [[FastCordic]] evaluations; tested equal to the model. Only for designs
+ * whose formats fit 62 bits ([[FastLoadModel.supports]]).
+ */
+final class FastLoadModel(p: LoadParams) {
+  private val cordic = new FastCordic(p.cordic)
+  private val turnMask = (1L << p.angleBits) - 1
+  private val velocityLimit = p.velocityLimitRaw.map(_.toLong).toArray
+  private val accelerationLimit = p.accelerationLimitRaw.map(_.toLong).toArray
+  private val (outMin, outMax) = (FastFixed.minOf(p.outputFormat), FastFixed.maxOf(p.outputFormat))
+  private val drop = p.internalFracBits - p.outputFracBits
+
+  def evaluate(in: LoadInputCodes): LoadOutputCodes = {
+    var flagged = false // set by any clamp
+    def clamp(x: BigInt, limit: Long): Long = {
+      require(x.isValidLong, s"input code $x does not fit 64 bits")
+      val v = x.toLong
+      if (v > limit) { flagged = true; limit } else if (v < -limit) { flagged = true; -limit } else v
+    }
+    val d = Array.tabulate(3)(j => clamp(in.d(j), velocityLimit(j)))
+    val dd = Array.tabulate(3)(j => clamp(in.dd(j), accelerationLimit(j)))
+    val (t1, t2, t3) = (in.t1.toLong, in.t2.toLong, in.t3.toLong)
+    val t23 = (t2 + t3) & turnMask
+    val t123 = (t23 + t1) & turnMask
+    val sc = new Array[Long](6)
+    cordic.sinCosRaw(t3, sc, 0)
+    cordic.sinCosRaw(t23, sc, 2)
+    cordic.sinCosRaw(t123, sc, 4)
+    val total = LoadRecipe(p, LongArith, RecipeInputs(d(0), d(1), dd(0), dd(1), dd(2), sc(2), sc(0), sc(3), sc(1), sc(5)))
+    val rounded = FastFixed.shiftRound(total, drop, Rounding.HalfUp)
+    val load = rounded.max(outMin).min(outMax)
+    LoadOutputCodes(BigInt(load), flagged || load != rounded)
+  }
+}
+
+object FastLoadModel {
+  /** Whether the long model can run `p`: every format of its datapath and CORDIC fits 62 bits. */
+  def supports(p: LoadParams): Boolean =
+    scala.util.Try { new FastCordic(p.cordic); () }.isSuccess &&
+      (p.formats.values ++ p.velocityFormats ++ p.accelerationFormats ++ Seq(p.constantFormat, p.outputFormat)).forall(_.width <= 62) &&
+      (p.velocityLimitRaw ++ p.accelerationLimitRaw).forall(_.isValidLong)
+}
