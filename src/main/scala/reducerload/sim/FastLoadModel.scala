@@ -33,7 +33,7 @@ final class FastCordic(p: CordicParams) {
   private val twoPi = p.twoPiRaw.toLong
   require(!p.residual || (zrShift >= 0 && operandDrop >= 0), s"FastCordic ${p.tag}: negative shift in the residual rotation")
 
-  private def check(v: Long, min: Long, max: Long, what: String): Long = {
+  private def check(v: Long, min: Long, max: Long, what: => String): Long = {
     if (v < min || v > max) throw new IllegalArgumentException(s"CordicModel ${p.tag}: $what = $v outside [$min, $max]")
     v
   }
@@ -112,8 +112,8 @@ final class FastLoadModel(p: LoadParams) {
       val v = x.toLong
       if (v > limit) { flagged = true; limit } else if (v < -limit) { flagged = true; -limit } else v
     }
-    val d = Array.tabulate(3)(j => clamp(in.d(j), velocityLimit(j)))
-    val dd = Array.tabulate(3)(j => clamp(in.dd(j), accelerationLimit(j)))
+    val d = Array(clamp(in.d(0), velocityLimit(0)), clamp(in.d(1), velocityLimit(1)), clamp(in.d(2), velocityLimit(2)))
+    val dd = Array(clamp(in.dd(0), accelerationLimit(0)), clamp(in.dd(1), accelerationLimit(1)), clamp(in.dd(2), accelerationLimit(2)))
     val (t1, t2, t3) = (in.t1.toLong, in.t2.toLong, in.t3.toLong)
     val t23 = (t2 + t3) & turnMask
     val t123 = (t23 + t1) & turnMask

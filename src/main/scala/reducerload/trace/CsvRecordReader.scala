@@ -13,24 +13,31 @@ object CsvRecord {
  * quoted field may hold commas and line breaks), lines ending in LF, CRLF or a lone CR. Blank lines
  * are skipped; a line whose first non-blank character is `#` is a comment. Cells are trimmed.
  *
- * Pull-based, so the caller can name the columns in errors once it has read the header.
+ * Pull-based, so the caller can name the columns in errors once it has read the header. Reads
+ * `text` from `from` to `until` (the whole text by default), whose first line is number `firstLine`.
  */
-final class CsvRecordReader(source: String, text: String) {
-  private var pos = 0
-  private var line = 1 // line of `pos`, counting LF, CRLF and lone CR as one break each
+final class CsvRecordReader(source: String, text: String, from: Int = 0, until: Int = -1, firstLine: Int = 1) {
+  private val end = if (until < 0) text.length else until
+  require(from >= 0 && from <= end && end <= text.length, s"CsvRecordReader: range $from until $until of ${text.length} characters")
+  private var pos = from
+  private var line = firstLine // line of `pos`, counting LF, CRLF and lone CR as one break each
 
-  private def atEnd: Boolean = pos >= text.length
+  /** Where the next record starts, and its line. */
+  def position: Int = pos
+  def lineNumber: Int = line
+
+  private def atEnd: Boolean = pos >= end
   private def isBreak(c: Char): Boolean = c == '\n' || c == '\r'
 
   /** Consume a line break at `pos` (CRLF counts once) and count it. */
   private def skipBreak(): Unit = {
-    if (text.charAt(pos) == '\r' && pos + 1 < text.length && text.charAt(pos + 1) == '\n') pos += 2 else pos += 1
+    if (text.charAt(pos) == '\r' && pos + 1 < end && text.charAt(pos + 1) == '\n') pos += 2 else pos += 1
     line += 1
   }
 
   private def endOfPhysicalLine(from: Int): Int = {
     var i = from
-    while (i < text.length && !isBreak(text.charAt(i))) i += 1
+    while (i < end && !isBreak(text.charAt(i))) i += 1
     i
   }
 
@@ -65,17 +72,17 @@ final class CsvRecordReader(source: String, text: String) {
     var k = 0
     while (k < into.length) {
       val from = i
-      while (i < text.length && { val c = text.charAt(i); c != ',' && c != '"' && !isBreak(c) }) i += 1
-      if (i < text.length && text.charAt(i) == '"') return -1
+      while (i < end && { val c = text.charAt(i); c != ',' && c != '"' && !isBreak(c) }) i += 1
+      if (i < end && text.charAt(i) == '"') return -1
       val v = DecimalCell.parse(text, from, i)
       if (v.isNaN) return -1
       into(k) = v
       k += 1
       if (k < into.length) {
-        if (i < text.length && text.charAt(i) == ',') i += 1 else return -1
+        if (i < end && text.charAt(i) == ',') i += 1 else return -1
       }
     }
-    if (i < text.length && !isBreak(text.charAt(i))) return -1
+    if (i < end && !isBreak(text.charAt(i))) return -1
     val at = line
     pos = i
     if (!atEnd) skipBreak()
@@ -118,7 +125,7 @@ final class CsvRecordReader(source: String, text: String) {
         throw new InputError(s"$source:$openedOn: $name: unterminated quoted field (the '\"' opened on line $openedOn is never closed)")
       val c = text.charAt(pos)
       if (c == '"') {
-        if (pos + 1 < text.length && text.charAt(pos + 1) == '"') { sb += '"'; pos += 2 }
+        if (pos + 1 < end && text.charAt(pos + 1) == '"') { sb += '"'; pos += 2 }
         else { pos += 1; closed = true }
       } else if (isBreak(c)) {
         // A line break inside quotes belongs to the field; count it so later lines keep their numbers.
@@ -131,5 +138,19 @@ final class CsvRecordReader(source: String, text: String) {
       throw new InputError(s"$source:$line: $name: unexpected text after a closing quote " +
         s"('${TraceCsv.printable(text.substring(pos, endOfPhysicalLine(pos)))}'; a quote inside a quoted field is written twice)")
     sb.result()
+  }
+}
+
+object CsvRecordReader {
+  /** Line breaks in `text(from until until)`: LF, CRLF and lone CR count one each (CRLF must not straddle `until`). */
+  def lineBreaks(text: String, from: Int, until: Int): Int = {
+    var count = 0 // runtime loop state
+    var i = from
+    while (i < until) {
+      val c = text.charAt(i)
+      if (c == '\n' || (c == '\r' && !(i + 1 < until && text.charAt(i + 1) == '\n'))) count += 1
+      i += 1
+    }
+    count
   }
 }

@@ -20,7 +20,8 @@ object DecimalCell {
    * at most one `.` and at least one digit, then optionally `e|E [+-]? digits` (TraceCsv's). The value
    * is correctly rounded, like `parseDouble`: with at most 2^53 as the mantissa and a power of ten up
    * to 10^22, one IEEE multiplication or division of two exact doubles rounds once (Clinger's fast
-   * path); other numbers go to `parseDouble`.
+   * path); other numbers of at most 18 significant digits take the Eisel-Lemire algorithm (exact
+   * 128-bit products with a table of powers of five); anything it cannot decide goes to `parseDouble`.
    */
   def parse(text: CharSequence, from: Int, until: Int): Double = {
     var i = from
@@ -70,8 +71,77 @@ object DecimalCell {
         val m = mantissa.toDouble
         val v = if (power >= 0) m * exactPowers(power) else m / exactPowers(-power)
         if (negative) -v else v
-      } else java.lang.Double.parseDouble(text.subSequence(start, end).toString)
+      } else {
+        val bits = if (dropped) -1L else eiselLemire(mantissa, power)
+        if (bits >= 0) { val v = java.lang.Double.longBitsToDouble(bits); if (negative) -v else v }
+        else java.lang.Double.parseDouble(text.subSequence(start, end).toString)
+      }
     if (value.isInfinite) Double.NaN else value
+  }
+
+  // ---- Eisel-Lemire (Lemire, "Number parsing at a gigabyte per second", 2021; as in fast_float) ----
+
+  private val smallestPower = -342
+  private val largestPower = 308
+
+  /**
+   * 5^q for q = -342..308 as 128-bit numbers with the top bit set (hi, lo interleaved): truncated for
+   * q >= 0, floor(2^b / 5^-q) + 1 truncated to 128 bits for q < 0 (fast_float's table, computed here).
+   */
+  private val powersOfFive: Array[Long] = {
+    val two128 = java.math.BigInteger.ONE.shiftLeft(128)
+    val two127 = java.math.BigInteger.ONE.shiftLeft(127)
+    (smallestPower to largestPower).toArray.flatMap { q =>
+      val five = java.math.BigInteger.valueOf(5).pow(math.abs(q))
+      val c =
+        if (q >= 0) {
+          val b = five.bitLength
+          if (b <= 128) five.shiftLeft(128 - b) else five.shiftRight(b - 128)
+        } else {
+          val z = five.subtract(java.math.BigInteger.ONE).bitLength // least z with 2^z >= 5^-q
+          val b = if (q >= -27) z + 127 else 2 * z + 128
+          var r = java.math.BigInteger.ONE.shiftLeft(b).divide(five).add(java.math.BigInteger.ONE)
+          while (r.compareTo(two128) >= 0) r = r.shiftRight(1)
+          r
+        }
+      require(c.compareTo(two127) >= 0 && c.compareTo(two128) < 0, s"power of five $q")
+      Array(c.shiftRight(64).longValue, c.longValue)
+    }
+  }
+
+  private def unsignedMultiplyHigh(a: Long, b: Long): Long = Math.multiplyHigh(a, b) + ((a >> 63) & b) + ((b >> 63) & a)
+
+  /**
+   * The IEEE bits of the double nearest to `w * 10^q` (w exact, below 10^18, positive sign), or -1
+   * when this path cannot decide (subnormal, overflow, a product too close to call): the caller then
+   * asks parseDouble.
+   */
+  private def eiselLemire(w0: Long, q: Int): Long = {
+    if (w0 == 0) return 0L
+    if (q < smallestPower || q > largestPower) return -1L
+    val lz = java.lang.Long.numberOfLeadingZeros(w0)
+    val w = w0 << lz
+    val index = 2 * (q - smallestPower)
+    var low = w * powersOfFive(index)
+    var high = unsignedMultiplyHigh(w, powersOfFive(index))
+    if ((high & 0x1ffL) == 0x1ffL) {
+      val secondHigh = unsignedMultiplyHigh(w, powersOfFive(index + 1))
+      low += secondHigh
+      if (java.lang.Long.compareUnsigned(secondHigh, low) > 0) high += 1
+    }
+    if (low == -1L && (q < -27 || q > 55)) return -1L
+    val upper = (high >>> 63).toInt
+    var mantissa = high >>> (upper + 9)
+    var power2 = (((152170 + 65536) * q) >> 16) + 63 + upper - lz + 1023
+    if (power2 <= 0) return -1L
+    if (java.lang.Long.compareUnsigned(low, 1L) <= 0 && q >= -4 && q <= 23 && (mantissa & 3) == 1 &&
+      (mantissa << (upper + 9)) == high) mantissa &= ~1L
+    mantissa += mantissa & 1
+    mantissa >>>= 1
+    if (mantissa >= (2L << 52)) { mantissa = 1L << 52; power2 += 1 }
+    mantissa &= ~(1L << 52)
+    if (power2 >= 0x7ff) return -1L
+    mantissa | (power2.toLong << 52)
   }
 
   private def isBlank(c: Char): Boolean = c == ' ' || c == '\t'

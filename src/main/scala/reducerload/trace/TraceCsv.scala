@@ -6,6 +6,8 @@ import java.nio.file.{Files, Path}
 import java.util.zip.GZIPInputStream
 import scala.collection.immutable.ArraySeq
 import scala.collection.mutable.ArrayBuffer
+import reducerload.sim.ChunkedRun
+
 import scala.util.Try
 
 /** A user error in an input file: one line naming the file, row and column. */
@@ -89,17 +91,15 @@ object TraceCsv {
     i == bytes.length
   }
 
-  def parse(source: String, text: String, required: Seq[String]): TraceTable = {
-    val reader = new CsvRecordReader(source, text.stripPrefix(byteOrderMark.toString))
+  def parse(source: String, text: String, required: Seq[String]): TraceTable = parse(source, text, required, 1 << 22)
+
+  /** [[parse]], the data after the header split into segments of about `segmentChars` characters, read in parallel. */
+  private[trace] def parse(source: String, text: String, required: Seq[String], segmentChars: Int): TraceTable = {
+    require(segmentChars >= 1, s"segmentChars must be >= 1, got $segmentChars")
+    val body = text.stripPrefix(byteOrderMark.toString)
+    val reader = new CsvRecordReader(source, body)
     val comments = Vector.newBuilder[String]
-    /** The next row of cells; comment lines on the way are kept. */
-    @annotation.tailrec
-    def nextCells(fieldName: Int => String): Option[CsvRecord.Cells] = reader.next(fieldName) match {
-      case Some(CsvRecord.Comment(_, c)) => comments += c; nextCells(fieldName)
-      case Some(cells: CsvRecord.Cells)  => Some(cells)
-      case None                          => None
-    }
-    val (headerLine, header) = nextCells(i => s"header field ${i + 1}") match {
+    val (headerLine, header) = nextCells(reader, comments, i => s"header field ${i + 1}") match {
       case Some(CsvRecord.Cells(line, cells)) => (line, cells)
       case None                               => throw new InputError(s"$source: empty (a header row ${required.mkString(",")} is required)")
     }
@@ -111,6 +111,46 @@ object TraceCsv {
     val missing = required.filterNot(header.contains)
     if (missing.nonEmpty)
       throw new InputError(s"$source:$headerLine: missing column(s) ${missing.map("'" + _ + "'").mkString(", ")} (header: ${oneLine(header.mkString(","))})")
+    // Without quotes after the header every LF ends a record: the data splits into segments after
+    // LFs, each read on its own (line numbers counted first); the earliest segment's error wins.
+    val segments =
+      if (body.indexOf('"', reader.position) >= 0) Seq(reader.position -> body.length)
+      else {
+        val cuts = Iterator.iterate(reader.position)(at =>
+          if (segmentChars >= body.length - at) body.length
+          else body.indexOf('\n', at + segmentChars) match {
+            case -1 => body.length
+            case lf => lf + 1
+          }).takeWhile(_ < body.length).toSeq :+ body.length
+        cuts.zip(cuts.tail)
+      }
+    val jobs = Runtime.getRuntime.availableProcessors.max(1)
+    val firstLines = ChunkedRun(segments.size, 1, jobs)(r => CsvRecordReader.lineBreaks(body, segments(r.head)._1, segments(r.head)._2))
+      .scanLeft(reader.lineNumber)(_ + _)
+    val parts = ChunkedRun(segments.size, 1, jobs) { r =>
+      val (from, until) = segments(r.head)
+      val segmentComments = Vector.newBuilder[String]
+      val rows = readRows(source, new CsvRecordReader(source, body, from, until, firstLines(r.head)), header, segmentComments)
+      (segmentComments.result(), rows)
+    }
+    parts.foreach(p => comments ++= p._1)
+    val rows = parts.flatMap(_._2)
+    if (rows.isEmpty) throw new InputError(s"$source: no data rows after the header")
+    TraceTable(source, comments.result(), header, rows)
+  }
+
+  /** The next row of cells; comment lines on the way go to `comments`. */
+  @annotation.tailrec
+  private def nextCells(reader: CsvRecordReader, comments: collection.mutable.Growable[String], fieldName: Int => String): Option[CsvRecord.Cells] =
+    reader.next(fieldName) match {
+      case Some(CsvRecord.Comment(_, c)) => comments += c; nextCells(reader, comments, fieldName)
+      case Some(cells: CsvRecord.Cells)  => Some(cells)
+      case None                          => None
+    }
+
+  /** Every data row `reader` has left: plain rows by its fast path, any other record (comments, quotes, errors) by the general one. */
+  private def readRows(source: String, reader: CsvRecordReader, header: IndexedSeq[String],
+    comments: collection.mutable.Growable[String]): ArrayBuffer[(Int, IndexedSeq[Double])] = {
     val columnName = (i: Int) => if (i < header.size) s"column '${oneLine(header(i))}'" else s"field ${i + 1}"
     def numbers(lineNo: Int, cells: IndexedSeq[String]): IndexedSeq[Double] = {
       if (cells.size != header.size)
@@ -122,22 +162,17 @@ object TraceCsv {
         }
       }.toArray)
     }
-    // Plain rows take the reader's fast path; any other record (comments, quotes, errors) the general one.
-    val rows = {
-      val all = new ArrayBuffer[(Int, IndexedSeq[Double])]
-      var more = true // runtime loop state
-      while (more) {
-        val values = new Array[Double](header.size)
-        val fast = reader.nextNumbers(values)
-        if (fast >= 0) all += fast -> ArraySeq.unsafeWrapArray(values)
-        else nextCells(columnName) match {
-          case Some(CsvRecord.Cells(lineNo, cells)) => all += lineNo -> numbers(lineNo, cells)
-          case None                                 => more = false
-        }
+    val all = new ArrayBuffer[(Int, IndexedSeq[Double])]
+    var more = true // runtime loop state
+    while (more) {
+      val values = new Array[Double](header.size)
+      val fast = reader.nextNumbers(values)
+      if (fast >= 0) all += fast -> ArraySeq.unsafeWrapArray(values)
+      else nextCells(reader, comments, columnName) match {
+        case Some(CsvRecord.Cells(lineNo, cells)) => all += lineNo -> numbers(lineNo, cells)
+        case None                                 => more = false
       }
-      all.toIndexedSeq
     }
-    if (rows.isEmpty) throw new InputError(s"$source: no data rows after the header")
-    TraceTable(source, comments.result(), header, rows)
+    all
   }
 }

@@ -162,6 +162,16 @@ class TraceCsvSpec extends AnyFlatSpec {
     assert(cells.count(c => TraceCsv.parseNumber(c.trim).isDefined) > cells.size / 2, "the corpus is mostly numbers")
   }
 
+  it should "read every double as Double.toString and %.17g write it, bit for bit (seeded)" in {
+    val rng = new Random(Seeds("decimal-cell-doubles", 73L))
+    val xs = Seq.fill(300000)(java.lang.Double.longBitsToDouble(rng.nextLong())).filter(x => !x.isNaN && !x.isInfinite) ++
+      Seq.fill(100000)((rng.nextDouble() * 2 - 1) * math.pow(10, rng.nextInt(10) - 5))
+    val wrong = xs.flatMap(x => Seq(x.toString, "%.17g".format(x), "%.16e".format(x))).filter { c =>
+      java.lang.Double.doubleToRawLongBits(DecimalCell.parse(c, 0, c.length)) != java.lang.Double.doubleToRawLongBits(c.toDouble)
+    }
+    assert(wrong.isEmpty, s"differs on ${wrong.take(5).mkString(", ")}")
+  }
+
   it should "read plain rows (fast path) and quoted rows (general path) of a fuzzed file alike, errors included" in {
     val rng = new Random(Seeds("trace-csv-fast-rows", 72L))
     (0 until 200).foreach { round =>
@@ -173,6 +183,12 @@ class TraceCsvSpec extends AnyFlatSpec {
         .map(t => t.rows.map { case (line, v) => line -> v.map(java.lang.Double.doubleToRawLongBits) })
       val plainRead = outcome(text(quote = false))
       assert(plainRead == outcome(text(quote = true)), s"round $round: ${rows.take(3)}")
+      // Read in segments of a few characters (in parallel): the same rows, lines, comments and first error.
+      val withComments = text(quote = false).replace(s"${ends}${rows.head.head}", s"${ends}# note${ends}${ends}${rows.head.head}")
+      def segmented(chars: Int) = scala.util.Try(TraceCsv.parse(s"f$round.csv", withComments, columns, chars)).toEither.left.map(_.getMessage)
+        .map(t => (t.comments, t.rows.map { case (line, v) => line -> v.map(java.lang.Double.doubleToRawLongBits) }))
+      val whole = segmented(Int.MaxValue)
+      Seq(1, 7, 50, 300).foreach(chars => assert(segmented(chars) == whole, s"round $round, segments of $chars characters"))
     }
   }
 }
