@@ -103,7 +103,9 @@ object Simulate {
     // Elaborate while the trajectory is read and checked (seconds each, on different cores); only
     // in memory: the harness is built after every check. A bad command line fails here the same way.
     val elaborated = if (cli.get("engine").forall(_ == "rtl")) Some(Future(Emit.emit(cli.params, Top.Load, emitCommand))(ExecutionContext.global)) else None
+    val readStart = System.nanoTime()
     val request = prepare(cli)
+    println(f"input: ${request.rows.size} rows read and checked in ${(System.nanoTime() - readStart) / 1e9}%.1f s")
     val monitor = cli.path("summary").map { path =>
       if (request.params.model.closedForm)
         throw new InputError("command line: --summary needs model rnea (the monitor watches every joint of an arm; use --robot)")

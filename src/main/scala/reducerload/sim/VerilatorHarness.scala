@@ -25,7 +25,7 @@ object VerilatorHarness {
    * the top module's name. OPT_FAST=-O2 compiles the model for speed (Verilator's default is -Os).
    */
   val verilatorFlags: Seq[String] = Seq(
-    "--cc", "--exe", "--build", "-O3", "--x-assign", "fast", "--x-initial", "fast",
+    "--cc", "--exe", "--build", "-O3", "--x-assign", "fast", "--x-initial", "fast", "--noassert",
     "-Wno-fatal", "-Wno-lint", "-Wno-style", "--prefix", "Vtop", "-MAKEFLAGS", "OPT_FAST=-O2"
   )
 
