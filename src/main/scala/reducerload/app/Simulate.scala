@@ -149,7 +149,7 @@ object Simulate {
           f"${summary.cyclesPerHarnessSecond}%.0f clock cycles/s per harness process"
       case ReplayEngine.Model => "bit-accurate model"
     }
-    println(f"simulation rate: ${summary.samplesPerSecond}%.0f samples/s ($how)")
+    println(f"simulation rate: ${summary.samplesPerSecond}%.0f samples/s ($how; JVM side ${summary.samplesPerCpuSecond}%.0f samples per CPU second)")
     worst.zipWithIndex.find { case ((e, b), _) => e > b }.foreach { case ((e, b), j) =>
       throw new IllegalStateException(s"${d.errorLabels(j)}: max error $e exceeds the derived bound $b")
     }

@@ -39,13 +39,19 @@ final class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOut
   val outputHeader: String =
     ("idx" +: (1 to joints).flatMap(j => Seq(s"tau${j}_hw", s"tau${j}_ref", s"tau${j}_error")) :+ "out_of_range").mkString(",")
 
-  def result(index: Long, row: IndexedSeq[Double], out: ArmOutputCodes): ReplayLine = {
+  def result(index: Long, row: IndexedSeq[Double], out: ArmOutputCodes, text: java.lang.StringBuilder, errors: Array[Double]): Boolean = {
     val s = sample(row)
     val hw = out.tau.map(FastFixed.toDouble(_, p.analysis.outputPortFormat.fracBits)) // model.torques, fast
     val ref = Rnea.reference(p.chain, s.q, s.qd, s.qdd)
     val outOfRange = out.outOfRange.exists(identity)
-    val cells = index.toString +: (0 until joints).flatMap(j => Seq(hw(j).toString, ref(j).toString, (hw(j) - ref(j)).toString)) :+ (if (outOfRange) "1" else "0")
-    ReplayLine(cells.mkString(","), (0 until joints).map(j => math.abs(hw(j) - ref(j))), outOfRange)
+    text.append(index)
+    // StringBuilder.append(double) writes Double.toString's text
+    (0 until joints).foreach { j =>
+      text.append(',').append(hw(j)).append(',').append(ref(j)).append(',').append(hw(j) - ref(j))
+      errors(j) = math.abs(hw(j) - ref(j))
+    }
+    text.append(',').append(if (outOfRange) '1' else '0')
+    outOfRange
   }
 
   def errorLabels: IndexedSeq[String] = p.jointNames

@@ -1,5 +1,8 @@
 package reducerload.sim
 
+import scala.collection.immutable.ArraySeq
+
+import reducerload.fixedpoint.FixedFormat
 import reducerload.load.{JointSample, LoadDatapath, LoadDatapathModel, LoadInputCodes, LoadOutputCodes, LoadParams, LoadReference}
 
 /** The joint-3 `LoadDatapath` (models exact and paper) as `run simulate` replays it: `idx,load_hw,load_ref,error,out_of_range`. */
@@ -19,10 +22,11 @@ final class LoadReplay(val p: LoadParams) extends ReplayDesign[LoadInputCodes, L
   /** `model.encode` of the row's sample, in fast exact arithmetic (tested equal). */
   def encode(row: IndexedSeq[Double]): LoadInputCodes = {
     def angle(x: Double) = FastFixed.angleCode(x, angleFormat)
-    LoadInputCodes(angle(row(0)), angle(row(1)), angle(row(2)),
-      p.velocityFormats.indices.map(j => FastFixed.codeHalfUp(row(3 + j), p.velocityFormats(j))),
-      p.accelerationFormats.indices.map(j => FastFixed.codeHalfUp(row(6 + j), p.accelerationFormats(j))))
+    def codes(at: Int, formats: Array[FixedFormat]) = ArraySeq.unsafeWrapArray(Array.tabulate[BigInt](3)(j => FastFixed.codeHalfUp(row(at + j), formats(j))))
+    LoadInputCodes(angle(row(0)), angle(row(1)), angle(row(2)), codes(3, velocityFormats), codes(6, accelerationFormats))
   }
+  private val velocityFormats = p.velocityFormats.toArray
+  private val accelerationFormats = p.accelerationFormats.toArray
   def evaluate(in: LoadInputCodes): LoadOutputCodes = fast.fold(model.evaluate(in))(_.evaluate(in))
 
   lazy val ports: HarnessPorts = LoadHarnessPorts(p)
@@ -33,10 +37,13 @@ final class LoadReplay(val p: LoadParams) extends ReplayDesign[LoadInputCodes, L
   def latency: Int = LoadDatapath.latency(p)
 
   val outputHeader = "idx,load_hw,load_ref,error,out_of_range"
-  def result(index: Long, row: IndexedSeq[Double], out: LoadOutputCodes): ReplayLine = {
+  def result(index: Long, row: IndexedSeq[Double], out: LoadOutputCodes, text: java.lang.StringBuilder, errors: Array[Double]): Boolean = {
     val hw = FastFixed.toDouble(out.load, p.outputFormat.fracBits) // model.loadOf, fast
     val ref = LoadReference.torque(p.robot, p.model, JointSample.fromSeq(row))
-    ReplayLine(s"$index,$hw,$ref,${hw - ref},${if (out.outOfRange) 1 else 0}", IndexedSeq(math.abs(hw - ref)), out.outOfRange)
+    // StringBuilder.append(double) writes Double.toString's text
+    text.append(index).append(',').append(hw).append(',').append(ref).append(',').append(hw - ref).append(',').append(if (out.outOfRange) '1' else '0')
+    errors(0) = math.abs(hw - ref)
+    out.outOfRange
   }
 
   val errorLabels: IndexedSeq[String] = IndexedSeq("joint 3 load")

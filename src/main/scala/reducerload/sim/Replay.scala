@@ -23,7 +23,10 @@ object Replay {
     ((samples + jobs - 1) / jobs).min(most).max(1)
   }
 
-  private final case class ChunkResult(text: String, maxErrors: Array[Double], outOfRange: Long, cycles: Long, harnessSeconds: Double)
+  private final case class ChunkResult(text: String, maxErrors: Array[Double], outOfRange: Long, cycles: Long, harnessSeconds: Double,
+    cpuSeconds: Double)
+
+  private val threads = java.lang.management.ManagementFactory.getThreadMXBean
 
   /** Outputs of `inputs` on `engine`, and (cycles, process seconds) for the RTL. */
   def outputs[In, Out](design: ReplayDesign[In, Out], engine: ReplayEngine, inputs: IndexedSeq[In]): (IndexedSeq[Out], Long, Double) =
@@ -44,16 +47,18 @@ object Replay {
     val start = System.nanoTime()
     val labels = design.errorLabels.size
     val chunks = ChunkedRun(rows.size, chunkSize(engine, rows.size, jobs), jobs, n => progress.advance(n.toLong)) { range =>
+      val cpuStart = threads.getCurrentThreadCpuTime
       val (outs, cycles, seconds) = outputs(design, engine, range.map(i => design.encode(rows(i))))
       val text = new java.lang.StringBuilder(range.size * 96)
       val maxErrors = new Array[Double](labels)
+      val errors = new Array[Double](labels)
       val flagged = range.indices.count { k =>
-        val line = design.result(range(k).toLong, rows(range(k)), outs(k))
-        text.append(line.text).append('\n')
-        if (!line.outOfRange) line.errors.indices.foreach(j => maxErrors(j) = maxErrors(j).max(line.errors(j)))
-        line.outOfRange
+        val outOfRange = design.result(range(k).toLong, rows(range(k)), outs(k), text, errors)
+        text.append('\n')
+        if (!outOfRange) errors.indices.foreach(j => maxErrors(j) = maxErrors(j).max(errors(j)))
+        outOfRange
       }
-      ChunkResult(text.toString, maxErrors, flagged.toLong, cycles, seconds)
+      ChunkResult(text.toString, maxErrors, flagged.toLong, cycles, seconds, (threads.getCurrentThreadCpuTime - cpuStart) / 1e9)
     }
     progress.finish()
     out.write(design.outputHeader)
@@ -61,6 +66,7 @@ object Replay {
     chunks.foreach(c => out.write(c.text))
     ReplaySummary(rows.size.toLong,
       (0 until labels).map(j => chunks.map(_.maxErrors(j)).maxOption.getOrElse(0.0)),
-      chunks.map(_.outOfRange).sum, (System.nanoTime() - start) / 1e9, chunks.map(_.cycles).sum, chunks.map(_.harnessSeconds).sum)
+      chunks.map(_.outOfRange).sum, (System.nanoTime() - start) / 1e9, chunks.map(_.cycles).sum, chunks.map(_.harnessSeconds).sum,
+      chunks.map(_.cpuSeconds).sum)
   }
 }

@@ -1,8 +1,5 @@
 package reducerload.sim
 
-/** One output line of a replay (no line end), the sample's |error| per joint, and whether it was flagged out of range. */
-final case class ReplayLine(text: String, errors: IndexedSeq[Double], outOfRange: Boolean)
-
 /**
  * A design as `run simulate` replays it, whatever engine runs it: the trajectory's columns and
  * declared ranges, a row (values in `columns` order) to input codes, the bit-accurate model, the
@@ -28,7 +25,11 @@ trait ReplayDesign[In, Out] {
   def latency: Int
 
   def outputHeader: String
-  def result(index: Long, row: IndexedSeq[Double], out: Out): ReplayLine
+  /**
+   * Append sample `index`'s output line (no line end; numbers as Double.toString writes them) to
+   * `text` and its |error| per [[errorLabels]] entry to `errors`; returns whether it was flagged out of range.
+   */
+  def result(index: Long, row: IndexedSeq[Double], out: Out, text: java.lang.StringBuilder, errors: Array[Double]): Boolean
 
   /** What the `errors` of [[result]] are about, and each one's derived bound (N·m). */
   def errorLabels: IndexedSeq[String]
