@@ -33,8 +33,12 @@ final class FastCordic(p: CordicParams) {
   private val twoPi = p.twoPiRaw.toLong
   require(!p.residual || (zrShift >= 0 && operandDrop >= 0), s"FastCordic ${p.tag}: negative shift in the residual rotation")
 
-  private def check(v: Long, min: Long, max: Long, what: => String): Long = {
-    if (v < min || v > max) throw new IllegalArgumentException(s"CordicModel ${p.tag}: $what = $v outside [$min, $max]")
+  /** `v` if within [min, max]; the message names `what` (and the iteration, when not negative) only on failure. */
+  private def check(v: Long, min: Long, max: Long, what: String, iteration: Int = -1): Long = {
+    if (v < min || v > max) {
+      val where = if (iteration >= 0) s"$what after iteration $iteration" else what
+      throw new IllegalArgumentException(s"CordicModel ${p.tag}: $where = $v outside [$min, $max]")
+    }
     v
   }
 
@@ -51,9 +55,9 @@ final class FastCordic(p: CordicParams) {
       val dx = y >> i
       val dy = x >> i
       if (z >= 0) { x -= dx; y += dy; z -= atan(i) } else { x += dx; y -= dy; z += atan(i) }
-      check(z, zMin(i + 1 - p.firstIteration), zMax(i + 1 - p.firstIteration), s"z after iteration $i")
-      check(x, xyMin, xyMax, s"x after iteration $i")
-      check(y, xyMin, xyMax, s"y after iteration $i")
+      check(z, zMin(i + 1 - p.firstIteration), zMax(i + 1 - p.firstIteration), "z", i)
+      check(x, xyMin, xyMax, "x", i)
+      check(y, xyMin, xyMax, "y", i)
       i += 1
     }
     if (p.residual) {

@@ -6,7 +6,7 @@ import scala.collection.mutable.ArrayBuffer
 /**
  * A trajectory through a [[ReplayDesign]] on an engine, in chunks on `jobs` threads: each chunk
  * converts its rows, runs them (a harness process from reset, or the model), and formats its result
- * lines; the lines are written in sample order. The datapath keeps no state between samples, so the
+ * lines; the lines are written in sample order while later chunks run. The datapath keeps no state between samples, so the
  * file does not depend on the chunking.
  */
 object Replay {
@@ -23,7 +23,7 @@ object Replay {
     ((samples + jobs - 1) / jobs).min(most).max(1)
   }
 
-  private final case class ChunkResult(text: String, maxErrors: Array[Double], outOfRange: Long, cycles: Long, harnessSeconds: Double,
+  private final case class ChunkResult(maxErrors: Array[Double], outOfRange: Long, cycles: Long, harnessSeconds: Double,
     cpuSeconds: Double)
 
   private val threads = java.lang.management.ManagementFactory.getThreadMXBean
@@ -41,12 +41,34 @@ object Replay {
         (outs.toIndexedSeq, stats.cycles, stats.seconds)
     }
 
+  /**
+   * Texts of numbered chunks to `out` in chunk order, as soon as each one and every one before it is
+   * there: writing overlaps the work on later chunks, and at most the chunks done out of order wait.
+   */
+  private final class InOrderWriter(out: Writer, count: Int) {
+    private val waiting = new Array[String](count)
+    private var next = 0 // guarded by this
+
+    def put(k: Int, text: String): Unit = synchronized {
+      waiting(k) = text
+      while (next < count && waiting(next) != null) {
+        out.write(waiting(next))
+        waiting(next) = null
+        next += 1
+      }
+    }
+  }
+
   /** Run every row, write the header and one line per sample to `out`. */
   def run[In, Out](design: ReplayDesign[In, Out], engine: ReplayEngine, rows: IndexedSeq[IndexedSeq[Double]], jobs: Int,
     out: Writer, progress: ProgressLine): ReplaySummary = {
     val start = System.nanoTime()
     val labels = design.errorLabels.size
-    val chunks = ChunkedRun(rows.size, chunkSize(engine, rows.size, jobs), jobs, n => progress.advance(n.toLong)) { range =>
+    val size = chunkSize(engine, rows.size, jobs)
+    out.write(design.outputHeader)
+    out.write('\n')
+    val writer = new InOrderWriter(out, (rows.size + size - 1) / size)
+    val chunks = ChunkedRun(rows.size, size, jobs, n => progress.advance(n.toLong)) { range =>
       val cpuStart = threads.getCurrentThreadCpuTime
       val (outs, cycles, seconds) = outputs(design, engine, range.map(i => design.encode(rows(i))))
       val text = new java.lang.StringBuilder(range.size * 96)
@@ -58,12 +80,11 @@ object Replay {
         if (!outOfRange) errors.indices.foreach(j => maxErrors(j) = maxErrors(j).max(errors(j)))
         outOfRange
       }
-      ChunkResult(text.toString, maxErrors, flagged.toLong, cycles, seconds, (threads.getCurrentThreadCpuTime - cpuStart) / 1e9)
+      val cpuSeconds = (threads.getCurrentThreadCpuTime - cpuStart) / 1e9
+      writer.put(range.start / size, text.toString)
+      ChunkResult(maxErrors, flagged.toLong, cycles, seconds, cpuSeconds)
     }
     progress.finish()
-    out.write(design.outputHeader)
-    out.write('\n')
-    chunks.foreach(c => out.write(c.text))
     ReplaySummary(rows.size.toLong,
       (0 until labels).map(j => chunks.map(_.maxErrors(j)).maxOption.getOrElse(0.0)),
       chunks.map(_.outOfRange).sum, (System.nanoTime() - start) / 1e9, chunks.map(_.cycles).sum, chunks.map(_.harnessSeconds).sum,
