@@ -96,4 +96,31 @@ class SimulateSpec extends AnyFlatSpec {
       assert(math.abs(cells(3).toDouble) < 1e-3)
     }
   }
+
+  it should "write a seeded trajectory within the declared ranges (run trajectory) that simulate reads without --saturate" in {
+    val seed = Seeds("trajectory-command", 81L)
+    def write(args: String*): Path = {
+      val out = Files.createTempDirectory("trajectory-").resolve("t.csv")
+      Main.run(Seq("trajectory", "--output", out.toString, "--samples", "500", "--seed", seed.toString) ++ args)
+      out
+    }
+    val joint3 = write()
+    val table = reducerload.trace.TraceCsv.read(joint3, reducerload.load.JointSample.columns)
+    assert(table.header.mkString(",") == header && table.rows.size == 500)
+    val d = Simulate.design(reducerload.load.LoadParams.default)
+    d.limits.foreach { case (c, limit) =>
+      val column = table.rows.map(_._2(c))
+      assert(column.forall(v => math.abs(v) <= limit), s"column ${d.columns(c)} beyond $limit")
+      assert(column.exists(v => math.abs(v) > limit / 2), s"column ${d.columns(c)} does not cover its range")
+    }
+    assert(table.column("t1").forall(v => math.abs(v) <= math.Pi))
+    assert(Files.readAllBytes(joint3).sameElements(Files.readAllBytes(write())), "the same seed wrote another file")
+    val out = Files.createTempDirectory("trajectory-sim-").resolve("loads.csv")
+    Main.run(Seq("simulate", "--input", joint3.toString, "--output", out.toString, "--engine", "model"))
+    assert(new String(Files.readAllBytes(out), StandardCharsets.UTF_8).linesIterator.size == 501)
+    val arm = reducerload.trace.TraceCsv.read(write("--robot", "planar3"), reducerload.arm.ArmTrajectory.columns(3))
+    assert(arm.rows.size == 500)
+    val e = intercept[InputError](Main.run(Seq("trajectory", "--output", joint3.toString, "--samples", "0")))
+    assert(e.getMessage.contains("--samples"))
+  }
 }
