@@ -43,9 +43,10 @@ bench() {
   local rate; rate="$(sed -n 's/^simulation rate: \([0-9]*\) samples\/s.*/\1/p' "$log")"
   local cpurate; cpurate="$(sed -n 's/.*JVM side \([0-9]*\) samples per CPU second.*/\1/p' "$log")"
   local clocks; clocks="$(sed -n 's/.*; \([0-9]*\) clock cycles\/s per harness process.*/\1/p' "$log")"
+  local clockscpu; clockscpu="$(sed -n 's/.*clock cycles\/s per harness process (\([0-9]*\) per CPU second).*/\1/p' "$log")"
   local cpu; cpu="$(awk '{printf "%.0f", $1 + $2}' "$log.cpu")"
-  rows+=("$(printf '| %s | %s | %d | %.1f | %.0f | %s | %s | %s | %s | %s | %s |' "$label" "$engine" "$n" "$wall" \
-    "$(echo "$n / $wall" | bc -l)" "$read" "$rate" "$cpurate" "${clocks:--}" "$cpu" "$load")")
+  rows+=("$(printf '| %s | %s | %d | %.1f | %.0f | %s | %s | %s | %s | %s | %s | %s |' "$label" "$engine" "$n" "$wall" \
+    "$(echo "$n / $wall" | bc -l)" "$read" "$rate" "$cpurate" "${clocks:--}" "${clockscpu:--}" "$cpu" "$load")")
 }
 
 same() { # two result files of one design
@@ -66,6 +67,6 @@ done
 
 echo
 echo "$(nproc) processors; load average now $(cut -d' ' -f1-3 /proc/loadavg); seed $seed; logs in $work"
-echo "| design | engine | samples | wall clock s (end to end) | samples/s end to end | CSV read s | replay samples/s (wall) | replay samples per JVM CPU s | harness clocks/s | CPU s (user+sys, sbt, JVM and harness processes) | load at start |"
-echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+echo "| design | engine | samples | wall clock s (end to end) | samples/s end to end | CSV read s | replay samples/s (wall) | replay samples per JVM CPU s | harness clocks/s per process (wall) | harness clocks per CPU s | CPU s (user+sys, sbt, JVM and harness processes) | load at start |"
+echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
 printf '%s\n' "${rows[@]}"

@@ -146,7 +146,7 @@ object Simulate {
     println(s"out-of-range samples (clamped, flagged): ${summary.outOfRange}")
     val how = engine match {
       case ReplayEngine.Rtl(_) => f"Verilator harness, ${d.throughput}, latency ${d.latency} cycles; " +
-          f"${summary.cyclesPerHarnessSecond}%.0f clock cycles/s per harness process"
+          f"${summary.cyclesPerHarnessSecond}%.0f clock cycles/s per harness process (${summary.cyclesPerHarnessCpuSecond}%.0f per CPU second)"
       case ReplayEngine.Model => "bit-accurate model"
     }
     println(f"simulation rate: ${summary.samplesPerSecond}%.0f samples/s ($how; JVM side ${summary.samplesPerCpuSecond}%.0f samples per CPU second)")

@@ -45,8 +45,10 @@ final class CompiledHarness(val executable: Path, val ports: HarnessPorts, val f
         drainCycles.toString, maxStallCycles.toString).!(ProcessLogger(l => log.append(l).append('\n'), l => log.append(l).append('\n')))
       val seconds = (System.nanoTime() - start) / 1e9
       if (status != 0) throw new IllegalStateException(s"harness $executable failed (exit $status): ${log.toString.trim}")
-      val cycles = "cycles=(\\d+)".r.findFirstMatchIn(log).map(_.group(1).toLong)
-        .getOrElse(throw new IllegalStateException(s"harness $executable printed no cycle count: ${log.toString.trim}"))
+      def printed(pattern: String, what: String) = pattern.r.findFirstMatchIn(log).map(_.group(1))
+        .getOrElse(throw new IllegalStateException(s"harness $executable printed no $what: ${log.toString.trim}"))
+      val cycles = printed("cycles=(\\d+)", "cycle count").toLong
+      val cpuSeconds = printed("cpu_seconds=([0-9.]+)", "CPU time").toDouble
       val outputs = readRecords(out, outRecord) { b =>
         val cycle = b.getLong()
         val values = new Array[BigInt](outputPorts.length)
@@ -57,7 +59,7 @@ final class CompiledHarness(val executable: Path, val ports: HarnessPorts, val f
       val taken = readRecords(accepted, 8)(b => onAccepted(b.getLong()))
       if (taken != written)
         throw new IllegalStateException(s"harness took $taken of $written samples (drain or stall limit reached?)")
-      HarnessStats(taken, outputs, cycles, seconds)
+      HarnessStats(taken, outputs, cycles, seconds, cpuSeconds)
     } finally VerilatorHarness.deleteTree(dir)
   }
 

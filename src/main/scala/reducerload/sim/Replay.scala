@@ -23,22 +23,21 @@ object Replay {
     ((samples + jobs - 1) / jobs).min(most).max(1)
   }
 
-  private final case class ChunkResult(maxErrors: Array[Double], outOfRange: Long, cycles: Long, harnessSeconds: Double,
-    cpuSeconds: Double)
+  private final case class ChunkResult(maxErrors: Array[Double], outOfRange: Long, harness: Option[HarnessStats], cpuSeconds: Double)
 
   private val threads = java.lang.management.ManagementFactory.getThreadMXBean
 
-  /** Outputs of `inputs` on `engine`, and (cycles, process seconds) for the RTL. */
-  def outputs[In, Out](design: ReplayDesign[In, Out], engine: ReplayEngine, inputs: IndexedSeq[In]): (IndexedSeq[Out], Long, Double) =
+  /** Outputs of `inputs` on `engine`, and the harness run's figures for the RTL. */
+  def outputs[In, Out](design: ReplayDesign[In, Out], engine: ReplayEngine, inputs: IndexedSeq[In]): (IndexedSeq[Out], Option[HarnessStats]) =
     engine match {
-      case ReplayEngine.Model => (inputs.map(design.evaluate), 0L, 0.0)
+      case ReplayEngine.Model => (inputs.map(design.evaluate), None)
       case ReplayEngine.Rtl(harness) =>
         val outs = new ArrayBuffer[Out](inputs.size)
         val stats = harness.stream(inputs.iterator.map(design.harnessValues), design.samplePeriod, design.latency + 1)(
           (_, values) => outs += design.fromHarness(values))
         if (outs.size != inputs.size)
           throw new IllegalStateException(s"the RTL returned ${outs.size} results for ${inputs.size} samples")
-        (outs.toIndexedSeq, stats.cycles, stats.seconds)
+        (outs.toIndexedSeq, Some(stats))
     }
 
   /**
@@ -70,7 +69,7 @@ object Replay {
     val writer = new InOrderWriter(out, (rows.size + size - 1) / size)
     val chunks = ChunkedRun(rows.size, size, jobs, n => progress.advance(n.toLong)) { range =>
       val cpuStart = threads.getCurrentThreadCpuTime
-      val (outs, cycles, seconds) = outputs(design, engine, range.map(i => design.encode(rows(i))))
+      val (outs, harnessStats) = outputs(design, engine, range.map(i => design.encode(rows(i))))
       val text = new java.lang.StringBuilder(range.size * 96)
       val maxErrors = new Array[Double](labels)
       val errors = new Array[Double](labels)
@@ -82,12 +81,11 @@ object Replay {
       }
       val cpuSeconds = (threads.getCurrentThreadCpuTime - cpuStart) / 1e9
       writer.put(range.start / size, text.toString)
-      ChunkResult(maxErrors, flagged.toLong, cycles, seconds, cpuSeconds)
+      ChunkResult(maxErrors, flagged.toLong, harnessStats, cpuSeconds)
     }
     progress.finish()
     ReplaySummary(rows.size.toLong,
       (0 until labels).map(j => chunks.map(_.maxErrors(j)).maxOption.getOrElse(0.0)),
-      chunks.map(_.outOfRange).sum, (System.nanoTime() - start) / 1e9, chunks.map(_.cycles).sum, chunks.map(_.harnessSeconds).sum,
-      chunks.map(_.cpuSeconds).sum)
+      chunks.map(_.outOfRange).sum, (System.nanoTime() - start) / 1e9, chunks.map(_.cpuSeconds).sum, chunks.flatMap(_.harness))
   }
 }

@@ -158,12 +158,14 @@ object VerilatorHarness {
        |// was taken, and held until valid && ready at a rising edge. Every cycle with ${ports.outValid}
        |// high appends the outputs to OUTPUTS; every taken sample appends its cycle to ACCEPTED.
        |// Files are little-endian int64, signed outputs sign-extended. After the last sample, DRAIN_CYCLES
-       |// more clocks run. Exit status 2 with one line on stderr on any error.
+       |// more clocks run. Prints the counts and the process's CPU seconds. Exit status 2 with one line on
+       |// stderr on any error.
        |// Usage: harness INPUTS OUTPUTS ACCEPTED SAMPLE_PERIOD DRAIN_CYCLES MAX_STALL_CYCLES
        |#include <cerrno>
        |#include <cstdint>
        |#include <cstdio>
        |#include <cstdlib>
+       |#include <ctime>
        |#include <memory>
        |#include <vector>
        |
@@ -292,7 +294,8 @@ object VerilatorHarness {
        |  if (std::fclose(out) != 0) fail("write error", argv[2]);
        |  if (std::fclose(accepted) != 0) fail("write error", argv[3]);
        |  std::fclose(in);
-       |  std::printf("cycles=%lld samples=%lld outputs=%lld\\n", cycle, taken, produced);
+       |  std::printf("cycles=%lld samples=%lld outputs=%lld cpu_seconds=%.6f\\n", cycle, taken, produced,
+       |              static_cast<double>(std::clock()) / CLOCKS_PER_SEC);
        |  return 0;
        |}
        |""".stripMargin

@@ -35,7 +35,8 @@ object HarnessBenchmark {
 
     println(f"[benchmark] $n samples, default preset, ${r.stats.cycles} cycles; first $checked bit-exact with the model")
     println(f"[benchmark] build: $compileSeconds%.1f s (${if (harness.fromCache) "cache hit" else "fresh build"}) in ${harness.directory}")
-    println(f"[benchmark] simulator process alone: ${r.stats.seconds}%.2f s = ${r.stats.samplesPerSecond}%.0f samples/s")
+    println(f"[benchmark] simulator process alone: ${r.stats.seconds}%.2f s = ${r.stats.samplesPerSecond}%.0f samples/s " +
+      f"(${r.stats.cpuSeconds}%.2f CPU s = ${r.stats.cyclesPerCpuSecond}%.0f clocks per CPU second)")
     println(f"[benchmark] run (files, process, decoding): $runSeconds%.2f s = ${n / runSeconds}%.0f samples/s excluding the build")
     if (args.contains("--fresh")) VerilatorHarness.deleteTree(cache)
     println(f"[benchmark] with the build: ${compileSeconds + runSeconds}%.2f s = ${n / (compileSeconds + runSeconds)}%.0f samples/s")
