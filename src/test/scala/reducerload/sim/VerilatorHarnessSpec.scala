@@ -60,8 +60,11 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
     assert(r.acceptedCycles == in.indices.map(_.toLong))
     val flagged = r.outputs.count(_(1) != 0)
     assert(flagged > 0, "no out-of-range sample was flagged")
+    // The process's own CPU time: positive, and (one thread) not beyond its wall time by more than the clock's granularity.
+    assert(r.stats.cpuSeconds > 0 && r.stats.cpuSeconds <= r.stats.seconds + 0.05, s"harness CPU ${r.stats.cpuSeconds} s, wall ${r.stats.seconds} s")
     println(f"[harness] default: ${in.size} samples bit-exact ($flagged flagged out of range), " +
-      f"${r.stats.cycles} cycles, ${r.stats.samplesPerSecond}%.0f samples/s (${if (harness.fromCache) "cached build" else "fresh build"})")
+      f"${r.stats.cycles} cycles, ${r.stats.samplesPerSecond}%.0f samples/s, ${r.stats.cyclesPerCpuSecond}%.0f clocks per CPU second " +
+      f"(${if (harness.fromCache) "cached build" else "fresh build"})")
   }
 
   it should "wait for ready with a shared CORDIC unit: samples offered every clock are taken every third (compact preset)" in {
