@@ -49,8 +49,14 @@ final case class ArmParams(
   lazy val analysis: Analysis = new Analysis(graph, numerics, rangeHints)
   lazy val schedule: Schedule = new Schedule(analysis, scheduleRequest, cordic, multiplierLatency, ArmDatapath.inputCycle)
 
+  /** With `schedule.storage = memory`: the banks, adder units and table of the shared datapath (see [[BankedSchedule]]). */
+  lazy val banked: Option[BankedSchedule] = if (scheduleRequest.storage == Storage.Memory) Some(new BankedSchedule(schedule)) else None
+
   /** Cycles from a sample on the input port to its torques on the output port. */
-  def latency: Int = schedule.latency
+  def latency: Int = banked.fold(schedule.latency)(_.latency)
+
+  /** Cycle at which every torque is in its register, before the output stage. */
+  def outputsReady: Int = banked.fold(schedule.outputsReady)(_.outputsReady)
 
   /** Worst-case |torque - exact double RNEA at the unquantized inputs| per joint, N·m, for inputs in range. */
   def errorBounds: IndexedSeq[Double] = analysis.outputs.map(_.errorBound)
@@ -58,7 +64,7 @@ final case class ArmParams(
 
   /** Names the design: robot, joints and, when samples are spaced, the clocks per sample. */
   def tag: String = s"${chain.name.replaceAll("[^A-Za-z0-9]", "_")}_${chain.size}dof" +
-    (if (schedule.clocksPerSample > 1) s"_ii${schedule.clocksPerSample}" else "")
+    (if (schedule.clocksPerSample > 1) s"_ii${schedule.clocksPerSample}" else "") + (if (banked.isDefined) "_mem" else "")
 }
 
 object ArmParams {
