@@ -72,11 +72,12 @@ class JointMonitor(p: MonitorParams, j: Int) extends Module {
 
   // ---- stage 4: normalising shift sh(r) = K - max(r, 1) (PowerTable.normalisingShift; no bit leaves the n bits) ----
   private val normalisingShift3 = Mux(region3 === 0.U, (table.octaves - 1).U, table.octaves.U - region3)
-  private val normal4 = FixedHw.delay((absTau3 << normalisingShift3)(n - 1, 0), 1)
+  // Registered: the k segment bits and the used offset bits (bits n-2 .. droppedBits; bit n-1 holds the leading one).
+  private val normal4 = FixedHw.delay((absTau3 << normalisingShift3)(n - 2, table.droppedBits), 1)
   private val region4 = FixedHw.delay(region3, 1)
 
   // ---- stage 5: table read (registered address and data: a ROM), segment = region 2^k + the k bits below bit n-1 ----
-  private val address4 = Cat(region4, normal4(n - 2, table.offsetBits))
+  private val address4 = Cat(region4, normal4(n - 2 - table.droppedBits, table.usedOffsetBits))
   private val romWidth = table.baseBits + table.deltaBits + table.shiftBits
   // One ROM word per segment: base, delta, shift (high to low).
   private val rom = VecInit(table.base.indices.map { s =>
@@ -86,7 +87,7 @@ class JointMonitor(p: MonitorParams, j: Int) extends Module {
   private val base5 = word5(romWidth - 1, table.deltaBits + table.shiftBits)
   private val delta5 = word5(table.deltaBits + table.shiftBits - 1, table.shiftBits)
   private val shift5 = word5(table.shiftBits - 1, 0)
-  private val offset5 = FixedHw.delay(normal4(table.offsetBits - 1, table.droppedBits).pad(table.usedOffsetBits), 1)
+  private val offset5 = FixedHw.delay(normal4(table.usedOffsetBits - 1, 0), 1)
 
   // ---- interpolation: mantissa = base + delta * offset / 2^usedOffsetBits, rounded half up (PowerTable.mantissa) ----
   private val (interpA, interpB) = p.interpolationMulWidths(j)
