@@ -168,7 +168,7 @@ final case class PowerTable(exponent: Double, codeBits: Int, segmentBits: Int, f
   /** One line for reports. */
   def describe: String =
     f"power table $regions regions (u >= 2^-$octaves relative) x $segmentsPerRegion segments x ${baseBits + deltaBits + shiftBits} bits, " +
-      f"|power - u^p| <= $relativeBound%.2e u^p + $absoluteBound%.2e"
+      f"u^p = power / 2^$valueFracBits, |power / 2^$valueFracBits - u^p| <= $relativeBound%.2e u^p + $absoluteBound%.2e"
 }
 
 object PowerTable {
