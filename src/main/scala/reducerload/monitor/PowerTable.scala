@@ -124,7 +124,7 @@ final case class PowerTable(exponent: Double, codeBits: Int, segmentBits: Int, f
   /** Exact u^p of a magnitude code. */
   def exactPower(a: BigInt): Double = exact(u(a))
 
-  /** power(a) as a double u^p (exact: a power-of-two scaling of a < 2^53 integer... or as close as a double gets). */
+  /** power(a) as u^p in a double: exact (a mantissa of at most `fracBits` significant bits, shifted). */
   def powerValue(a: BigInt): Double = math.scalb(power(a).toDouble, -valueFracBits)
 
   /** Largest power: the last code of some segment (the mantissa does not decrease inside a segment). */
