@@ -160,7 +160,10 @@ object ArmReport {
           "gear_ratio" -> m.gearRatios(j),
           "histogram_bins" -> m.histogramBins(j),
           "histogram_bin_width_nm" -> m.histogramBinWidthNm(j),
-          "power_error_bound" -> m.powerErrorBound(j),
+          "power_error_relative" -> m.powerRelativeBound(j),
+          "power_error_absolute" -> m.powerAbsoluteBound(j),
+          "power_relative_from_u" -> math.pow(2.0, -m.powerTables(j).octaves),
+          "power_value_frac_bits" -> m.powerTables(j).valueFracBits,
           "multiplier_blocks" -> m.multiplierBlocks(j),
           "accumulators" -> m.provenAccumulators.map { f =>
             Map[String, Any]("name" -> f.name, "bits" -> m.accumulatorBits(j, f), "max_increment" -> m.maxIncrement(j, f).toString,
