@@ -55,8 +55,10 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
       s"${counts.additions} additions/subtractions, ${counts.negations} negations, ${counts.sinCos} sin/cos pairs (CORDIC units)",
     s"Schedule: $throughput, latency ${p.latency} cycles; multiplier units: ${schedule.unitSummary} (operand bits)" +
       s", ${schedule.multiplierBlocks} 18x18 blocks${schedule.request.maxMultipliers.fold("")(b => s" (budget $b)")}; " +
-      s"${schedule.cordicUnits} CORDIC units for ${counts.sinCos} angles; ${counts.additions + counts.negations} adders; " +
-      s"${schedule.heldBits} register bits hold values between cycles",
+      s"${schedule.cordicUnits} CORDIC units for ${counts.sinCos} angles; " + p.banked.fold(
+        s"${counts.additions + counts.negations} adders; ${schedule.heldBits} register bits hold values between cycles")(b =>
+        s"storage memory: ${b.adderUnits} adder units for ${counts.additions + counts.negations} additions, ${b.banks.size} banks of block RAM " +
+          s"(two read ports each, ${b.memoryBits} bits), latency bound from dependences ${b.dependenceBound} cycles"),
     f"Derived worst-case error bound: ${p.errorBound}%.3e N·m (largest over joints; vs double-precision RNEA at the unquantized inputs)",
     s"Fraction bits: velocity ${p.velocityFracBits}, acceleration ${p.accelerationFracBits}, constants ${p.constantFracBits}, " +
       s"products and sums ${p.internalFracBits}, output ${p.outputFracBits} (numeric.target-error, when set, chose them)",
@@ -102,7 +104,10 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
       "schedule" -> Map[String, Any]("clocks_per_sample" -> ii, "multiplier_units" -> schedule.multiplierUnits,
         "multiplier_unit_shapes" -> schedule.unitSummary,
         "multiplier_blocks" -> schedule.multiplierBlocks, "max_multipliers" -> schedule.request.maxMultipliers.map(Int.box).orNull,
-        "cordic_units" -> schedule.cordicUnits, "held_register_bits" -> schedule.heldBits).asJava,
+        "cordic_units" -> schedule.cordicUnits, "storage" -> schedule.request.storage.name,
+        "held_register_bits" -> p.banked.fold(schedule.heldBits)(_ => 0L),
+        "adder_units" -> p.banked.fold(counts.additions + counts.negations)(_.adderUnits),
+        "bank_memory_bits" -> p.banked.fold(0L)(_.memoryBits)).asJava,
       "command" -> command,
       "model" -> "rnea",
       "robot" -> p.chain.name,
@@ -155,7 +160,10 @@ object ArmReport {
           "gear_ratio" -> m.gearRatios(j),
           "histogram_bins" -> m.histogramBins(j),
           "histogram_bin_width_nm" -> m.histogramBinWidthNm(j),
-          "power_error_bound" -> m.powerErrorBound(j),
+          "power_error_relative" -> m.powerRelativeBound(j),
+          "power_error_absolute" -> m.powerAbsoluteBound(j),
+          "power_relative_from_u" -> math.pow(2.0, -m.powerTables(j).octaves),
+          "power_value_frac_bits" -> m.powerTables(j).valueFracBits,
           "multiplier_blocks" -> m.multiplierBlocks(j),
           "accumulators" -> m.provenAccumulators.map { f =>
             Map[String, Any]("name" -> f.name, "bits" -> m.accumulatorBits(j, f), "max_increment" -> m.maxIncrement(j, f).toString,

@@ -2,7 +2,7 @@ package reducerload.app
 
 import circt.stage.ChiselStage
 import reducerload.arm.{ArmDatapath, ArmGolden, ArmModel, ArmParams}
-import reducerload.graph.ScheduleRequest
+import reducerload.graph.{ScheduleRequest, Storage}
 
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path}
@@ -27,26 +27,29 @@ object ArmSweep {
 
   /**
    * The schedule axis: intervals from one clock to hundreds, and the fewest clocks within an
-   * EP4CE30's 66 blocks; then two of them with the fraction bits fitted to 1e-3 N·m (`numeric.target-error`).
+   * EP4CE30's 66 blocks; then two of them with the fraction bits fitted to 1e-3 N·m (`numeric.target-error`);
+   * then values in block-RAM banks (`schedule.storage = memory`) at 1e-3 N·m from 32 to 512 clocks.
    */
   val schedules: Seq[(String, ScheduleRequest, Seq[Double])] =
     Seq(1, 4, 16, 64, 256).map(c => (s"ii$c", ScheduleRequest(clocksPerSample = Some(c)), Nil)) ++ Seq(
       ("budget66", ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)), Nil),
       ("budget66-t1e-3", ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)), Seq(1e-3)),
-      ("ii64-t1e-3", ScheduleRequest(clocksPerSample = Some(64)), Seq(1e-3)))
+      ("ii64-t1e-3", ScheduleRequest(clocksPerSample = Some(64)), Seq(1e-3))) ++
+      Seq(32, 64, 128, 512).map(c => (s"mem-ii$c-t1e-3", ScheduleRequest(clocksPerSample = Some(c), storage = Storage.Memory), Seq(1e-3)))
 
   final case class Row(robot: String, point: String, p: ArmParams, errors: IndexedSeq[Double], estimate: Estimate) {
     private val s = p.schedule
     def fmax: Option[Double] = estimate.fmaxEcp5Mhz
     def samplesPerSecond: Double = s.samplesPerSecond(fmax.getOrElse(nominalMhz) * 1e6)
-    def cells: Seq[String] = Seq(robot, point, p.chain.size.toString, p.internalFracBits.toString, s.clocksPerSample.toString, s.latency.toString,
-      f"${s.latency * 1000 / fmax.getOrElse(nominalMhz)}%.0f", f"$samplesPerSecond%.3g", s.multiplierUnits.toString, s.cordicUnits.toString,
+    def cells: Seq[String] = Seq(robot, point, p.chain.size.toString, p.internalFracBits.toString, s.request.storage.name, s.clocksPerSample.toString,
+      p.latency.toString, f"${p.latency * 1000 / fmax.getOrElse(nominalMhz)}%.0f", f"$samplesPerSecond%.3g", s.multiplierUnits.toString,
+      p.banked.fold(p.graph.counts.additions + p.graph.counts.negations)(_.adderUnits).toString, s.cordicUnits.toString,
       s.multiplierBlocks.toString, estimate.mult18x18.toString, estimate.les.toString, estimate.registers.toString, estimate.memoryBits.toString,
       fmax.map(f => f"$f%.1f").getOrElse(""), f"${errors.max}%.2e", f"${p.errorBound}%.2e",
       errors.map(e => f"$e%.1e").mkString(" "), p.errorBounds.map(e => f"$e%.1e").mkString(" "))
   }
-  val header: Seq[String] = Seq("robot", "schedule", "joints", "internal_frac_bits", "clocks_per_sample", "latency_cycles", "latency_ns", "samples_per_s",
-    "mul_units", "cordic_units", "mult_blocks", "est_mult18x18", "est_les", "registers", "memory_bits", "fmax_ecp5_mhz",
+  val header: Seq[String] = Seq("robot", "schedule", "joints", "internal_frac_bits", "storage", "clocks_per_sample", "latency_cycles", "latency_ns",
+    "samples_per_s", "mul_units", "adder_units", "cordic_units", "mult_blocks", "est_mult18x18", "est_les", "registers", "memory_bits", "fmax_ecp5_mhz",
     "max_error_nm", "bound_nm", "max_error_per_joint", "bound_per_joint")
 
   /** Max |model - Pinocchio| per joint over every golden trace of `robot`. */

@@ -92,7 +92,7 @@ class ArmDatapath(val p: ArmParams) extends Module {
   // Cycle 2: one flag per joint (the two compares were registered apart: they were the critical path).
   private val jointFlags = (0 until joints).map { j =>
     val flag = RegEnable(velocities(j)._2 || accelerations(j)._2, during(ArmDatapath.inputCycle))
-    held(flag, ArmDatapath.flagCycle, Seq(schedule.outputsReady))(schedule.outputsReady)
+    held(flag, ArmDatapath.flagCycle, Seq(p.outputsReady))(p.outputsReady)
   }
 
   // Angles: each joint's code from the input register, at the cycles its sums are issued.
@@ -110,68 +110,83 @@ class ArmDatapath(val p: ArmParams) extends Module {
     unit.io.out.bits
   }
 
-  // Multiplier units: products wired in after every operand exists.
-  private def shapeOfUnit(u: Int): MulShape = schedule.unitShape(u)
-  private val products = schedule.mulBindings.indices.map(u => Wire(SInt((shapeOfUnit(u).wide + shapeOfUnit(u).narrow).W)))
-
-  // The graph, node by node: each value's register and the taps its readers use.
-  private val values: Vector[Map[Int, SInt]] = graph.ids.foldLeft(Vector.empty[Map[Int, SInt]]) { (done, id) =>
-    val f = analysis(id).format
-    def tap(x: NodeId, cycle: Int): SInt = graph(x) match {
-      case Const(_) => analysis(x).raw.get.S(analysis(x).format.width.W)
-      case _        => done(x.index)(cycle)
-    }
-    /** Operand `x` in cycle `t`, its fraction bits raised to `f`'s, sign-extended to `f`'s width. */
-    def aligned(x: NodeId, t: Int): SInt = (tap(x, t) << (f.fracBits - analysis(x).format.fracBits)).asSInt.pad(f.width)
-    // Proven range: any top bits dropped here only repeat the sign.
-    def fit(v: SInt): SInt = if (v.getWidth >= f.width) v(f.width - 1, 0).asSInt else v.pad(f.width)
-    val ready = schedule(id)
-    def issue = schedule.slot(id).get.issue
-    def register(v: SInt, cycle: Int): SInt = RegEnable(fit(v), during(cycle))
-    /** The value's register, seen by its readers. */
-    def kept(stage0: SInt): Map[Int, SInt] = held(stage0, ready.get, schedule.reads(id.index))
-    val taps: Map[Int, SInt] = graph(id) match {
-      case Const(_)                      => Map.empty
-      case Input(Signal.Velocity(j))     => kept(velocities(j)._1)
-      case Input(Signal.Acceleration(j)) => kept(accelerations(j)._1)
-      case Trig(fn, a) =>
-        val out = cordicOutputs(schedule.angleSlot(a).unit.get)
-        val v = if (fn == TrigFn.Cos) out.cos else out.sin
-        kept(if (schedule.capturesCordic) RegEnable(v, during(ready.get - 1)) else v)
-      case Add(a, b) => kept(register(aligned(a, issue) + aligned(b, issue), issue))
-      case Sub(a, b) => kept(register(aligned(a, issue) - aligned(b, issue), issue))
-      case Neg(a)    => kept(register(-aligned(a, issue), issue))
-      case Mul(a, b) =>
-        val rule = analysis.productRounding(analysis(a).format.fracBits, analysis(b).format.fracBits)
-        val rounded = fit(FixedHw.shiftRound(products(schedule.slot(id).get.unit.get), rule.drop, rule.rounding))
-        val captured = !schedule.dedicated || rule.rounding != Rounding.Truncate
-        if (schedule.forwarded(id)) Map(ready.get - 1 -> rounded) // its one reader takes it off the unit's output
-        else kept(if (captured) RegEnable(rounded, during(ready.get - 1)) else rounded)
-    }
-    done :+ taps
+  private def signal(s: Signal): SInt = s match {
+    case Signal.Velocity(j)     => velocities(j)._1
+    case Signal.Acceleration(j) => accelerations(j)._1
   }
 
-  schedule.mulBindings.zipWithIndex.foreach { case (bound, u) =>
-    val shape = shapeOfUnit(u)
-    def operands(id: NodeId): (SInt, SInt) = {
-      val Mul(a, b) = graph(id): @unchecked
-      val r = schedule.slot(id).get.issue
-      def tap(x: NodeId) = graph(x) match {
+  private val outAt = p.outputsReady
+
+  /** Each output's value in cycle `outAt`, from the storage the schedule asks for. */
+  private val outputValues: IndexedSeq[SInt] = p.banked match {
+    case Some(banked) => new MemoryStorage(p, banked, phase, during, held[SInt], signal, cordicOutputs).outputs
+    case None         => registerStorage()
+  }
+
+  /** Every value in its own registers, each unit operand selected among them by the phase. */
+  private def registerStorage(): IndexedSeq[SInt] = {
+    // Multiplier units: products wired in after every operand exists.
+    def shapeOfUnit(u: Int): MulShape = schedule.unitShape(u)
+    val products = schedule.mulBindings.indices.map(u => Wire(SInt((shapeOfUnit(u).wide + shapeOfUnit(u).narrow).W)))
+
+    // The graph, node by node: each value's register and the taps its readers use.
+    val values: Vector[Map[Int, SInt]] = graph.ids.foldLeft(Vector.empty[Map[Int, SInt]]) { (done, id) =>
+      val f = analysis(id).format
+      def tap(x: NodeId, cycle: Int): SInt = graph(x) match {
         case Const(_) => analysis(x).raw.get.S(analysis(x).format.width.W)
-        case _        => values(x.index)(r)
+        case _        => done(x.index)(cycle)
       }
-      val (wide, narrow) = if (analysis(a).format.width >= analysis(b).format.width) (tap(a), tap(b)) else (tap(b), tap(a))
-      (wide.pad(shape.wide), narrow.pad(shape.narrow))
+      /** Operand `x` in cycle `t`, its fraction bits raised to `f`'s, sign-extended to `f`'s width. */
+      def aligned(x: NodeId, t: Int): SInt = (tap(x, t) << (f.fracBits - analysis(x).format.fracBits)).asSInt.pad(f.width)
+      // Proven range: any top bits dropped here only repeat the sign.
+      def fit(v: SInt): SInt = if (v.getWidth >= f.width) v(f.width - 1, 0).asSInt else v.pad(f.width)
+      val ready = schedule(id)
+      def issue = schedule.slot(id).get.issue
+      def register(v: SInt, cycle: Int): SInt = RegEnable(fit(v), during(cycle))
+      /** The value's register, seen by its readers. */
+      def kept(stage0: SInt): Map[Int, SInt] = held(stage0, ready.get, schedule.reads(id.index))
+      val taps: Map[Int, SInt] = graph(id) match {
+        case Const(_)                      => Map.empty
+        case Input(Signal.Velocity(j))     => kept(velocities(j)._1)
+        case Input(Signal.Acceleration(j)) => kept(accelerations(j)._1)
+        case Trig(fn, a) =>
+          val out = cordicOutputs(schedule.angleSlot(a).unit.get)
+          val v = if (fn == TrigFn.Cos) out.cos else out.sin
+          kept(if (schedule.capturesCordic) RegEnable(v, during(ready.get - 1)) else v)
+        case Add(a, b) => kept(register(aligned(a, issue) + aligned(b, issue), issue))
+        case Sub(a, b) => kept(register(aligned(a, issue) - aligned(b, issue), issue))
+        case Neg(a)    => kept(register(-aligned(a, issue), issue))
+        case Mul(a, b) =>
+          val rule = analysis.productRounding(analysis(a).format.fracBits, analysis(b).format.fracBits)
+          val rounded = fit(FixedHw.shiftRound(products(schedule.slot(id).get.unit.get), rule.drop, rule.rounding))
+          val captured = !schedule.dedicated || rule.rounding != Rounding.Truncate
+          if (schedule.forwarded(id)) Map(ready.get - 1 -> rounded) // its one reader takes it off the unit's output
+          else kept(if (captured) RegEnable(rounded, during(ready.get - 1)) else rounded)
+      }
+      done :+ taps
     }
-    def select(pick: ((SInt, SInt)) => SInt): SInt = byPhase(bound.map { case (r, id) => r -> pick(operands(id)) })
-    val product = PipelinedMultiplier(select(_._1), select(_._2))
-    products(u) := FixedHw.delay(product, p.multiplierLatency - 1)
+
+    schedule.mulBindings.zipWithIndex.foreach { case (bound, u) =>
+      val shape = shapeOfUnit(u)
+      def operands(id: NodeId): (SInt, SInt) = {
+        val Mul(a, b) = graph(id): @unchecked
+        val r = schedule.slot(id).get.issue
+        def tap(x: NodeId) = graph(x) match {
+          case Const(_) => analysis(x).raw.get.S(analysis(x).format.width.W)
+          case _        => values(x.index)(r)
+        }
+        val (wide, narrow) = if (analysis(a).format.width >= analysis(b).format.width) (tap(a), tap(b)) else (tap(b), tap(a))
+        (wide.pad(shape.wide), narrow.pad(shape.narrow))
+      }
+      def select(pick: ((SInt, SInt)) => SInt): SInt = byPhase(bound.map { case (r, id) => r -> pick(operands(id)) })
+      val product = PipelinedMultiplier(select(_._1), select(_._2))
+      products(u) := FixedHw.delay(product, p.multiplierLatency - 1)
+    }
+    graph.outputs.map(o => values(o.node.index)(outAt))
   }
 
   // Output stage: every torque in one cycle, rounded half up to the output format, then registered.
-  private val outAt = schedule.outputsReady
-  private val results = graph.outputs.zip(analysis.outputs).map { case (o, info) =>
-    val v = values(o.node.index)(outAt)
+  private val results = graph.outputs.zip(analysis.outputs).zip(outputValues).map { case ((o, info), v) =>
     val rounded = FixedHw.rescale(v, analysis.outputDrop(o), Rounding.HalfUp)
     val (code, saturated) = FixedHw.saturate(rounded, info.format)
     (code.pad(analysis.outputPortFormat.width), saturated)

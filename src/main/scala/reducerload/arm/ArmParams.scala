@@ -47,10 +47,35 @@ final case class ArmParams(
   lazy val graph: Graph = built._1
   lazy val rangeHints: RangeHints = built._2
   lazy val analysis: Analysis = new Analysis(graph, numerics, rangeHints)
-  lazy val schedule: Schedule = new Schedule(analysis, scheduleRequest, cordic, multiplierLatency, ArmDatapath.inputCycle)
+  private def scheduleFor(request: ScheduleRequest) = new Schedule(analysis, request, cordic, multiplierLatency, ArmDatapath.inputCycle)
+
+  /**
+   * The schedule and, with `schedule.storage = memory`, its banks. With memory and `clocks-per-sample
+   * = auto`, the interval is the fewest from the multiplier budget's on at which the banks' read ports
+   * can also be served (a tight interval can leave no free port for a value read by many operations).
+   */
+  private lazy val scheduled: (Schedule, Option[BankedSchedule]) = scheduleRequest.storage match {
+    case Storage.Registers => (scheduleFor(scheduleRequest), None)
+    case Storage.Memory =>
+      val first = scheduleFor(scheduleRequest)
+      if (scheduleRequest.clocksPerSample.isDefined) (first, Some(new BankedSchedule(first)))
+      else {
+        val tries = Iterator.range(first.clocksPerSample, first.clocksPerSample + ArmParams.autoIntervalTries).map { ii =>
+          scala.util.Try { val s = scheduleFor(scheduleRequest.copy(clocksPerSample = Some(ii))); (s, Some(new BankedSchedule(s))) }
+        }
+        tries.collectFirst { case scala.util.Success(found) => found }.getOrElse((first, Some(new BankedSchedule(first))))
+      }
+  }
+  lazy val schedule: Schedule = scheduled._1
+
+  /** With `schedule.storage = memory`: the banks, adder units and table of the shared datapath (see [[BankedSchedule]]). */
+  lazy val banked: Option[BankedSchedule] = scheduled._2
 
   /** Cycles from a sample on the input port to its torques on the output port. */
-  def latency: Int = schedule.latency
+  def latency: Int = banked.fold(schedule.latency)(_.latency)
+
+  /** Cycle at which every torque is in its register, before the output stage. */
+  def outputsReady: Int = banked.fold(schedule.outputsReady)(_.outputsReady)
 
   /** Worst-case |torque - exact double RNEA at the unquantized inputs| per joint, N·m, for inputs in range. */
   def errorBounds: IndexedSeq[Double] = analysis.outputs.map(_.errorBound)
@@ -58,10 +83,13 @@ final case class ArmParams(
 
   /** Names the design: robot, joints and, when samples are spaced, the clocks per sample. */
   def tag: String = s"${chain.name.replaceAll("[^A-Za-z0-9]", "_")}_${chain.size}dof" +
-    (if (schedule.clocksPerSample > 1) s"_ii${schedule.clocksPerSample}" else "")
+    (if (schedule.clocksPerSample > 1) s"_ii${schedule.clocksPerSample}" else "") + (if (banked.isDefined) "_mem" else "")
 }
 
 object ArmParams {
+
+  /** Intervals tried above the budget's for `clocks-per-sample = auto` with memory storage, before the refusal of the first. */
+  val autoIntervalTries: Int = 64
 
   /**
    * Every joint's torque as a graph output, named after the joint; beside it, magnitude bounds that

@@ -171,6 +171,9 @@ object Settings {
       "none", _.schedule.maxMultipliers),
     new Count("schedule.cordic-units", "", "model rnea: sin/cos units shared by the joint angles (auto: the fewest that keep clocks-per-sample)", Nil,
       "auto", _.schedule.cordicUnits),
+    new Choice("schedule.storage", "", "model rnea, clocks-per-sample >= 2: registers (every value its own registers, operands multiplexed) or memory " +
+      "(values in block-RAM banks read by address, adders shared too: far fewer logic elements)", Nil,
+      reducerload.graph.Storage.all.map(_.name), _.schedule.storage.name),
     new PerJoint("numeric.target-error", "N·m", "model rnea: derived error bound to meet per joint; the datapath's fraction bits become the fewest that meet it " +
       "(none: as set above)", Seq("target-error"), _.targetError, keyword = Some("none")),
     new Switch("monitor.enabled", "", "build the reducer life and limit monitor beside the arm datapath (model rnea; docs/monitor.md)", Nil,
@@ -267,7 +270,8 @@ object Settings {
         memoryDelayMinCycles = int("datapath.memory-delay-min-cycles"),
         cordicUnits = int("datapath.cordic-units"),
         targetError = joints("numeric.target-error"),
-        schedule = reducerload.graph.ScheduleRequest(count("schedule.clocks-per-sample"), count("schedule.max-multipliers"), count("schedule.cordic-units")),
+        schedule = reducerload.graph.ScheduleRequest(count("schedule.clocks-per-sample"), count("schedule.max-multipliers"), count("schedule.cordic-units"),
+          reducerload.graph.Storage.all.find(_.name == str("schedule.storage")).get),
         monitor = MonitorSettings(
           enabled = bool("monitor.enabled"),
           exponent = joints("monitor.exponent"),
@@ -288,6 +292,7 @@ object Settings {
       if (!p.model.closedForm) {
         val arm = reducerload.arm.ArmConfig(p)
         arm.schedule
+        arm.banked
         if (p.monitor.enabled) { MonitorConfig(arm, p.monitor); MonitorConfig.rated(arm, p.monitor) }
       }
       p

@@ -11,8 +11,10 @@ import reducerload.pipeline.PipelinedMultiplier
  * @param clocksPerSample the initiation interval: a new sample may enter every this many clocks (None: `auto`, the fewest the budget allows)
  * @param maxMultipliers  18x18 multiplier blocks the datapath may use (None: no budget)
  * @param cordicUnits     sin/cos units (None: the fewest that do not lengthen the interval)
+ * @param storage         where values wait between operations ([[Storage]])
  */
-final case class ScheduleRequest(clocksPerSample: Option[Int] = Some(1), maxMultipliers: Option[Int] = None, cordicUnits: Option[Int] = None) {
+final case class ScheduleRequest(clocksPerSample: Option[Int] = Some(1), maxMultipliers: Option[Int] = None, cordicUnits: Option[Int] = None,
+  storage: Storage = Storage.Registers) {
   require(clocksPerSample.forall(c => c >= 1 && c <= 4096), s"schedule.clocks-per-sample must be auto or in 1..4096, got ${clocksPerSample.get}")
   require(maxMultipliers.forall(m => m >= 1 && m <= 100000), s"schedule.max-multipliers must be none or in 1..100000, got ${maxMultipliers.get}")
   require(cordicUnits.forall(c => c >= 1 && c <= 4096), s"schedule.cordic-units must be auto or in 1..4096, got ${cordicUnits.get}")
@@ -94,8 +96,17 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
   /** CORDIC units at interval `ii`: asked, or the fewest that keep it. */
   private def cordicUnitsAt(ii: Int): Int = request.cordicUnits.getOrElse(math.max(1, ceilDiv(angles.size, ii)))
 
+  /**
+   * Operations a shared unit takes per sample at interval `ii`: every slot with registers; with
+   * memory storage an eighth stays free, so that bank read ports and unit slots can still meet.
+   */
+  def slotsPerUnit(ii: Int): Int = if (request.storage == Storage.Memory) math.max(1, ii - ii / 8) else ii
+
+  /** Units that take `ops` operations at interval `ii`. */
+  def unitsFor(ops: Int, ii: Int): Int = ceilDiv(ops, slotsPerUnit(ii))
+
   /** 18x18 blocks at interval `ii`: per class, the fewest units that take its multiplies in `ii` slots each, and the CORDIC units'. */
-  private def blocksFor(ii: Int): Int = classes.map(c => ceilDiv(c.ops.size, ii) * c.shape.blocks).sum + cordicUnitsAt(ii) * cordic.multiplierBlocks
+  private def blocksFor(ii: Int): Int = classes.map(c => unitsFor(c.ops.size, ii) * c.shape.blocks).sum + cordicUnitsAt(ii) * cordic.multiplierBlocks
 
   /** The fewest blocks any interval needs: one unit per class, the fewest CORDIC units. */
   private val leastBlocks: Int = blocksFor(math.max(1, math.max(muls.size, angles.size)))
@@ -121,7 +132,7 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
 
   /** Each multiplier unit's shape: one unit per multiply at II = 1, else per class the fewest that fit its multiplies in II slots. */
   private val unitShapes: IndexedSeq[MulShape] =
-    if (dedicated) classes.flatMap(_.ops.map(shapeOf)) else classes.flatMap(c => Seq.fill(ceilDiv(c.ops.size, ii))(c.shape))
+    if (dedicated) classes.flatMap(_.ops.map(shapeOf)) else classes.flatMap(c => Seq.fill(unitsFor(c.ops.size, ii))(c.shape))
   def multiplierUnits: Int = unitShapes.size
 
   /** The operand widths unit `u` is built for: its one multiply's at II = 1, its class's widest otherwise. */
@@ -134,10 +145,13 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
 
   /** Units of each class, as a range of unit numbers (at II = 1 a multiply's own unit is found by `place`). */
   private val classUnits: Map[Int, Range] = {
-    val sizes = classes.map(c => if (dedicated) c.ops.size else ceilDiv(c.ops.size, ii))
+    val sizes = classes.map(c => if (dedicated) c.ops.size else unitsFor(c.ops.size, ii))
     classes.indices.map(k => k -> (sizes.take(k).sum until sizes.take(k + 1).sum)).toMap
   }
   private val classOf: Map[NodeId, Int] = classes.zipWithIndex.flatMap { case (c, k) => c.ops.map(_ -> k) }.toMap
+
+  /** The shared units a multiply may run on: its class's (at II = 1 every unit of the class). */
+  def unitsOf(id: NodeId): Range = classUnits(classOf(id))
 
   /** CORDIC units: asked, or the fewest that keep the interval. */
   val cordicUnits: Int = cordicUnitsAt(ii)

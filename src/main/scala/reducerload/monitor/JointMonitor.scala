@@ -1,16 +1,18 @@
 package reducerload.monitor
 
 import chisel3._
-import chisel3.util.Valid
+import chisel3.util.{Cat, Log2, Valid}
 import reducerload.fixedpoint.FixedHw
 import reducerload.pipeline.PipelinedMultiplier
 
 /**
  * One joint of [[ReducerMonitor]]: the per-sample pipeline, the live state and its shadow.
  *
- * Stages (cycles after the input): 1 input registers; 2 magnitudes |tau|, |qd|; 3 power-table read
- * and the constant comparisons (T_R, T_M, bin edges); then the interpolation multiply, the power
- * register and the |qd| x power multiply (both `PipelinedMultiplier`s: registered 18x18 blocks).
+ * Stages (cycles after the input): 1 input registers; 2 magnitudes |tau|, |qd|; 3 the power table's
+ * region (leading one of |tau|) and the constant comparisons (T_R, T_M, bin edges); 4 the normalising
+ * shift; 5 the table read (base, delta, shift); then the interpolation multiply, the mantissa
+ * register, the |qd| x mantissa multiply (both `PipelinedMultiplier`s: registered 18x18 blocks) and
+ * the shift by the segment's exponent (registered).
  * Everything is delayed to `p.updateStage`, where one clock applies clear, the sample and snapshot
  * exactly as [[MonitorModel.step]] does. Data registers carry no reset; the valid and command
  * bits and the state do.
@@ -53,15 +55,12 @@ class JointMonitor(p: MonitorParams, j: Int) extends Module {
   private val absQd2 = FixedHw.delay(magnitude(velocity1), 1)
   private val outOfRange2 = FixedHw.delay(outOfRange1, 1)
 
-  // ---- stage 3: table read (registered address and data: a ROM) and comparisons with constants ----
-  private val segment2 = absTau2(table.codeBits - 1, table.offsetBits)
-  private val offset2 = if (table.offsetBits > table.droppedBits) absTau2(table.offsetBits - 1, table.droppedBits) else 0.U
-  // One ROM word per segment: base above delta.
-  private val rom = VecInit(table.base.zip(table.delta).map { case (b, d) => ((b << table.deltaBits) | d).U((table.baseBits + table.deltaBits).W) })
-  private val word3 = FixedHw.delay(rom(segment2), 1)
-  private val base3 = word3(table.baseBits + table.deltaBits - 1, table.deltaBits)
-  private val delta3 = word3(table.deltaBits - 1, 0)
-  private val offset3 = FixedHw.delay(offset2.pad(table.usedOffsetBits), 1)
+  // ---- stage 3: region (leading one) and the comparisons with constants ----
+  // Region r >= 1: the leading one at bit n-K+r-1; region 0: no one at or above bit n-K (PowerTable.regionOf).
+  private val n = table.codeBits
+  private val octaveBits2 = absTau2(n - 1, n - table.octaves)
+  private val region3 = FixedHw.delay(Mux(octaveBits2.orR, Log2(octaveBits2) +& 1.U, 0.U).pad(table.regionBits)(table.regionBits - 1, 0), 1)
+  private val absTau3 = FixedHw.delay(absTau2, 1)
   private val absTauSigned2 = absTau2.zext
   private val aboveRepeated3 = FixedHw.delay(FixedHw.greaterThan(absTauSigned2, p.repeatedPeakCode(j)), 1)
   private val aboveMomentary3 = FixedHw.delay(FixedHw.greaterThan(absTauSigned2, p.momentaryPeakCode(j)), 1)
@@ -71,22 +70,44 @@ class JointMonitor(p: MonitorParams, j: Int) extends Module {
     if (k + 1 < atLeastEdge2.size) atLeastEdge2(k) && !atLeastEdge2(k + 1) else atLeastEdge2(k)
   }), 1)
 
-  // ---- interpolation: power = base + delta * offset / 2^usedOffsetBits, rounded half up (PowerTable.power) ----
+  // ---- stage 4: normalising shift sh(r) = K - max(r, 1) (PowerTable.normalisingShift; no bit leaves the n bits) ----
+  private val normalisingShift3 = Mux(region3 === 0.U, (table.octaves - 1).U, table.octaves.U - region3)
+  // Registered: the k segment bits and the used offset bits (bits n-2 .. droppedBits; bit n-1 holds the leading one).
+  private val normal4 = FixedHw.delay((absTau3 << normalisingShift3)(n - 2, table.droppedBits), 1)
+  private val region4 = FixedHw.delay(region3, 1)
+
+  // ---- stage 5: table read (registered address and data: a ROM), segment = region 2^k + the k bits below bit n-1 ----
+  private val address4 = Cat(region4, normal4(n - 2 - table.droppedBits, table.usedOffsetBits))
+  private val romWidth = table.baseBits + table.deltaBits + table.shiftBits
+  // One ROM word per segment: base, delta, shift (high to low).
+  private val rom = VecInit(table.base.indices.map { s =>
+    ((table.base(s) << (table.deltaBits + table.shiftBits)) | (table.delta(s) << table.shiftBits) | BigInt(table.shift(s))).U(romWidth.W)
+  })
+  private val word5 = FixedHw.delay(rom(address4), 1)
+  private val base5 = word5(romWidth - 1, table.deltaBits + table.shiftBits)
+  private val delta5 = word5(table.deltaBits + table.shiftBits - 1, table.shiftBits)
+  private val shift5 = word5(table.shiftBits - 1, 0)
+  private val offset5 = FixedHw.delay(normal4(table.usedOffsetBits - 1, 0), 1)
+
+  // ---- interpolation: mantissa = base + delta * offset / 2^usedOffsetBits, rounded half up (PowerTable.mantissa) ----
   private val (interpA, interpB) = p.interpolationMulWidths(j)
-  private val interpolation = PipelinedMultiplier(delta3.zext, offset3.zext)
+  private val interpolation = PipelinedMultiplier(delta5.zext, offset5.zext)
   require(interpolation.getWidth == interpA + interpB, "JointMonitor: interpolation product width")
-  private val interpolationAt = 3 + PipelinedMultiplier.latency(interpA, interpB)
+  private val interpolationAt = 5 + PipelinedMultiplier.latency(interpA, interpB)
   // Rounded half up; the product is non-negative and the extra bit keeps the add from wrapping.
   private val step = ((interpolation.asUInt +& table.half.U) >> table.usedOffsetBits).pad(table.baseBits)(table.baseBits - 1, 0)
-  // Proven: base + step <= the next table point < 2^powerFracBits, so the sum keeps baseBits.
-  private val power = FixedHw.delay(FixedHw.delay(base3, interpolationAt - 3) +% step, 1)
+  // Proven: base + step <= the segment's end point < 2^powerFracBits, so the sum keeps baseBits.
+  private val mantissa = FixedHw.delay(FixedHw.delay(base5, interpolationAt - 5) +% step, 1)
   require(interpolationAt + 1 == p.powerReadyAt(j), "JointMonitor: schedule differs from MonitorParams.powerReadyAt")
 
-  // ---- damage increment |qd| x power ----
+  // ---- damage increment (|qd| x mantissa) << shift: exact, registered ----
   private val (damageA, damageB) = p.damageMulWidths(j)
-  private val damage = PipelinedMultiplier(FixedHw.delay(absQd2, p.powerReadyAt(j) - 2).zext, power.zext)
+  private val damage = PipelinedMultiplier(FixedHw.delay(absQd2, p.powerReadyAt(j) - 2).zext, mantissa.zext)
   private val damageAt = p.powerReadyAt(j) + PipelinedMultiplier.latency(damageA, damageB)
-  private val damageIncrement = toUpdate(damage.asUInt(vf.width - 1 + p.powerFracBits - 1, 0), damageAt)
+  private val product = damage.asUInt(vf.width - 1 + p.powerFracBits - 1, 0)
+  private val incrementWidth = vf.width - 1 + p.powerFracBits + table.shift.max
+  private val damageIncrement = toUpdate(FixedHw.delay((product << FixedHw.delay(shift5, damageAt - 5))(incrementWidth - 1, 0), 1), damageAt + 1)
+  require(damageAt + 1 == p.damageReadyAt(j), "JointMonitor: schedule differs from MonitorParams.damageReadyAt")
 
   // ---- update stage: everything of one input cycle meets here ----
   private val valid = controlDelay(valid1, update - 1)

@@ -20,8 +20,10 @@ import reducerload.pipeline.PipelinedMultiplier
  * @param samplePeriodS         time between valid samples (s): dt of the damage sums and the basis of the 20-year proof
  * @param targetYears           run time every accumulator must hold without overflow
  * @param histogramCounterBits  width of the saturating histogram counters (None: sized for `targetYears`, never saturate)
- * @param powerFracBits         fraction bits of the |tau|^p code (u^p in [0, 1))
- * @param powerSegmentBits      log2 of the interpolation segments of the power table
+ * @param powerFracBits         bits of the |tau|^p mantissa (the damage multiply's operand; [[PowerTable]])
+ * @param powerSegmentBits      log2 of the interpolation segments per octave of the power table
+ * @param powerRangeBits        the power table is relative down to u^p = 2^-powerRangeBits (u = |tau| / full
+ *                              scale), absolute below; the damage sums are this many bits wider
  * @param testStartAfterSamples test only: clear and reset load every proven accumulator with the value it
  *                              would hold after this many worst-case samples, so a short simulation reaches
  *                              the top bits of the 20-year widths. None in every real build.
@@ -40,7 +42,8 @@ final case class MonitorParams(
   targetYears: Double = 20.0,
   histogramCounterBits: Option[Int] = None,
   powerFracBits: Int = 17,
-  powerSegmentBits: Int = 8,
+  powerSegmentBits: Int = 6,
+  powerRangeBits: Int = 40,
   testStartAfterSamples: Option[BigInt] = None) {
 
   require(jointNames.nonEmpty, "MonitorParams.jointNames: at least one joint")
@@ -67,6 +70,7 @@ final case class MonitorParams(
   require(finite(targetYears) && targetYears > 0 && targetYears <= 100, s"MonitorParams.targetYears must be in (0, 100], got $targetYears")
   require(powerFracBits >= 8 && powerFracBits <= 30, s"MonitorParams.powerFracBits must be in 8..30, got $powerFracBits")
   require(powerSegmentBits >= 1 && powerSegmentBits <= 12, s"MonitorParams.powerSegmentBits must be in 1..12, got $powerSegmentBits")
+  require(powerRangeBits >= 1 && powerRangeBits <= 120, s"MonitorParams.powerRangeBits must be in 1..120, got $powerRangeBits")
 
   /** Full scale of each torque format (N·m): |tau| codes are normalised to it for the power table. */
   val torqueFullScaleNm: Seq[Double] = torqueFormats.map(f => math.pow(2.0, f.intBits))
@@ -75,8 +79,8 @@ final case class MonitorParams(
     def bad(param: String, what: String) = s"MonitorParams: joint ${j + 1} (${jointNames(j)}): $param $what"
     val (tf, vf) = (torqueFormats(j), velocityFormats(j))
     require(tf.width >= 4 && tf.width <= 48, bad("torqueFormats", s"must be 4..48 bits wide, got $tf (${tf.width} bits)"))
-    require(tf.width - 1 > powerSegmentBits,
-      bad("torqueFormats", s"$tf has ${tf.width - 1} magnitude bits, not more than powerSegmentBits ($powerSegmentBits)"))
+    require(tf.width - 1 >= powerSegmentBits + 2,
+      bad("torqueFormats", s"$tf has ${tf.width - 1} magnitude bits, fewer than powerSegmentBits ($powerSegmentBits) + 2 (leading one and an offset bit)"))
     require(vf.width >= 2 && vf.width <= 48, bad("velocityFormats", s"must be 2..48 bits wide, got $vf (${vf.width} bits)"))
     val (tr, tm) = (repeatedPeakNm(j), momentaryPeakNm(j))
     require(finite(tr) && tr > 0, bad("repeatedPeakNm", s"(T_R) must be a positive number, got $tr"))
@@ -122,13 +126,14 @@ final case class MonitorParams(
   def magnitude(raw: BigInt, f: FixedFormat): BigInt = raw.abs.min(f.maxRaw)
 
   val powerTables: Seq[PowerTable] =
-    (0 until joints).map(j => PowerTable(lifeExponents(j), torqueMagnitudeBits(j), powerSegmentBits, powerFracBits))
+    (0 until joints).map(j => PowerTable(lifeExponents(j), torqueMagnitudeBits(j), powerSegmentBits, powerFracBits, powerRangeBits))
 
-  /** |power code / 2^powerFracBits - u^p| for every code (u = |tau| / full scale). */
-  val powerErrorBound: Seq[Double] = powerTables.map(_.errorBound)
+  /** |power / 2^valueFracBits - u^p| <= relative x u^p + absolute for every code (u = |tau| / full scale). */
+  val powerRelativeBound: Seq[Double] = powerTables.map(_.relativeBound)
+  val powerAbsoluteBound: Seq[Double] = powerTables.map(_.absoluteBound)
 
-  /** Largest power code: the table is non-decreasing, so the largest magnitude's. */
-  val maxPowerCode: Seq[BigInt] = powerTables.map(t => t.power((BigInt(1) << t.codeBits) - 1))
+  /** Largest power value (the damage increment's factor). */
+  val maxPowerCode: Seq[BigInt] = powerTables.map(_.maxPower)
 
   // ---- the 20-year proof ----
   val secondsPerYear: Double = 365.25 * 86400.0
@@ -205,15 +210,19 @@ final case class MonitorParams(
   def interpolationMulWidths(j: Int): (Int, Int) = (powerTables(j).deltaBits + 1, powerTables(j).usedOffsetBits + 1)
   def damageMulWidths(j: Int): (Int, Int) = (velocityMagnitudeBits(j) + 1, powerFracBits + 1)
 
-  /** Cycle (after the input) at which the power code of joint `j` is registered. */
-  def powerReadyAt(j: Int): Int = { val (a, b) = interpolationMulWidths(j); 4 + PipelinedMultiplier.latency(a, b) }
+  /** Cycle (after the input) at which the power mantissa of joint `j` is registered. */
+  def powerReadyAt(j: Int): Int = { val (a, b) = interpolationMulWidths(j); 6 + PipelinedMultiplier.latency(a, b) }
+
+  /** Cycle at which joint `j`'s damage increment (the product shifted by the segment's exponent) is registered. */
+  def damageReadyAt(j: Int): Int = { val (a, b) = damageMulWidths(j); powerReadyAt(j) + PipelinedMultiplier.latency(a, b) + 1 }
 
   /**
    * Cycle at which every joint's state is updated by a sample (and by snapshot/clear) of input
-   * cycle t: t + updateStage. Stages: 1 input registers, 2 magnitudes, 3 table read and
-   * comparisons, interpolation multiply, power register, damage multiply.
+   * cycle t: t + updateStage. Stages: 1 input registers, 2 magnitudes, 3 region (leading one) and
+   * comparisons, 4 normalising shift, 5 table read, interpolation multiply, mantissa register,
+   * damage multiply, exponent shift.
    */
-  val updateStage: Int = (0 until joints).map { j => val (a, b) = damageMulWidths(j); powerReadyAt(j) + PipelinedMultiplier.latency(a, b) }.max
+  val updateStage: Int = (0 until joints).map(damageReadyAt).max
 
   /** A snapshot pulsed at input cycle t is in the shadow bank from cycle t + snapshotLatency (and snapshotDone is high then). */
   val snapshotLatency: Int = updateStage + 1
@@ -232,8 +241,8 @@ final case class MonitorParams(
         val t = powerTables(j)
         f"${jointNames(j)}: torque ${torqueFormats(j)}, velocity ${velocityFormats(j)}, T_R ${repeatedPeakNm(j)} N·m (code > ${repeatedPeakCode(j)}), " +
           f"T_M ${momentaryPeakNm(j)} N·m (code > ${momentaryPeakCode(j)}), p ${lifeExponents(j)}%.6g, i ${gearRatios(j)}, " +
-          f"${histogramBins(j)} bins of ${histogramBinWidthNm(j)} N·m, power table ${t.segments} segments x ${t.baseBits + t.deltaBits} bits, " +
-          f"|u^p error| <= ${powerErrorBound(j)}%.3e (x ${torqueFullScaleNm(j)}%.0f^p N·m^p), ${multiplierBlocks(j)} multiplier blocks"
+          f"${histogramBins(j)} bins of ${histogramBinWidthNm(j)} N·m, ${t.describe} (u = |tau| / ${torqueFullScaleNm(j)}%.0f N·m), " +
+          f"${multiplierBlocks(j)} multiplier blocks"
       } ++ proofLines
 }
 

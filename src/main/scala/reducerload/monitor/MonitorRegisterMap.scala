@@ -15,7 +15,7 @@ object JointField {
   case object LastEventSpeed extends JointField("last_event_speed_abs", "|qd| code at the last event's peak (velocity format)")
   case object Flags extends JointField("flags",
     "bit 0: |tau| > T_R seen, bit 1: |tau| > T_M seen, bit 2: event in progress, bit 3: a histogram counter saturated")
-  case object DamageSum extends JointField("damage_sum", "sum of |qd code| x power code (u^p, u = |tau| / full scale)")
+  case object DamageSum extends JointField("damage_sum", "sum of |qd code| x power (u^p x 2^valueFracBits, u = |tau| / full scale; see the power table line)")
   case object SpeedSum extends JointField("speed_sum", "sum of |qd code|")
   final case class HistogramBin(bin: Int) extends JointField(s"histogram_$bin", s"samples with |tau| in bin $bin (saturating)")
 

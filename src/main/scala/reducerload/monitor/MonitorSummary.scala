@@ -54,14 +54,14 @@ object MonitorSummary {
       r.lifeHours * (r.inputSpeedRpm / (p.gearRatios(j) * nAvRpm)) * math.pow(r.torqueNm / tav, p.lifeExponents(j))
     }
 
-  /** Physical scale of one damage-sum code: 2^-powerFracBits x fullScale^p x qd lsb x dt (N·m^p·rad). */
+  /** Physical scale of one damage-sum code: 2^-valueFracBits x fullScale^p x qd lsb x dt (N·m^p·rad). */
   def damageScale(p: MonitorParams, j: Int): Double =
-    math.pow(2.0, -p.powerFracBits) * math.pow(p.torqueFullScaleNm(j), p.lifeExponents(j)) * p.velocityFormats(j).lsb * p.samplePeriodS
+    math.pow(2.0, -p.powerTables(j).valueFracBits) * math.pow(p.torqueFullScaleNm(j), p.lifeExponents(j)) * p.velocityFormats(j).lsb * p.samplePeriodS
 
   /** x = (sum |qd| u^p) / (sum |qd|) from the registers, exactly then rounded once (None if the joint never moved). */
   def normalisedPowerMean(p: MonitorParams, j: Int, s: JointState): Option[Double] =
     if (s.speedSum == 0) None
-    else Some((BigDecimal(s.damageSum) / (BigDecimal(s.speedSum) * BigDecimal(2).pow(p.powerFracBits))).toDouble)
+    else Some((BigDecimal(s.damageSum) / (BigDecimal(s.speedSum) * BigDecimal(2).pow(p.powerTables(j).valueFracBits))).toDouble)
 
   /** The summary of one snapshot (RTL or model). */
   def fromSnapshot(p: MonitorParams, snap: MonitorSnapshot, rated: Seq[Option[RatedReducer]] = Nil): Seq[JointSummary] =
@@ -94,21 +94,30 @@ object MonitorSummary {
     }
 
   /**
-   * Derived bound on |damage sum (hardware) - damage sum (reference)|: every sample's u^p is within
-   * the power table's bound e, weighted by |qd| dt, so e x fullScale^p x sum |qd| dt (plus the
-   * reference's own double rounding).
+   * Derived bound on |damage sum (registers) - sum |qd| |tau|^p dt| over the torques the monitor
+   * received (the table's share of the error). Every sample's power is within rel x |tau|^p + abs
+   * (abs = the table's absolute bound x fullScale^p), weighted by w = |qd| dt: with X the exact sum,
+   * |D - X| <= rel X + abs S1, and X <= (D + abs S1) / (1 - rel), so
+   * |D - X| <= (rel D + abs S1) / (1 - rel). From the registers alone (D, S1 = sum |qd| dt).
    */
-  def damageSumBound(p: MonitorParams, j: Int, speedSumRad: Double): Double =
-    p.powerErrorBound(j) * math.pow(p.torqueFullScaleNm(j), p.lifeExponents(j)) * speedSumRad * (1 + 1e-12)
+  def damageSumBound(p: MonitorParams, j: Int, damageSum: Double, speedSumRad: Double): Double = {
+    val (rel, abs) = (p.powerRelativeBound(j), p.powerAbsoluteBound(j) * math.pow(p.torqueFullScaleNm(j), p.lifeExponents(j)))
+    (rel * math.abs(damageSum) + abs * speedSumRad) / (1 - rel) * (1 + 1e-12)
+  }
 
   /**
-   * Derived bound on |T_av (hardware) - T_av (reference)|: the |qd|-weighted mean of u^p is within e,
-   * and x^(1/p) is concave, so the worst case is x down to x - e: fullScale (x^(1/p) - (x - e)^(1/p)).
+   * Derived bound on |T_av (registers) - T_av of the torques the monitor received|. In u = |tau| /
+   * full scale: the registers' mean x = D / S1 and the exact mean y = sum w u^p / S1 satisfy
+   * |x - y| <= rel y + abs (each sample's power is), so y lies in [(x - abs) / (1 + rel), (x + abs) / (1 - rel)];
+   * T_av = fullScale x^(1/p) and the exact one fullScale y^(1/p): the bound is the larger distance
+   * to the ends of that interval (plus the double evaluation's rounding).
    */
   def avgTorqueBound(p: MonitorParams, j: Int, s: JointState): Option[Double] =
     normalisedPowerMean(p, j, s).map { x =>
-      val (e, q) = (p.powerErrorBound(j), 1.0 / p.lifeExponents(j))
-      p.torqueFullScaleNm(j) * (math.pow(x, q) - math.pow((x - e).max(0.0), q)) * (1 + 1e-12) + 1e-12 * p.torqueFullScaleNm(j)
+      val (rel, abs, q) = (p.powerRelativeBound(j), p.powerAbsoluteBound(j), 1.0 / p.lifeExponents(j))
+      val (lo, hi) = (((x - abs) / (1 + rel)).max(0.0), (x + abs) / (1 - rel))
+      val t = math.pow(x, q)
+      p.torqueFullScaleNm(j) * ((t - math.pow(lo, q)).max(math.pow(hi, q) - t) + 1e-12 * t) * (1 + 1e-12)
     }
 
   // ---- JSON ----

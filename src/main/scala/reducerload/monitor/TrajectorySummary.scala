@@ -10,9 +10,12 @@ import reducerload.graph.SampleCodes
  * RNEA at the unquantized inputs (both with the same velocity codes and out-of-range flags). Each
  * torque code is within e (the datapath's derived error bound) of the reference torque, so:
  *  - peak |tau|: e;
- *  - T_av, a |qd|-weighted p-norm of |tau| with the same weights: the power table's bound
+ *  - T_av, a |qd|-weighted p-norm of |tau| with the same weights: the power table's relative and
+ *    absolute bound carried through the damage sum to the registers' T_av
  *    ([[MonitorSummary.avgTorqueBound]]) plus e (Minkowski: | ||a|| - ||b|| | <= max |a - b|);
- *  - damage sum: the table's bound plus p (peak + e)^(p-1) e sum |qd| dt (mean value theorem);
+ *  - damage sum: the table's bound ([[MonitorSummary.damageSumBound]]) plus, per sample,
+ *    |qd| dt ((|tau| + e)^p - |tau|^p) at the reference |tau| (convexity: a torque within e of it has
+ *    a p-th power within that of its p-th power);
  *  - counts: a sample can fall on the other side of a threshold or bin edge only when its
  *    reference |tau| is within e of it, so a count differs by at most the number of such samples
  *    (an event count too: one sample flipping splits or joins at most one run).
@@ -64,13 +67,16 @@ object TrajectorySummary {
       val w = m.histogramBinWidthNm(j)
       val bins = m.histogramBins(j)
       val exponent = m.lifeExponents(j)
-      val peak = ref(j).peakAbsNm.getOrElse(0.0)
+      val torqueShare = values.filter(!_.outOfRange(j)).map { v =>
+        val t = math.abs(v.torqueNm(j))
+        math.abs(v.velocityRadS(j)) * m.samplePeriodS * (math.pow(t + e, exponent) - math.pow(t, exponent))
+      }.sum
       SummaryBounds(
         name = m.jointNames(j),
         peakAbsNm = e,
         avgTorqueNm = MonitorSummary.avgTorqueBound(m, j, snap.joints(j)).map(_ + e),
-        damageSum = MonitorSummary.damageSumBound(m, j, ref(j).speedSumRad) +
-          exponent * math.pow(peak + e, exponent - 1) * e * ref(j).speedSumRad * (1 + 1e-12),
+        damageSum = MonitorSummary.damageSumBound(m, j, snap.joints(j).damageSum.toDouble * MonitorSummary.damageScale(m, j),
+          ref(j).speedSumRad) + torqueShare * (1 + 1e-12),
         repeatedPeakSamples = near(m.repeatedPeakNm(j)),
         momentaryPeakEvents = near(m.momentaryPeakNm(j)),
         histogram = (0 until bins).map(k => (if (k > 0) near(k * w) else 0) + (if (k < bins - 1) near((k + 1) * w) else 0)))

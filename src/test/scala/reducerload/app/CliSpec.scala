@@ -64,6 +64,9 @@ class CliSpec extends AnyFlatSpec {
     refused(ur5 ++ Seq("--max-acceleration", "15", "--clocks-per-sample", "0"), "schedule.clocks-per-sample")
     refused(ur5 ++ Seq("--max-acceleration", "15", "--clocks-per-sample", "fast"), "schedule.clocks-per-sample", "auto")
     refused(Seq("--clocks-per-sample", "4"), "schedule.*", "closed form")
+    refused(Seq("--robot", "planar3", "--schedule.storage", "memory"), "schedule.storage = memory", "clocks-per-sample >= 2")
+    refused(Seq("--robot", "planar3", "--clocks-per-sample", "4", "--schedule.storage", "memory"), "schedule.storage = memory", "clocks-per-sample >= 6")
+    refused(Seq("--robot", "planar3", "--clocks-per-sample", "8", "--schedule.storage", "disk"), "schedule.storage", "registers", "memory")
     val hand = java.nio.file.Paths.get(getClass.getResource("/urdf/arm.urdf").toURI).toString
     refused(Seq("--robot", hand, "--tip", "l3", "--max-acceleration", "5", "--max-velocity", "2"), "wrist_slide", "prismatic")
   }
@@ -72,6 +75,13 @@ class CliSpec extends AnyFlatSpec {
     val ur5 = reducerload.arm.ArmConfig(params("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15",
       "--max-multipliers", "66", "--clocks-per-sample", "auto"))
     assert(ur5.schedule.clocksPerSample == 18 && ur5.schedule.multiplierBlocks <= 66, s"${ur5.schedule.clocksPerSample} clocks, ${ur5.schedule.multiplierBlocks} blocks")
+    // With block-RAM storage, the fewest clocks from the budget's on whose bank read ports can be served.
+    val banked = reducerload.arm.ArmConfig(params("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15",
+      "--max-multipliers", "66", "--clocks-per-sample", "auto", "--schedule.storage", "memory"))
+    val fewer = scala.util.Try(reducerload.arm.ArmConfig(params("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15",
+      "--max-multipliers", "66", "--clocks-per-sample", (banked.schedule.clocksPerSample - 1).toString, "--schedule.storage", "memory")))
+    assert(banked.banked.isDefined && banked.schedule.multiplierBlocks <= 66 && fewer.isFailure,
+      s"memory: ${banked.schedule.clocksPerSample} clocks, ${banked.schedule.multiplierBlocks} blocks; one clock fewer ${if (fewer.isFailure) "refused" else "accepted"}")
   }
 
   it should "name the file when a configuration file is not HOCON" in {

@@ -76,17 +76,29 @@ class EmitSpec extends AnyFlatSpec {
     assert(listing(d).contains(s"CordicSinCos_${LoadParams.default.cordic.tag}.sv"))
   }
 
+  /** Verilator lint -Wall with lint/waivers.vlt of module `top` (and what it instantiates) in the emitted files of `d`. */
+  private def lint(d: Path, top: String, what: String): Unit = {
+    val sv = listing(d).filter(_.endsWith(".sv")).map(d.resolve(_).toString)
+    val log = new StringBuilder
+    val status = (Seq("verilator", "--lint-only", "-Wall", "--top-module", top, "lint/waivers.vlt") ++ sv)
+      .!(ProcessLogger(l => log.append(l).append('\n'), l => log.append(l).append('\n')))
+    assert(status == 0, s"verilator lint failed for $what:\n$log")
+  }
+
   it should "pass Verilator lint -Wall on the emitted default and paper designs" in {
     assume(Try(Seq("verilator", "--version").!!).isSuccess, "verilator is not installed")
     for (preset <- Seq("default", "paper")) {
       val d = tempDir()
       Main.run(Seq("emit", "--preset", preset, "--target-dir", d.toString))
-      val sv = listing(d).filter(_.endsWith(".sv")).map(d.resolve(_).toString)
-      val top = listing(d).find(_.endsWith(".sv")).get.stripSuffix(".sv")
-      val log = new StringBuilder
-      val status = (Seq("verilator", "--lint-only", "-Wall", "--top-module", top, "lint/waivers.vlt") ++ sv)
-        .!(ProcessLogger(l => log.append(l).append('\n'), l => log.append(l).append('\n')))
-      assert(status == 0, s"verilator lint failed for $preset:\n$log")
+      lint(d, listing(d).find(_.endsWith(".sv")).get.stripSuffix(".sv"), preset)
     }
+  }
+
+  it should "pass Verilator lint -Wall on the reducer monitor of an emitted monitored arm" in {
+    assume(Try(Seq("verilator", "--version").!!).isSuccess, "verilator is not installed")
+    val d = tempDir()
+    Main.run(Seq("emit", "--robot", "planar3", "--monitor.enabled", "true", "--monitor.repeated-peak", "[80, 30, 20]",
+      "--monitor.momentary-peak", "[100, 40, 28]", "--monitor.exponent", "[3, 3.3333333333333335, 1.5]", "--target-dir", d.toString))
+    lint(d, "ReducerMonitor_3j", "the monitor of MonitoredArm_planar3")
   }
 }

@@ -3,7 +3,7 @@ package reducerload.arm
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.dynamics.{RandomChains, Rnea}
-import reducerload.graph.{SampleCodes, ScheduleRequest}
+import reducerload.graph.{SampleCodes, ScheduleRequest, Storage}
 import reducerload.sim.{ArmDriver, Cycle, Stream}
 import reducerload.testutil.{ArmGolden, Seeds, SimBackend}
 
@@ -55,6 +55,16 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   it should "fit the UR5 in the 66 multiplier blocks of an EP4CE30, bit-exact under back-pressure" in {
     runRobot("ur5", 47L, ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)))
+  }
+
+  it should "keep values in block-RAM banks read by address (storage = memory) on planar3 at 6, 8 and 40 clocks per sample, bit-exact under back-pressure" in {
+    runRobot("planar3", 51L, ScheduleRequest(clocksPerSample = Some(40), storage = Storage.Memory))
+    runRobot("planar3", 50L, ScheduleRequest(clocksPerSample = Some(8), cordicUnits = Some(1), storage = Storage.Memory))
+    runRobot("planar3", 49L, ScheduleRequest(clocksPerSample = Some(6), storage = Storage.Memory))
+  }
+
+  it should "fit the UR5 with block-RAM banks at 64 clocks per sample and a 1e-3 N·m target, bit-exact under back-pressure" in {
+    runRobot("ur5", 52L, ScheduleRequest(clocksPerSample = Some(64), storage = Storage.Memory), targetError = Seq(1e-3))
   }
 
   it should "meet a 1e-3 N·m target on the UR5 with the fewest fraction bits, in 66 blocks" in {

@@ -6,7 +6,7 @@ import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.dynamics.RandomChains
 import reducerload.graph.SampleCodes
 import reducerload.monitor._
-import reducerload.testutil.{ArmGolden, Seeds, SimBackend}
+import reducerload.testutil.{ArmGolden, ArmGoldenTrace, Seeds, SimBackend}
 
 import scala.collection.mutable.ArrayBuffer
 import scala.util.Random
@@ -15,7 +15,7 @@ import scala.util.Random
 final case class ArmMonitorCycle(sample: Option[Int], snapshot: Boolean = false, clear: Boolean = false, readAddress: Option[Int] = None)
 
 /**
- * One simulation: the planar arm with its monitor on every golden planar3 sample, interleaved with
+ * One simulation per robot (planar3: every golden sample; UR5: ur5_rest_to_rest): the arm with its monitor, interleaved with
  * seeded samples beyond the declared ranges and bubbles, snapshots and clears at random times.
  * Checked: every shadow bank read through the host port equals, word for word, the bank of
  * MonitorModel fed by ArmModel's outputs (torques, clamped velocities, flags) in the monitor's input
@@ -26,13 +26,13 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "MonitoredArm"
 
   /** Limits where the golden trajectories cross them: T_R at 60 %, T_M at 85 % of each joint's golden peak. */
-  private def settings(peaks: Seq[Double]) = MonitorSettings(
+  private def settings(peaks: Seq[Double], joints: Int, samplePeriodS: Double) = MonitorSettings(
     enabled = true,
-    exponent = Seq(3.0, 10.0 / 3.0, 1.5),
+    exponent = Seq(3.0, 10.0 / 3.0, 1.5, 3.0, 10.0 / 3.0, 3.0).take(joints),
     repeatedPeakNm = peaks.map(x => math.rint(6 * x) / 10),
     momentaryPeakNm = peaks.map(x => math.rint(8.5 * x) / 10),
-    gearRatio = Seq(120.0, 100.0, 80.0),
-    samplePeriodS = 0.01,
+    gearRatio = Seq(120.0, 100.0, 80.0, 101.0, 101.0, 101.0).take(joints),
+    samplePeriodS = samplePeriodS,
     histogramBins = Seq(12))
 
   private def poke(dut: MonitoredArm, c: ArmMonitorCycle, codes: IndexedSeq[SampleCodes]): Unit = {
@@ -52,17 +52,38 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
     dut.io.host.readAddress.poke(c.readAddress.getOrElse(0).U)
   }
 
-  it should "keep the shadow bank bit-exact with MonitorModel fed by ArmModel, and the summaries within the derived bounds of the double reference" in {
-    val traces = ArmGolden.of("planar3")
+  /** The arm of a robot's golden traces, and its monitor with limits where the traces cross them. */
+  private def armAndMonitor(traces: Seq[ArmGoldenTrace], samplePeriodS: Double): (ArmParams, MonitorParams) = {
     val first = traces.head
     val arm = ArmParams(first.chain, first.config.robot.maxVelocity, first.config.robot.maxAcceleration)
     val peaks = arm.jointNames.indices.map(j => traces.flatMap(_.torques).map(t => math.abs(t(j))).max)
-    val m = MonitorConfig(arm, settings(peaks))
+    (arm, MonitorConfig(arm, settings(peaks, arm.jointNames.size, samplePeriodS)))
+  }
+
+  it should "keep the shadow bank bit-exact with MonitorModel fed by ArmModel, and the summaries within the derived bounds of the double reference" in {
+    val traces = ArmGolden.of("planar3")
+    val (arm, m) = armAndMonitor(traces, 0.01)
+    simulate("planar3", arm, m, traces.flatMap(_.samples).toIndexedSeq, Seeds("monitored-arm", 1313L))
+  }
+
+  it should "do the same for the UR5 (6 joints, loads from 0.3 to 66 N·m) on a golden trajectory" in {
+    val traces = Seq(ArmGolden.load("ur5_rest_to_rest.csv"))
+    val (arm, m) = armAndMonitor(traces, 0.005)
+    // A shorter stream: snapshots and clears more often, so several periods are checked.
+    simulate("ur5", arm, m, traces.flatMap(_.samples).toIndexedSeq, Seeds("monitored-arm-ur5", 1314L), snapshotOdds = 60, clearOdds = 600)
+  }
+
+  /**
+   * One simulation of `golden` (with seeded out-of-range samples slipped in, bubbles, snapshots and
+   * clears, one in `snapshotOdds` and `clearOdds` cycles): every bank read equals the model's, every period is
+   * within the derived bounds of the reference.
+   */
+  private def simulate(label: String, arm: ArmParams, m: MonitorParams, golden: IndexedSeq[ArmSample], seed: Long,
+    snapshotOdds: Int = 400, clearOdds: Int = 900): Unit = {
     val model = new ArmModel(arm)
-    val rng = new Random(Seeds("monitored-arm", 1313L))
+    val rng = new Random(seed)
 
     // Golden samples in order, with seeded out-of-range samples (about 1 in 20) slipped in between.
-    val golden = traces.flatMap(_.samples).toIndexedSeq
     val outside = IndexedSeq.fill(SimBackend.scale(golden.size / 20)) {
       val (q, qd, qdd) = RandomChains.sample(rng, arm.maxVelocity.map(_ * 1.4), arm.maxAcceleration.map(_ * 1.4))
       ArmSample(q, qd, qdd)
@@ -88,9 +109,9 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
     while (next.hasNext || drive.size < samples.size + latency + 2 || !free(drive.size)) {
       val t = drive.size
       val sample = if (next.hasNext && rng.nextDouble() >= 0.1) Some(next.next()) else None
-      val snap = t > latency && free(t) && rng.nextInt(400) == 0
+      val snap = t > latency && free(t) && rng.nextInt(snapshotOdds) == 0
       if (snap) snapshotAt(t)
-      val clear = rng.nextInt(900) == 0 || (snap && rng.nextBoolean())
+      val clear = rng.nextInt(clearOdds) == 0 || (snap && rng.nextBoolean())
       drive += ArmMonitorCycle(sample, snap, clear, reads.get(t))
     }
     snapshotAt(drive.size); drive += ArmMonitorCycle(None, snapshot = true)
@@ -106,7 +127,7 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
       if (c.snapshot) expected += (next.shadow -> period)
       ((next, (if (c.clear) Vector.empty else period) ++ arrivals(t).toSeq))
     }
-    println(s"[monitored-arm] planar3: ${goldenUsed.size} golden + ${outside.size} out-of-range samples, ${drive.size} cycles, " +
+    println(s"[monitored-arm] $label: ${goldenUsed.size} golden + ${outside.size} out-of-range samples, ${drive.size} cycles, " +
       s"${snapshots.size} snapshots, ${drive.count(_.clear)} clears, arm latency $latency, monitor snapshot latency ${m.snapshotLatency}, bank $words words")
 
     test(new MonitoredArm(arm, m)).withAnnotations(SimBackend.annotations) { dut =>
@@ -141,7 +162,17 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
       }
       assert(checked.exists(_._2 > 0), "no snapshot saw an out-of-range sample")
       assert(checked.exists(_._3 > 0), "no snapshot saw a momentary-peak event")
-      println(s"[monitored-arm] ${banks.size} banks bit-exact with the model; periods of ${checked.map(_._1).mkString(", ")} samples " +
+      val last = MonitorSnapshot.fromBank(m, banks.last)
+      val lastPeriod = expected.last._2
+      val lastValues = TrajectorySummary.referenceValues(arm, m, lastPeriod.map(samples), lastPeriod.map(fed))
+      val lastRef = MonitorReference.summarize(m, lastValues)
+      val lastBounds = TrajectorySummary.bounds(arm, m, last, lastRef, lastValues)
+      MonitorSummary.fromSnapshot(m, last).zip(lastRef).zip(lastBounds).foreach { case ((h, r), b) =>
+        println(f"[monitored-arm] $label last period ${h.name}: T_av ${h.avgTorqueNm.getOrElse(Double.NaN)}%.6f N·m (ref ${r.avgTorqueNm.getOrElse(Double.NaN)}%.6f, " +
+          f"bound ${b.avgTorqueNm.getOrElse(Double.NaN)}%.2e), peak ${h.peakAbsNm.getOrElse(Double.NaN)}%.4f, ${h.repeatedPeakSamples} > T_R, " +
+          f"${h.momentaryPeakEvents} events, ${h.samples} samples")
+      }
+      println(s"[monitored-arm] $label: ${banks.size} banks bit-exact with the model; periods of ${checked.map(_._1).mkString(", ")} samples " +
         s"within the derived bounds of the double reference")
     }
   }

@@ -28,7 +28,7 @@ class MonitorModelSpec extends AnyFlatSpec {
       assert(h.histogram == r.histogram, s"$label ${h.name}: histogram ${h.histogram} vs ${r.histogram}")
       assert(h.repeatedPeakSamples == r.repeatedPeakSamples && h.momentaryPeakEvents == r.momentaryPeakEvents, s"$label ${h.name}: counts")
       assert(h.peakAbsNm == r.peakAbsNm && h.lastEventPeakNm == r.lastEventPeakNm && h.lastEventDurationSamples == r.lastEventDurationSamples)
-      val damageBound = MonitorSummary.damageSumBound(p, j, r.speedSumRad)
+      val damageBound = MonitorSummary.damageSumBound(p, j, h.damageSum, r.speedSumRad)
       val tavBound = MonitorSummary.avgTorqueBound(p, j, end.shadow.joints(j)).get
       val (dErr, tErr) = (math.abs(h.damageSum - r.damageSum), math.abs(h.avgTorqueNm.get - r.avgTorqueNm.get))
       println(f"[monitor] $label ${h.name} p=${p.lifeExponents(j)}%.3f: T_av ${h.avgTorqueNm.get}%.6f N·m (ref ${r.avgTorqueNm.get}%.6f, " +

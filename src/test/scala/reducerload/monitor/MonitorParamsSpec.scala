@@ -26,21 +26,49 @@ class MonitorParamsSpec extends AnyFlatSpec {
     }
   }
 
-  it should "bound the power table's error and meet the bound on every code (exhaustive, 17-bit magnitudes)" in {
-    for (p <- Seq(1.0, 1.5, 3.0, 10.0 / 3.0, 10.0); segments <- Seq(6, 8)) {
-      val t = PowerTable(p, codeBits = 17, segmentBits = segments, fracBits = 17)
-      val lsb = math.pow(2.0, -t.fracBits)
-      val measured = (0 until (1 << 17)).map(a => math.abs(t.power(BigInt(a)).toDouble * lsb - t.exactPower(BigInt(a)))).max
-      println(f"[monitor] power table p = $p%.4f, ${t.segments} segments: max error $measured%.3e, derived bound ${t.errorBound}%.3e (${t.errorBound / lsb}%.2f LSB)")
-      assert(measured <= t.errorBound, s"p = $p: measured $measured above the bound ${t.errorBound}")
-      assert((0 until (1 << 17) - 1).forall(a => t.power(BigInt(a)) <= t.power(BigInt(a + 1))), s"p = $p: not monotone")
+  /** Largest |power - u^p| over the bound, and the largest relative error at u >= 2^-K, over `codes`. */
+  private def measure(t: PowerTable, codes: Iterator[BigInt]): (Double, Double) =
+    codes.foldLeft((0.0, 0.0)) { case ((worst, rel), a) =>
+      val (hw, exact) = (t.powerValue(a), t.exactPower(a))
+      val err = math.abs(hw - exact)
+      assert(err <= t.errorBound(a), s"p = ${t.exponent}, code $a: |$hw - $exact| = $err above the bound ${t.errorBound(a)}")
+      (worst.max(err / t.errorBound(a)), if (a >= t.floorCode) rel.max(err / exact) else rel)
     }
-    // Wider codes drop offset bits below the 17 that reach the multiplier; the bound covers it (sampled).
-    val wide = PowerTable(10.0 / 3.0, codeBits = 27, segmentBits = 8, fracBits = 17)
-    assert(wide.droppedBits == 2)
+
+  it should "bound the power table's error relative to the load and meet the bound on every code (exhaustive, 17-bit magnitudes)" in {
+    for (p <- Seq(1.0, 1.5, 3.0, 10.0 / 3.0, 10.0); segments <- Seq(5, 6)) {
+      val t = PowerTable(p, codeBits = 17, segmentBits = segments, fracBits = 17, rangeBits = 40)
+      val (worst, rel) = measure(t, (0 until (1 << 17)).iterator.map(BigInt(_)))
+      println(f"[monitor] power table p = $p%.4f, ${t.regions} regions x ${t.segmentsPerRegion} segments: max relative error $rel%.3e " +
+        f"at u >= 2^-${t.octaves} (derived ${t.relativeBound}%.3e), floor ${t.absoluteBound}%.2e; worst error at ${worst * 100}%.0f%% of its bound")
+      assert(rel <= t.relativeBound && worst > 0.2, s"p = $p: the bound is met but loose (${worst * 100}%)")
+      // Inside a segment the mantissa does not decrease (the max power is a segment's last code).
+      assert((0 until (1 << 17) - 1).forall(a => t.locate(BigInt(a))._1 != t.locate(BigInt(a + 1))._1 ||
+        t.power(BigInt(a)) <= t.power(BigInt(a + 1))), s"p = $p: not monotone inside a segment")
+    }
+    // Fixed target at the defaults: 3e-4 of the load for p = 3 and 10/3 (1e-4 of T_av), whatever the load's share of full scale.
+    for (p <- Seq(3.0, 10.0 / 3.0)) {
+      val t = PowerTable(p, codeBits = 27, segmentBits = 6, fracBits = 17, rangeBits = 40)
+      assert(t.relativeBound <= 3e-4 && t.octaves >= 12, s"p = $p: relative bound ${t.relativeBound}, ${t.octaves} octaves")
+    }
+  }
+
+  it should "keep |tau|^p relative for loads far below full scale (27-bit codes: every octave sampled, dropped offset bits)" in {
     val rng = new scala.util.Random(reducerload.testutil.Seeds("power-table-wide", 1303L))
-    val worst = Seq.fill(200000)(BigInt(27, rng.self)).map(a => math.abs(wide.power(a).toDouble / (1 << 17) - wide.exactPower(a))).max
-    assert(worst <= wide.errorBound, s"27-bit codes: $worst above ${wide.errorBound}")
+    for (p <- Seq(3.0, 10.0 / 3.0, 10.0)) {
+      val t = PowerTable(p, codeBits = 27, segmentBits = 6, fracBits = 17, rangeBits = 40)
+      assert(t.droppedBits == 3)
+      // Log-uniform codes: a random bit length, then random bits below the leading one; and both ends of every segment.
+      val random = Iterator.fill(200000) { val len = rng.nextInt(28); if (len == 0) BigInt(0) else (BigInt(1) << (len - 1)) + BigInt(len - 1, rng.self) }
+      val ends = (1 until 27).iterator.flatMap(b => Seq(BigInt(1) << b, (BigInt(1) << b) - 1))
+      val (worst, rel) = measure(t, random ++ ends)
+      // The issue's case: 5 N·m of a 1024 N·m full scale, u^3 = 1.2e-7, below the old table's LSB.
+      val a = BigInt(5L << 17)
+      val issue = math.abs(t.powerValue(a) / t.exactPower(a) - 1)
+      println(f"[monitor] 27-bit power table p = $p%.4f: max relative error $rel%.3e (derived ${t.relativeBound}%.3e) at u >= 2^-${t.octaves}, " +
+        f"worst at ${worst * 100}%.0f%% of its bound; u = 5/1024: relative error $issue%.2e; damage sum ${t.shift.max} bits wider")
+      assert(issue <= t.relativeBound + t.absoluteBound / t.exactPower(a))
+    }
   }
 
   it should "lay out the register map without gaps and encode and decode every value" in {

@@ -86,7 +86,7 @@ class ReducerMonitorSpec extends AnyFlatSpec with ChiselScalatestTester {
       assert(h.lastEventPeakNm == r.lastEventPeakNm && h.lastEventSpeedRadS == r.lastEventSpeedRadS &&
         h.lastEventDurationSamples == r.lastEventDurationSamples, s"$where: last event $h vs $r")
       assert(h.histogram == r.histogram, s"$where: histogram ${h.histogram} vs ${r.histogram}")
-      val damageBound = MonitorSummary.damageSumBound(p, j, r.speedSumRad)
+      val damageBound = MonitorSummary.damageSumBound(p, j, h.damageSum, r.speedSumRad)
       assert(math.abs(h.damageSum - r.damageSum) <= damageBound, s"$where: damage ${h.damageSum} vs ${r.damageSum}, bound $damageBound")
       assert(math.abs(h.speedSumRad - r.speedSumRad) <= 1e-9 * (1 + r.speedSumRad), s"$where: speed sum")
       (h.avgTorqueNm, r.avgTorqueNm, MonitorSummary.avgTorqueBound(p, j, s)) match {

@@ -1,0 +1,225 @@
+package reducerload.arm
+
+import chisel3._
+import chisel3.util._
+import reducerload.cordic.SinCos
+import reducerload.fixedpoint.FixedHw
+import reducerload.graph._
+import reducerload.pipeline.PipelinedMultiplier
+
+/**
+ * The memory-storage body of [[ArmDatapath]] (`schedule.storage = memory`): the hardware of a
+ * [[BankedSchedule]]. Every unit (the input stage, each multiplier, adder and CORDIC unit) writes
+ * its result into the unit's bank in the cycle before the value is ready; units
+ * read their operands from the banks' two read ports (port 0 for first operands, port 1 for
+ * second), through a multiplexer over the banks that port actually reads. What each bank port,
+ * multiplexer, shift and unit does in a cycle comes from one table indexed by the phase (a ROM of
+ * II words, [[Microcode]]), so no value has a register or multiplexer input of its own.
+ *
+ * Called while [[ArmDatapath]] elaborates: `signals` are the clamped inputs (valid from
+ * `inputCycle` for II cycles), `cordic` the CORDIC units' outputs, `during(c)` is true in cycle c of
+ * every sample. The result is each output node's value, held until `outputsReady`.
+ */
+final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: Int => Bool,
+  held: (SInt, Int, Seq[Int]) => Map[Int, SInt], signals: Signal => SInt, cordic: IndexedSeq[SinCos]) {
+  import Op._
+  private val analysis = p.analysis
+  private val graph = p.graph
+  private val ii = b.clocksPerSample
+  private def residue(cycle: Int) = cycle % ii
+  private def fmt(x: NodeId) = analysis(x).format
+
+  // ---- The table: every control field, by residue, as plain integers first. ----
+
+  /** Slot counter: which of a bank's copies the sample of the current cycle 0 uses. */
+  private val tagBits = log2Ceil(b.slotCount)
+  private val slotCounter: UInt =
+    if (tagBits == 0) 0.U(1.W)
+    else {
+      val c = RegInit(0.U(tagBits.W))
+      when(phase === (ii - 1).U)(c := c + 1.U) // wraps modulo slotCount, a power of 2
+      c
+    }
+
+  /** A bank's addresses: a value's slot below, the copy of its sample above. */
+  private final class BankAddressing(bank: Int) {
+    val slotBits: Int = log2Ceil(BankedSchedule.pow2(b.values(bank).size))
+    val copyBits: Int = log2Ceil(b.copies(bank))
+    val depth: Int = 1 << (slotBits + copyBits)
+    val width: Int = math.max(1, slotBits + copyBits)
+    /** The table entry of an access to `node` in `cycle`: its slot, and the whole intervals since its sample's cycle 0. */
+    def entry(node: NodeId, cycle: Int): BigInt = (BigInt(b.intervalsBefore(cycle) % b.copies(bank)) << slotBits) | b.slot(node)
+    /** The address from an entry: the copy is the slot counter less the intervals (modulo the copies). */
+    def address(entry: UInt): UInt = {
+      val copy = if (copyBits == 0) None else Some((slotCounter - entry(slotBits + copyBits - 1, slotBits))(copyBits - 1, 0))
+      val slot = if (slotBits == 0) None else Some(entry(slotBits - 1, 0))
+      (copy.toSeq ++ slot.toSeq).reduceOption(Cat(_, _)).getOrElse(0.U(1.W))
+    }
+    // A value is written in the cycle before it is ready, straight from its unit's result.
+    val write: Field = Field(width, b.values(bank).map(v => residue(b.ready(v).get - 1) -> entry(v, b.ready(v).get - 1)).toMap)
+    val writeEnable: Field = Field.flag(b.values(bank).map(v => residue(b.ready(v).get - 1)).toSet)
+    val reads: IndexedSeq[Field] = (0 to 1).map(port =>
+      Field(width, b.reads.filter(r => r.bank == bank && r.port == port).map(r => residue(r.cycle) -> entry(r.node, r.cycle)).toMap))
+  }
+  private val addressing = b.banks.indices.map(new BankAddressing(_))
+
+  /** A unit port's sources (`operands` by the residue of the cycle they are selected): the banks it reads, then a constant (or zero) if any. */
+  private final class PortSources(val port: Int, operands: Seq[(Int, Operand)]) {
+    /** Sources: a bank's read port (Left: bank, port) or a unit's output register (Right: bank). */
+    private def sourceOf(o: Operand): Option[Either[(Int, Int), Int]] = o match {
+      case Operand.Stored(x, bankPort) => Some(Left((b.bankOf(x).get, bankPort)))
+      case Operand.Forwarded(x)        => Some(Right(b.bankOf(x).get))
+      case _                           => None
+    }
+    val sources: IndexedSeq[Either[(Int, Int), Int]] = operands.flatMap(o => sourceOf(o._2)).distinct.sortBy(_.toString).toIndexedSeq
+    private val constants: Map[Int, (BigInt, Int)] = operands.collect {
+      case (r, Operand.Constant(x)) => r -> (analysis(x).raw.get, fmt(x).width)
+      case (r, Operand.Zero)        => r -> (BigInt(0), 1)
+    }.toMap
+    private val constantWidth = constants.values.map(_._2).maxOption.getOrElse(1)
+    val select: Field = Field(log2Ceil(math.max(sources.size + 1, 2)), operands.map { case (r, o) =>
+      r -> BigInt(sourceOf(o).fold(sources.size)(sources.indexOf))
+    }.toMap)
+    /** Two's complement codes of the constants, in the constant field's width. */
+    val constant: Option[Field] =
+      if (constants.isEmpty) None else Some(Field(constantWidth, constants.map { case (r, (c, _)) => r -> (c & ((BigInt(1) << constantWidth) - 1)) }))
+    def fields: Seq[Field] = select +: constant.toSeq
+  }
+
+  private def opsOn(kind: UnitKind, unit: Int) = b.ops.filter(o => o.kind == kind && o.unit == unit)
+
+  /** A multiplier unit: sources at the issue, each product's dropped bits the cycle before it is ready. */
+  private final class MultiplierPlan(u: Int) {
+    private val ops = opsOn(UnitKind.Multiplier, u)
+    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(port, ops.map(o => residue(o.issue) -> o.operands(port))))
+    private def drop(o: PlacedOp) = { val Mul(x, y) = graph(o.node): @unchecked; analysis.productRounding(fmt(x).fracBits, fmt(y).fracBits).drop }
+    val drops: IndexedSeq[Int] = ops.map(drop).distinct.sorted.toIndexedSeq
+    val dropSelect: Field = Field(log2Ceil(math.max(drops.size, 2)), ops.map(o => residue(b.ready(o.node).get - 1) -> BigInt(drops.indexOf(drop(o)))).toMap)
+    def fields: Seq[Field] = ports.flatMap(_.fields) :+ dropSelect
+  }
+  private val multipliers = (0 until p.schedule.multiplierUnits).map(new MultiplierPlan(_))
+
+  /** An adder unit: sources and alignment shifts the cycle before the issue, add or subtract at the issue. */
+  private final class AdderPlan(u: Int) {
+    private val ops = opsOn(UnitKind.Adder, u)
+    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(port, ops.map(o => residue(o.issue - 1) -> o.operands(port))))
+    private def shift(o: PlacedOp, port: Int) = o.operands(port) match {
+      case Operand.Stored(x, _) => fmt(o.node).fracBits - fmt(x).fracBits
+      case Operand.Forwarded(x) => fmt(o.node).fracBits - fmt(x).fracBits
+      case Operand.Constant(x)  => fmt(o.node).fracBits - fmt(x).fracBits
+      case Operand.Zero         => 0
+    }
+    val shifts: IndexedSeq[IndexedSeq[Int]] = (0 to 1).map(port => ops.map(shift(_, port)).distinct.sorted.toIndexedSeq)
+    val shiftSelects: IndexedSeq[Field] = (0 to 1).map(port =>
+      Field(log2Ceil(math.max(shifts(port).size, 2)), ops.map(o => residue(o.issue - 1) -> BigInt(shifts(port).indexOf(shift(o, port)))).toMap))
+    val subtract: Field = Field.flag(ops.filter(_.subtract).map(o => residue(o.issue)).toSet)
+    def fields: Seq[Field] = ports.flatMap(_.fields) ++ shiftSelects :+ subtract
+  }
+  private val adders = (0 until b.adderUnits).map(new AdderPlan(_))
+
+  /** Input stage: which signal goes to the inputs' bank, the cycle before it is ready. */
+  private val inputSelect = Field(log2Ceil(math.max(b.signals.size, 2)), b.signals.indices.map(k => residue(p.schedule.inputCycle + k) -> BigInt(k)).toMap)
+
+  // ---- Hardware. ----
+  private val word = new Microcode(ii, addressing.flatMap(a => Seq(a.write, a.writeEnable) ++ a.reads) ++ multipliers.flatMap(_.fields) ++
+    adders.flatMap(_.fields) :+ inputSelect, phase)
+
+  private def bankIndex(bank: Bank) = b.banks.indexOf(bank)
+  private def fit(v: SInt, width: Int): SInt = if (v.getWidth >= width) v(width - 1, 0).asSInt else v.pad(width)
+
+  /** Each unit's result, written into its bank (block RAM registers its write port), and its output register (forwarding). */
+  private val next: IndexedSeq[SInt] = b.banks.indices.map(bank => Wire(SInt(b.unitWidths(bank).W)))
+  private val out: IndexedSeq[SInt] = next.map(FixedHw.delay(_, 1))
+
+  /** Each bank's two read ports: the word two cycles after its address (block RAM, then its output register). */
+  private val readData: IndexedSeq[IndexedSeq[SInt]] = b.banks.indices.map { bank =>
+    val a = addressing(bank)
+    (0 to 1).map { port =>
+      val mem = SyncReadMem(a.depth, UInt(b.bankWidths(bank).W))
+      when(word(a.writeEnable).asBool)(mem.write(a.address(word(a.write)), fit(next(bank), b.bankWidths(bank)).asUInt))
+      FixedHw.delay(mem.read(a.address(word(a.reads(port))), true.B), 1).asSInt
+    }
+  }
+
+  /** A unit port's operand in the cycle its select is in the table, sign-extended or cut to `width` (values fit their formats). */
+  private def operand(src: PortSources, width: Int): SInt = {
+    val options = src.sources.map(s => fit(s.fold({ case (bank, bankPort) => readData(bank)(bankPort) }, bank => out(bank)), width)) ++
+      src.constant.map(c => fit(word(c).asSInt, width))
+    if (options.size == 1) options.head else VecInit(options)(word(src.select))
+  }
+
+  // Inputs.
+  if (b.signals.nonEmpty) {
+    val values = b.signals.map(signals)
+    val width = b.unitWidths(bankIndex(Bank.Inputs))
+    next(bankIndex(Bank.Inputs)) := VecInit(values.map(_.pad(width)))(word(inputSelect))
+  }
+
+  // Multiplier units.
+  multipliers.zipWithIndex.foreach { case (plan, u) =>
+    val shape = p.schedule.unitShape(u)
+    val product = FixedHw.delay(PipelinedMultiplier(operand(plan.ports(0), shape.wide), operand(plan.ports(1), shape.narrow)), p.multiplierLatency - 1)
+    val width = b.unitWidths(bankIndex(Bank.Products(u)))
+    val rounded = plan.drops.map(d => fit(FixedHw.shiftRound(product, d, p.productRounding), width))
+    next(bankIndex(Bank.Products(u))) := (if (rounded.size == 1) rounded.head else VecInit(rounded)(word(plan.dropSelect)))
+  }
+
+  // Adder units.
+  adders.zipWithIndex.foreach { case (plan, u) =>
+    val width = b.adderWidths(u)
+    val aligned = (0 to 1).map { port =>
+      val x = operand(plan.ports(port), width)
+      val options = plan.shifts(port).map(sh => (x << sh)(width - 1, 0).asSInt)
+      FixedHw.delay(if (options.size == 1) options.head else VecInit(options)(word(plan.shiftSelects(port))), 1)
+    }
+    val sum = FixedHw.addSub(aligned(0), aligned(1), word(plan.subtract).asBool)
+    next(bankIndex(Bank.Sums(u))) := fit(sum, b.unitWidths(bankIndex(Bank.Sums(u))))
+  }
+
+  // CORDIC units.
+  cordic.zipWithIndex.foreach { case (sc, u) =>
+    Seq(TrigFn.Cos -> sc.cos, TrigFn.Sin -> sc.sin).foreach { case (fn, v) =>
+      val bank = bankIndex(Bank.Trig(u, fn))
+      next(bank) := v.pad(b.unitWidths(bank))
+    }
+  }
+
+  /** Each output's value in cycle `outputsReady`: captured beside its unit's output register, then held. */
+  val outputs: IndexedSeq[SInt] = graph.outputs.map { o =>
+    graph(o.node) match {
+      case Const(_) => analysis(o.node).raw.get.S(fmt(o.node).width.W)
+      case _ =>
+        val ready = b.ready(o.node).get
+        val stage0 = RegEnable(fit(next(b.bankOf(o.node).get), fmt(o.node).width), during(ready - 1))
+        held(stage0, ready, Seq(b.outputsReady))(b.outputsReady)
+    }
+  }
+}
+
+/** A control field: `width` bits with a value for some residues (the others read 0, a don't-care). */
+final case class Field(width: Int, values: Map[Int, BigInt]) {
+  require(width >= 1, s"Field: $width bits")
+  values.foreach { case (r, v) => require(v >= 0 && v.bitLength <= width, s"Field: $v does not fit $width bits at residue $r") }
+}
+object Field {
+  /** A one-bit field set at `residues`. */
+  def flag(residues: Set[Int]): Field = Field(1, residues.map(_ -> BigInt(1)).toMap)
+}
+
+/**
+ * Control fields packed into one ROM word per residue, read by the phase (a register, so the ROM
+ * can sit in block RAM with the phase as its address register). Equal fields share their bits.
+ */
+final class Microcode(ii: Int, fields: Seq[Field], phase: UInt) {
+  private val distinct = fields.distinct
+  distinct.foreach(f => require(f.values.keys.forall(r => r >= 0 && r < ii), s"Microcode: a residue outside 0..${ii - 1}"))
+  private val offsets: Map[Field, Int] = distinct.zip(distinct.map(_.width).scanLeft(0)(_ + _)).toMap
+  val width: Int = distinct.map(_.width).sum
+  private val bits: UInt = {
+    val words = (0 until ii).map(r => distinct.foldLeft(BigInt(0))((acc, f) => acc | (f.values.getOrElse(r, BigInt(0)) << offsets(f))))
+    VecInit(words.map(_.U(math.max(width, 1).W)))(phase)
+  }
+
+  /** A field's bits in the current cycle. */
+  def apply(f: Field): UInt = bits(offsets(f) + f.width - 1, offsets(f))
+}

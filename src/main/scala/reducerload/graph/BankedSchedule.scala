@@ -1,0 +1,310 @@
+package reducerload.graph
+
+/** Where a shared datapath keeps its values between operations (`schedule.storage`). */
+sealed abstract class Storage(val name: String) { override def toString: String = name }
+object Storage {
+
+  /** Every value in its own registers; each unit operand selects among them by the phase ([[Schedule]]). */
+  case object Registers extends Storage("registers")
+
+  /**
+   * Values in block-RAM banks, one bank per producing unit, read by addresses from a table indexed
+   * by the phase; additions share adder units too ([[BankedSchedule]]).
+   */
+  case object Memory extends Storage("memory")
+
+  val all: Seq[Storage] = Seq(Registers, Memory)
+}
+
+/** A unit whose results are written into one bank (each writes at most one result per clock). */
+sealed trait Bank
+object Bank {
+  /** The clamped velocities and accelerations, one per clock after the input stage. */
+  case object Inputs extends Bank
+  final case class Products(unit: Int) extends Bank
+  final case class Sums(unit: Int) extends Bank
+  final case class Trig(unit: Int, fn: TrigFn) extends Bank
+}
+
+/** An operand of a shared unit: a value read from its bank, a constant of the graph, or zero. */
+sealed trait Operand
+object Operand {
+  /** Read from its bank, on the bank's read port `port` (0 or 1; each unit operand may take either). */
+  final case class Stored(node: NodeId, port: Int = 0) extends Operand
+  /** Taken from its unit's output register in the one cycle it is there (no bank read). */
+  final case class Forwarded(node: NodeId) extends Operand
+  final case class Constant(node: NodeId) extends Operand
+  case object Zero extends Operand
+}
+
+/** The two kinds of shared arithmetic unit besides the CORDIC units. */
+sealed trait UnitKind
+object UnitKind {
+  case object Multiplier extends UnitKind
+  case object Adder extends UnitKind
+}
+
+/**
+ * One multiply or addition on a unit: it reads `operands` (port 0, port 1) in cycle `issue`;
+ * an adder computes port 0 + port 1, or port 0 - port 1 when `subtract`.
+ */
+final case class PlacedOp(node: NodeId, kind: UnitKind, unit: Int, issue: Int, operands: IndexedSeq[Operand], subtract: Boolean)
+
+/** A bank read: `node` on read port `port` of `bank`, its address presented in cycle `cycle`. */
+final case class BankRead(node: NodeId, bank: Int, port: Int, cycle: Int)
+
+/**
+ * What an operation runs on: its unit kind, units, result latency and bank per unit; `lead`: cycles
+ * from a bank read's address to the issue, `forwardLead`: from a value's ready cycle to an issue
+ * that takes it from its unit's output register.
+ */
+private final case class Kind(kind: UnitKind, units: Range, lead: Int, forwardLead: Int, shape: Int => Option[MulShape], latency: Int, bank: Int => Bank)
+
+/** The banked list scheduler's state after each node: ready cycles, banks, placements, taken unit and read-port residues, reads. */
+private final case class BankedState(ready: Vector[Option[Int]], bank: Vector[Option[Int]], placed: Vector[Option[PlacedOp]],
+  units: Set[(UnitKind, Int, Int)], ports: Map[(Int, Int, Int), (NodeId, Int)], reads: Vector[BankRead])
+
+/**
+ * The memory-storage schedule of a graph at the initiation interval of `base` (II >= 2): the same
+ * multiplier units (classes, shapes, latencies) and CORDIC placements as `base`, adder units shared
+ * like the multipliers, and every value written once into the bank of the unit that made it, in
+ * the cycle it is ready, then read from there by address. Each bank has two read ports (two
+ * block-RAM copies): port 0 feeds units' first operands, port 1 their second. The bit-accurate
+ * model does not depend on any of this.
+ *
+ * Timing (cycles of one sample, counted as in [[Schedule]]):
+ *  - a value ready in cycle R was written into its bank in cycle R - 1, straight from its unit's
+ *    result; a read's address may be presented from cycle R on, and the block RAM and its output
+ *    register give the word two cycles after the address;
+ *  - a multiply reads its operands (address) `mulLead` cycles before its issue; its product is
+ *    ready `base.mulLatency` cycles after the issue (the rounding shift and a capture register included);
+ *  - an addition reads `addLead` cycles before its issue (one more: its aligned operands are
+ *    registered first) and is ready one cycle after.
+ * Each unit takes one operation and each read port one address per residue modulo II (two reads of
+ * the same value in the same cycle share the port). A bank keeps `copies(b)` words per value, one
+ * per sample in flight, picked by the sample's slot counter: a value is read before the sample
+ * `copies` later overwrites it.
+ */
+final class BankedSchedule(val base: Schedule) {
+  import Op._
+  private val analysis = base.analysis
+  private val graph = analysis.graph
+  val clocksPerSample: Int = base.clocksPerSample
+  private val ii = clocksPerSample
+
+  /** Cycles from a read's address to the issue of the multiply or addition that reads it. */
+  val mulLead: Int = 2
+  val addLead: Int = 3
+
+  private def isConst(x: NodeId) = graph(x).isInstanceOf[Const]
+  private def ceilDiv(a: Int, b: Int) = (a + b - 1) / b
+
+  /** The per-sample inputs, in the order the input stage writes them (one per clock from `base.inputCycle`). */
+  val signals: IndexedSeq[Signal] = graph.signals.toIndexedSeq
+
+  require(ii >= 2, "schedule.storage = memory shares units between clocks: it needs schedule.clocks-per-sample >= 2 (at 1, use registers)")
+  require(signals.size <= ii,
+    s"schedule.storage = memory writes the ${signals.size} velocities and accelerations into a bank one per clock: it needs schedule.clocks-per-sample >= ${signals.size}, got $ii")
+
+  private val additions: IndexedSeq[NodeId] = graph.ids.filter(id => graph(id) match {
+    case _: Add | _: Sub | _: Neg => true
+    case _                        => false
+  })
+
+  /** Adder units: the fewest that take every addition in the slots a unit offers. */
+  val adderUnits: Int = math.max(1, base.unitsFor(additions.size, ii))
+
+  /** Banks: the inputs', then one per multiplier unit, per adder unit, and per CORDIC unit and function. */
+  val banks: IndexedSeq[Bank] =
+    (if (signals.nonEmpty) IndexedSeq(Bank.Inputs) else IndexedSeq.empty) ++
+      (0 until base.multiplierUnits).map(Bank.Products) ++ (0 until adderUnits).map(Bank.Sums) ++
+      (0 until base.cordicUnits).flatMap(u => Seq(Bank.Trig(u, TrigFn.Cos), Bank.Trig(u, TrigFn.Sin)))
+  private val bankIndex: Map[Bank, Int] = banks.zipWithIndex.toMap
+
+
+  /** Port assignments an operation may take on a unit: commutative operations either way round. */
+  private def assignments(op: Op, unitShape: Option[MulShape]): Seq[IndexedSeq[Operand]] = {
+    def operand(x: NodeId): Operand = if (isConst(x)) Operand.Constant(x) else Operand.Stored(x)
+    def width(x: NodeId) = analysis(x).format.width
+    op match {
+      case Mul(a, b) =>
+        val shape = unitShape.get
+        Seq((a, b), (b, a)).distinct.filter { case (x, y) => width(x) <= shape.wide && width(y) <= shape.narrow }
+          .map { case (x, y) => IndexedSeq(operand(x), operand(y)) }
+      case Add(a, b) => Seq((a, b), (b, a)).distinct.map { case (x, y) => IndexedSeq(operand(x), operand(y)) }
+      case Sub(a, b) => Seq(IndexedSeq(operand(a), operand(b)))
+      case Neg(a)    => Seq(IndexedSeq(Operand.Zero, operand(a)))
+      case other     => throw new IllegalStateException(s"BankedSchedule: $other runs on no shared unit")
+    }
+  }
+
+  /** What an operation runs on: its unit kind, units, read lead, result latency and bank per unit. */
+  private def kindOf(id: NodeId): Option[Kind] = graph(id) match {
+    case _: Mul => Some(Kind(UnitKind.Multiplier, base.unitsOf(id), mulLead, 0, u => Some(base.unitShape(u)), base.mulLatency(id), Bank.Products))
+    case _: Add | _: Sub | _: Neg => Some(Kind(UnitKind.Adder, 0 until adderUnits, addLead, 1, _ => None, 1, Bank.Sums))
+    case _ => None
+  }
+  private val kinds: IndexedSeq[Option[Kind]] = graph.ids.map(kindOf)
+
+  /** Values whose producer is fixed before scheduling: inputs (one per clock) and sin/cos (the CORDIC placements of `base`). */
+  private val fixed: Map[Int, (Int, Bank)] = graph.ids.flatMap { id =>
+    graph(id) match {
+      case Input(signal) => Some(id.index -> ((base.inputCycle + 1 + signals.indexOf(signal), Bank.Inputs)))
+      case Trig(fn, angle) =>
+        val slot = base.angleSlot(angle)
+        Some(id.index -> ((slot.issue + base.trigLatency, Bank.Trig(slot.unit.get, fn))))
+      case _ => None
+    }
+  }.toMap
+
+  /** Priority: the longest chain of leads and latencies from an operation to an output (the critical path first). */
+  private val height: IndexedSeq[Int] = {
+    val users = graph.ids.flatMap(id => graph(id).operands.map(_.index -> id.index)).groupMap(_._1)(_._2)
+    graph.ids.reverse.foldLeft(Map.empty[Int, Int]) { (h, id) =>
+      val own = kinds(id.index).fold(0)(k => k.forwardLead + k.latency)
+      h + (id.index -> (own + users.getOrElse(id.index, Nil).map(h).maxOption.getOrElse(0)))
+    }.toSeq.sortBy(_._1).map(_._2).toIndexedSeq
+  }
+
+  /** The latency dependences alone would allow (unlimited units and ports), for reports. */
+  val dependenceBound: Int = graph.ids.map { id =>
+    (graph(id) match {
+      case Input(_) | Trig(_, _) => fixed(id.index)._1
+      case _                     => 0
+    }) + height(id.index)
+  }.max + 1
+
+  /**
+   * Cycle-driven list scheduling: in each cycle, the operations whose operands can be read by then,
+   * highest first, each on the first unit free at the cycle's residue with an operand order whose
+   * bank read ports are free at the residue of its read.
+   */
+  private val state: BankedState = {
+    val start = BankedState(
+      ready = graph.ids.map(id => fixed.get(id.index).map(_._1)).toVector,
+      bank = graph.ids.map(id => fixed.get(id.index).map(f => bankIndex(f._2))).toVector,
+      placed = Vector.fill(graph.ops.size)(None), units = Set.empty, ports = Map.empty, reads = Vector.empty)
+    val pending = graph.ids.filter(id => kinds(id.index).isDefined).sortBy(id => (-height(id.index), id.index))
+
+    /**
+     * `operands` of an operation of kind `k` issued in `t`: each stored one forwarded when it is
+     * ready exactly `forwardLead` cycles before, else read from its bank; None when one is not
+     * available then or a read port is taken.
+     */
+    def resolve(s: BankedState, operands: IndexedSeq[Operand], k: Kind, t: Int): Option[(IndexedSeq[Operand], Seq[BankRead])] = {
+      // Per operand: the ways it can arrive at t (forwarded, or read on either bank port, its own position's first).
+      val ways: IndexedSeq[Seq[(Operand, Option[BankRead])]] = operands.zipWithIndex.map {
+        case (Operand.Stored(x, _), position) =>
+          val r = s.ready(x.index).get
+          if (r + k.forwardLead == t) Seq((Operand.Forwarded(x), None))
+          else if (r + k.lead <= t) Seq(position, 1 - position).map(port => (Operand.Stored(x, port), Some(BankRead(x, s.bank(x.index).get, port, t - k.lead))))
+          else Nil
+        case (other, _) => Seq((other, None))
+      }
+      def free(rs: Seq[BankRead]): Boolean = {
+        val keyed = rs.map(r => (r.bank, r.port, r.cycle % ii) -> ((r.node, r.cycle)))
+        keyed.groupBy(_._1).forall(_._2.map(_._2).distinct.size == 1) && keyed.forall { case (key, use) => s.ports.get(key).forall(_ == use) }
+      }
+      ways.foldLeft(Seq(IndexedSeq.empty[(Operand, Option[BankRead])]))((acc, w) => for (a <- acc; x <- w) yield a :+ x)
+        .map(choice => (choice.map(_._1), choice.flatMap(_._2)))
+        .find { case (_, rs) => free(rs) }
+    }
+    /** Whether every stored operand of `id` is ready by `t` (forwarded or read). */
+    def candidate(s: BankedState, id: NodeId, t: Int): Boolean = {
+      val k = kinds(id.index).get
+      graph(id).operands.filterNot(isConst).forall(x => s.ready(x.index).exists(r => r + k.forwardLead == t || r + k.lead <= t))
+    }
+    def tryPlace(s: BankedState, id: NodeId, t: Int): Option[BankedState] = {
+      val k = kinds(id.index).get
+      val op = graph(id)
+      k.units.iterator.filterNot(u => s.units((k.kind, u, t % ii))).flatMap { u =>
+        assignments(op, k.shape(u)).iterator.flatMap(a => resolve(s, a, k, t).map { case (ops, rs) => (u, ops, rs) })
+      }.nextOption().map { case (u, a, rs) =>
+        val placed = PlacedOp(id, k.kind, u, t, a, subtract = op.isInstanceOf[Sub] || op.isInstanceOf[Neg])
+        s.copy(ready = s.ready.updated(id.index, Some(t + k.latency)), bank = s.bank.updated(id.index, Some(bankIndex(k.bank(u)))),
+          placed = s.placed.updated(id.index, Some(placed)), units = s.units + ((k.kind, u, t % ii)),
+          ports = s.ports ++ rs.map(r => (r.bank, r.port, r.cycle % ii) -> ((r.node, r.cycle))), reads = s.reads ++ rs)
+      }
+    }
+    @scala.annotation.tailrec
+    def cycle(t: Int, s: BankedState, pending: IndexedSeq[NodeId], idle: Int): BankedState =
+      if (pending.isEmpty) s
+      else {
+        val candidates = pending.filter(id => candidate(s, id, t))
+        val (next, placed) = candidates.foldLeft((s, Set.empty[NodeId])) { case ((st, done), id) =>
+          tryPlace(st, id, t).fold((st, done))(n => (n, done + id))
+        }
+        if (candidates.nonEmpty && placed.isEmpty && idle >= 2 * ii)
+          throw new IllegalArgumentException(
+            s"schedule.storage = memory: for ${2 * ii} clocks from cycle ${t - idle} no unit and bank read ports were free for " +
+              s"${candidates.size} ready operations (node ${candidates.head.index}: ${graph(candidates.head)}); use a larger schedule.clocks-per-sample or schedule.storage = registers")
+        cycle(t + 1, next, pending.filterNot(placed), if (placed.isEmpty && candidates.nonEmpty) idle + 1 else 0)
+      }
+    cycle(0, start, pending, 0)
+  }
+
+  /** Cycle in which each node's value is in its unit's output register and written into its bank (None: a constant). */
+  def ready(id: NodeId): Option[Int] = state.ready(id.index)
+
+  /** Each stored node's bank. */
+  def bankOf(id: NodeId): Option[Int] = state.bank(id.index)
+
+  /** Multiplies and additions with their units, issues and operand ports. */
+  val ops: IndexedSeq[PlacedOp] = state.placed.flatten
+
+  /** Every bank read. */
+  val reads: IndexedSeq[BankRead] = state.reads
+
+  /** Cycle at which every output is in its register: the output stage reads them then. */
+  val outputsReady: Int = graph.outputs.flatMap(o => ready(o.node)).maxOption.getOrElse(base.inputCycle)
+
+  /** Cycles from a sample on the input port to its torques on the output port (output stage included). */
+  val latency: Int = outputsReady + 1
+
+  /** Values of each bank that some operation reads from it, in the order they are ready: a value's slot is its place here. */
+  val values: IndexedSeq[IndexedSeq[NodeId]] = {
+    val read = reads.map(_.node).toSet
+    val byBank = graph.ids.filter(read).groupBy(id => bankOf(id).get)
+    banks.indices.map(b => byBank.getOrElse(b, IndexedSeq.empty).sortBy(id => (ready(id).get, id.index)))
+  }
+  private val slotOf: Map[NodeId, Int] = values.flatMap(_.zipWithIndex).toMap
+  def slot(id: NodeId): Int = slotOf(id)
+
+  /** Words per value in each bank: one per sample in flight between a value's write and its last read, rounded up to a power of 2. */
+  val copies: IndexedSeq[Int] = {
+    val lastRead = reads.groupMapReduce(_.node)(_.cycle)(math.max)
+    // Sample s + copies writes a value in cycle copies * II + ready - 1, which must come after the last read of sample s.
+    values.map(vs => BankedSchedule.pow2(vs.map(v => lastRead.get(v).fold(1)(l => (l - ready(v).get + 1) / ii + 1)).maxOption.getOrElse(1)))
+  }
+
+  /** Samples in flight at most: the slot counter counts modulo this (every bank's copies divide it). */
+  val slotCount: Int = copies.maxOption.getOrElse(1)
+
+  /** Cycles of a sample in which `cycle` lies, counted in whole intervals: what a slot counter has advanced by then. */
+  def intervalsBefore(cycle: Int): Int = cycle / ii
+
+  /** Adder unit widths: every operand aligned to the result's fraction bits, and every result, fit. */
+  val adderWidths: IndexedSeq[Int] = (0 until adderUnits).map { u =>
+    ops.filter(o => o.kind == UnitKind.Adder && o.unit == u).flatMap { o =>
+      val f = analysis(o.node).format
+      f.width +: graph(o.node).operands.map(x => analysis(x).format.width + f.fracBits - analysis(x).format.fracBits)
+    }.maxOption.getOrElse(2)
+  }
+
+  /** Word width of each bank: its widest value. */
+  val bankWidths: IndexedSeq[Int] = values.map(vs => vs.map(v => analysis(v).format.width).maxOption.getOrElse(1))
+
+  /** Result width of each bank's unit: the widest value it makes (written, forwarded or an output). */
+  val unitWidths: IndexedSeq[Int] = {
+    val made = graph.ids.filter(id => bankOf(id).isDefined).groupMapReduce(id => bankOf(id).get)(id => analysis(id).format.width)(math.max)
+    banks.indices.map(bank => made.getOrElse(bank, 1))
+  }
+
+  /** Block-RAM bits of the banks (two copies each, for the two read ports), for reports. */
+  def memoryBits: Long = banks.indices.map(b => 2L * bankWidths(b) * copies(b) * BankedSchedule.pow2(values(b).size)).sum
+}
+
+object BankedSchedule {
+  /** The least power of 2 at or above `n` (at least 1). */
+  def pow2(n: Int): Int = if (n <= 1) 1 else Integer.highestOneBit(n - 1) << 1
+}

@@ -1,0 +1,115 @@
+package reducerload.graph
+
+import org.scalatest.flatspec.AnyFlatSpec
+import reducerload.arm.{ArmConfig, ArmParams}
+import reducerload.pipeline.PipelinedMultiplier
+import reducerload.testutil.ArmGolden
+
+/**
+ * The memory-storage schedule's promises, checked from the graph and the hardware's timing rules
+ * (block RAM: write in the cycle before a value is ready, word two cycles after its address), not
+ * from the schedule's bookkeeping: every operation computes its graph node from the right operands,
+ * each operand is in its bank (or on its unit's output) when taken, no unit, read port or write port
+ * serves two values in one residue, no later sample overwrites a word before its last read; and
+ * requests it cannot serve are refused naming the setting.
+ */
+class BankedScheduleSpec extends AnyFlatSpec {
+  behavior of "BankedSchedule"
+
+  private def params(robot: String, ii: Int, targetError: Seq[Double] = Nil): ArmParams =
+    ArmConfig(ArmGolden.of(robot).head.config.copy(targetError = targetError))
+      .copy(scheduleRequest = ScheduleRequest(clocksPerSample = Some(ii), storage = Storage.Memory))
+
+  private def check(p: ArmParams): BankedSchedule = {
+    val b = p.banked.get
+    val g = p.graph
+    val ii = b.clocksPerSample
+    val placed = b.ops.map(o => o.node -> o).toMap
+    def readyOf(x: NodeId) = b.ready(x).getOrElse(fail(s"node ${x.index} is never ready"))
+    g.ids.foreach { id =>
+      g(id) match {
+        case Op.Const(_) => assert(b.ready(id).isEmpty && !placed.contains(id))
+        case Op.Input(_) | Op.Trig(_, _) => assert(!placed.contains(id))
+        case op =>
+          val o = placed.getOrElse(id, fail(s"node ${id.index} ($op) is on no unit"))
+          val (lead, forwardLead) = if (o.kind == UnitKind.Multiplier) (b.mulLead, 0) else (b.addLead, 1)
+          // The operation computes its node: the graph's operands, in an order the unit's arithmetic allows.
+          def node(x: Operand): Option[NodeId] = x match {
+            case Operand.Stored(n, _) => Some(n)
+            case Operand.Forwarded(n) => Some(n)
+            case Operand.Constant(n)  => assert(g(n).isInstanceOf[Op.Const]); Some(n)
+            case Operand.Zero         => None
+          }
+          val taken = o.operands.map(node)
+          op match {
+            case Op.Mul(x, y) => assert(o.kind == UnitKind.Multiplier && taken.flatten.sortBy(_.index) == Seq(x, y).sortBy(_.index) && !o.subtract)
+            case Op.Add(x, y) => assert(o.kind == UnitKind.Adder && taken.flatten.sortBy(_.index) == Seq(x, y).sortBy(_.index) && !o.subtract)
+            case Op.Sub(x, y) => assert(o.kind == UnitKind.Adder && taken == Seq(Some(x), Some(y)) && o.subtract)
+            case Op.Neg(x)    => assert(o.kind == UnitKind.Adder && taken == Seq(None, Some(x)) && o.subtract)
+            case other        => fail(s"$other on a unit")
+          }
+          // Each operand is there when taken.
+          o.operands.zipWithIndex.foreach {
+            case (Operand.Stored(x, port), _) =>
+              val cycle = o.issue - lead
+              assert(cycle >= readyOf(x), s"node ${id.index} reads node ${x.index} in cycle $cycle, written only in ${readyOf(x) - 1}")
+              assert(b.reads.contains(BankRead(x, b.bankOf(x).get, port, cycle)), s"node ${id.index}: no read of node ${x.index} in cycle $cycle")
+            case (Operand.Forwarded(x), _) =>
+              assert(readyOf(x) + forwardLead == o.issue, s"node ${id.index} takes node ${x.index} off its unit in cycle ${o.issue}, there only in ${readyOf(x)}")
+            case _ =>
+          }
+          val latency = op match {
+            case Op.Mul(_, _) =>
+              val shape = p.schedule.unitShape(o.unit)
+              o.operands.zip(Seq(shape.wide, shape.narrow)).foreach { case (x, w) =>
+                node(x).foreach(n => assert(p.analysis(n).format.width <= w, s"node ${id.index}: a ${p.analysis(n).format.width}-bit operand on a $w-bit port"))
+              }
+              PipelinedMultiplier.latency(shape.wide, shape.narrow) + p.multiplierLatency - 1 + 1
+            case _ => 1
+          }
+          assert(readyOf(id) == o.issue + latency, s"node ${id.index}: ready ${readyOf(id)}, issued ${o.issue} + latency $latency")
+      }
+    }
+    // One operation per unit and residue.
+    val units = b.ops.map(o => (o.kind, o.unit, o.issue % ii))
+    assert(units.distinct.size == units.size, "two operations share a unit in one residue")
+    // One value per read port and residue (two readers of one value in one cycle share it).
+    b.reads.groupBy(r => (r.bank, r.port, r.cycle % ii)).foreach { case (key, rs) =>
+      assert(rs.map(r => (r.node, r.cycle)).distinct.size == 1, s"read port $key serves ${rs.map(_.node.index).distinct} in one residue")
+    }
+    // One write per bank and residue: the values read from it, each in the cycle before it is ready.
+    b.values.zipWithIndex.foreach { case (vs, bank) =>
+      val writes = vs.map(v => (readyOf(v) - 1) % ii)
+      assert(writes.distinct.size == writes.size, s"bank $bank is written twice in one residue")
+      assert(vs.forall(v => b.bankOf(v).contains(bank)))
+      // Sample s + copies writes v in cycle copies * II + ready - 1: after sample s's last read of it.
+      vs.foreach { v =>
+        b.reads.filter(_.node == v).foreach(r => assert(b.copies(bank) * ii + readyOf(v) - 1 > r.cycle,
+          s"bank $bank keeps ${b.copies(bank)} copies: node ${v.index} (ready ${readyOf(v)}) is overwritten before its read in cycle ${r.cycle}"))
+      }
+    }
+    assert(b.reads.forall(r => b.values(r.bank).contains(r.node)), "a value is read from a bank that does not keep it")
+    assert(b.latency == g.outputs.map(o => readyOf(o.node)).max + 1)
+    assert(b.latency >= b.dependenceBound, s"latency ${b.latency} below the dependence bound ${b.dependenceBound}")
+    b
+  }
+
+  it should "schedule planar3 and the UR5 at several intervals, every promise kept" in {
+    Seq(("planar3", 6, Nil), ("planar3", 8, Nil), ("planar3", 40, Nil), ("ur5", 32, Seq(1e-3)), ("ur5", 64, Seq(1e-3)), ("ur5", 64, Nil),
+      ("ur5", 512, Seq(1e-3)), ("panda", 64, Seq(1e-3))).foreach { case (robot, ii, target) =>
+      val p = params(robot, ii, target)
+      val b = check(p)
+      println(f"[banked] $robot%-8s II $ii%4d  latency ${b.latency}%4d (dependences ${b.dependenceBound}%4d)  mul units ${p.schedule.multiplierUnits}%3d " +
+        f"adder units ${b.adderUnits}%3d  banks ${b.banks.size}%3d  bank bits ${b.memoryBits}%7d  blocks ${p.schedule.multiplierBlocks}")
+    }
+  }
+
+  it should "refuse intervals it cannot serve, naming the setting" in {
+    val one = intercept[IllegalArgumentException](params("planar3", 1).banked)
+    assert(one.getMessage.contains("schedule.clocks-per-sample >= 2"), one.getMessage)
+    val few = intercept[IllegalArgumentException](params("planar3", 4).banked)
+    assert(few.getMessage.contains("schedule.clocks-per-sample >= 6"), few.getMessage)
+    val tight = intercept[IllegalArgumentException](params("ur5", 16, Seq(1e-3)).banked)
+    assert(tight.getMessage.contains("schedule.clocks-per-sample") && tight.getMessage.contains("schedule.storage = registers"), tight.getMessage)
+  }
+}
