@@ -31,6 +31,7 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       ArmSample(q, qd, qdd)
     }
     val label = (if (p.schedule.clocksPerSample == 1) robot else s"$robot II=${p.schedule.clocksPerSample}") +
+      (if (p.banked.isDefined) " memory" else "") +
       (if (targetError.isEmpty) "" else s" target ${targetError.mkString(",")} (F=${p.internalFracBits})")
     ArmChecks.run(this, label, p, traces.flatMap(_.samples).toIndexedSeq, random, rng, traces.flatMap(_.torques).toIndexedSeq)
   }
