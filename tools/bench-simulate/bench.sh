@@ -5,7 +5,7 @@
 # input and output) once per engine, and prints a table. The model's and the RTL's files must be
 # identical (checked with cmp). The machine's load is printed: on a shared machine, figures are noisy.
 #
-# usage: tools/bench-simulate/bench.sh [joint3] [ur5] [ur5-shared]      (default: all three)
+# usage: tools/bench-simulate/bench.sh [joint3] [ur5] [ur5-shared] [ur5-memory]   (default: all four)
 # env:   SAMPLES (joint3, default 1000000), UR5_SAMPLES (default 200000), SEED (default 1),
 #        WORK (scratch directory, default ${TMPDIR:-/tmp}/reducer-load-bench)
 set -euo pipefail
@@ -17,7 +17,7 @@ seed="${SEED:-1}"
 work="${WORK:-${TMPDIR:-/tmp}/reducer-load-bench}"
 mkdir -p "$work"
 designs=("$@")
-[ ${#designs[@]} -gt 0 ] || designs=(joint3 ur5 ur5-shared)
+[ ${#designs[@]} -gt 0 ] || designs=(joint3 ur5 ur5-shared ur5-memory)
 
 ur5=(--robot golden/robots/ur5_robot.urdf --tip tool0 --max-acceleration 15)
 rows=()
@@ -61,7 +61,8 @@ for d in "${designs[@]}"; do
       echo "joint3: rtl and model files $(same "$work/joint3-rtl.csv" "$work/joint3-model.csv")" ;;
     ur5) bench ur5-ii1 rtl "$ur5_samples" "${ur5[@]}" ;;
     ur5-shared) bench ur5-66blocks rtl "$ur5_samples" "${ur5[@]}" --max-multipliers 66 --clocks-per-sample auto ;;
-    *) echo "bench: unknown design '$d' (joint3, ur5, ur5-shared)" >&2; exit 2 ;;
+    ur5-memory) bench ur5-memory-ii64 rtl "$ur5_samples" "${ur5[@]}" --target-error 1e-3 --clocks-per-sample 64 --schedule.storage memory ;;
+    *) echo "bench: unknown design '$d' (joint3, ur5, ur5-shared, ur5-memory)" >&2; exit 2 ;;
   esac
 done
 

@@ -206,18 +206,23 @@ object Field {
   def flag(residues: Set[Int]): Field = Field(1, residues.map(_ -> BigInt(1)).toMap)
 }
 
-/**
- * Control fields packed into one ROM word per residue, read by the phase (a register, so the ROM
- * can sit in block RAM with the phase as its address register). Equal fields share their bits.
- */
+/** Control fields packed into one ROM word per residue, read by the phase a cycle ahead. Equal fields share their bits. */
 final class Microcode(ii: Int, fields: Seq[Field], phase: UInt) {
   private val distinct = fields.distinct
   distinct.foreach(f => require(f.values.keys.forall(r => r >= 0 && r < ii), s"Microcode: a residue outside 0..${ii - 1}"))
   private val offsets: Map[Field, Int] = distinct.zip(distinct.map(_.width).scanLeft(0)(_ + _)).toMap
   val width: Int = distinct.map(_.width).sum
+  /**
+   * The word of the current residue, from a register: the ROM holds each residue's word at the
+   * residue before it and is read by the phase one cycle ahead, so every control signal leaves a
+   * flip-flop (the block RAM's output register) instead of a table lookup. In the first cycle after
+   * reset the register holds no word; every action of that cycle belongs to samples taken before
+   * the reset (a sample's first action comes two cycles after it is taken).
+   */
   private val bits: UInt = {
     val words = (0 until ii).map(r => distinct.foldLeft(BigInt(0))((acc, f) => acc | (f.values.getOrElse(r, BigInt(0)) << offsets(f))))
-    VecInit(words.map(_.U(math.max(width, 1).W)))(phase)
+    val rom = VecInit((0 until ii).map(r => words((r + 1) % ii).U(math.max(width, 1).W)))
+    FixedHw.delay(rom(phase), 1)
   }
 
   /** A field's bits in the current cycle. */
