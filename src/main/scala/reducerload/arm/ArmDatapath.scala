@@ -42,6 +42,18 @@ class ArmDatapath(val p: ArmParams) extends Module {
       counter := Mux(counter === (ii - 1).U, 0.U, counter + 1.U)
       counter
     }
+
+  /**
+   * One flip-flop per residue, high while the phase equals it: compared a cycle early, so the
+   * enables of the many registers written at one phase leave a flip-flop, not a comparator
+   * (that compare and its fan-out were the critical path). Residues nothing uses are removed.
+   */
+  private val phaseIs: IndexedSeq[Bool] =
+    if (ii == 1) IndexedSeq(true.B)
+    else {
+      val next = Mux(phase === (ii - 1).U, 0.U, phase + 1.U)
+      (0 until ii).map(r => RegNext(next === r.U, (r == 0).B))
+    }
   /**
    * The entry of the current phase: a multiplexer tree indexed by the phase. Residues no operation
    * uses repeat the entry before them (any value would do; a repeat lets synthesis merge inputs).
@@ -56,7 +68,7 @@ class ArmDatapath(val p: ArmParams) extends Module {
     }
 
   /** True in cycle `cycle` of every sample (and in every cycle at II = 1). */
-  private def during(cycle: Int): Bool = if (ii == 1) true.B else phase === (cycle % ii).U
+  private def during(cycle: Int): Bool = phaseIs(cycle % ii)
 
   /**
    * `stage0`, a register written at the end of cycle `ready - 1` of every sample, as seen in each

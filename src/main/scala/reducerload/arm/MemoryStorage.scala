@@ -131,13 +131,17 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   private val next: IndexedSeq[SInt] = b.banks.indices.map(bank => Wire(SInt(b.unitWidths(bank).W)))
   private val out: IndexedSeq[SInt] = next.map(FixedHw.delay(_, 1))
 
-  /** Each bank's two read ports: the word two cycles after its address (block RAM, then its output register). */
+  /**
+   * Each bank's two read ports: the word `readLatency` cycles after its address (block RAM with its
+   * address and output registers, then one more register: synthesis may fold a register after the
+   * read into the RAM's address side, and a RAM output must not feed logic directly).
+   */
   private val readData: IndexedSeq[IndexedSeq[SInt]] = b.banks.indices.map { bank =>
     val a = addressing(bank)
     (0 to 1).map { port =>
       val mem = SyncReadMem(a.depth, UInt(b.bankWidths(bank).W))
       when(word(a.writeEnable).asBool)(mem.write(a.address(word(a.write)), fit(next(bank), b.bankWidths(bank)).asUInt))
-      FixedHw.delay(mem.read(a.address(word(a.reads(port))), true.B), 1).asSInt
+      FixedHw.delay(mem.read(a.address(word(a.reads(port))), true.B), BankedSchedule.readLatency - 1).asSInt
     }
   }
 
@@ -213,18 +217,25 @@ final class Microcode(ii: Int, fields: Seq[Field], phase: UInt) {
   private val offsets: Map[Field, Int] = distinct.zip(distinct.map(_.width).scanLeft(0)(_ + _)).toMap
   val width: Int = distinct.map(_.width).sum
   /**
-   * The word of the current residue, from a register: the ROM holds each residue's word at the
-   * residue before it and is read by the phase one cycle ahead, so every control signal leaves a
-   * flip-flop (the block RAM's output register) instead of a table lookup. In the first cycle after
-   * reset the register holds no word; every action of that cycle belongs to samples taken before
-   * the reset (a sample's first action comes two cycles after it is taken).
+   * The word of the current residue, from registers: the ROM holds each residue's word
+   * [[Microcode.ahead]] residues earlier and is read by the phase that many cycles ahead, through
+   * two registers (the block RAM's address and output registers), so every control signal leaves a
+   * flip-flop instead of a table lookup or a block-RAM read. In the first two cycles after reset
+   * the registers hold no word; every action of those cycles belongs to samples taken before the
+   * reset (a sample's first action comes two cycles after it is taken).
    */
   private val bits: UInt = {
     val words = (0 until ii).map(r => distinct.foldLeft(BigInt(0))((acc, f) => acc | (f.values.getOrElse(r, BigInt(0)) << offsets(f))))
-    val rom = VecInit((0 until ii).map(r => words((r + 1) % ii).U(math.max(width, 1).W)))
-    FixedHw.delay(rom(phase), 1)
+    val rom = VecInit((0 until ii).map(r => words((r + Microcode.ahead) % ii).U(math.max(width, 1).W)))
+    FixedHw.delay(rom(phase), Microcode.ahead)
   }
 
   /** A field's bits in the current cycle. */
   def apply(f: Field): UInt = bits(offsets(f) + f.width - 1, offsets(f))
+}
+
+object Microcode {
+
+  /** Cycles the table is read ahead: block RAM registers its address, then its output. */
+  val ahead: Int = 2
 }

@@ -74,8 +74,8 @@ private final case class BankedState(ready: Vector[Option[Int]], bank: Vector[Op
  *
  * Timing (cycles of one sample, counted as in [[Schedule]]):
  *  - a value ready in cycle R was written into its bank in cycle R - 1, straight from its unit's
- *    result; a read's address may be presented from cycle R on, and the block RAM and its output
- *    register give the word two cycles after the address;
+ *    result; a read's address may be presented from cycle R on, and its word is in a register
+ *    `readLatency` cycles after the address;
  *  - a multiply reads its operands (address) `mulLead` cycles before its issue; its product is
  *    ready `base.mulLatency` cycles after the issue (the rounding shift and a capture register included);
  *  - an addition reads `addLead` cycles before its issue (one more: its aligned operands are
@@ -92,9 +92,9 @@ final class BankedSchedule(val base: Schedule) {
   val clocksPerSample: Int = base.clocksPerSample
   private val ii = clocksPerSample
 
-  /** Cycles from a read's address to the issue of the multiply or addition that reads it. */
-  val mulLead: Int = 2
-  val addLead: Int = 3
+  /** Cycles from a read's address to the issue of the multiply (its word at the multiplier) or addition (one more: aligned operands registered) that reads it. */
+  val mulLead: Int = BankedSchedule.readLatency
+  val addLead: Int = BankedSchedule.readLatency + 1
 
   private def isConst(x: NodeId) = graph(x).isInstanceOf[Const]
   private def ceilDiv(a: Int, b: Int) = (a + b - 1) / b
@@ -305,6 +305,10 @@ final class BankedSchedule(val base: Schedule) {
 }
 
 object BankedSchedule {
+
+  /** Cycles from a bank read's address to its word in a register: the block RAM's address and output registers and one more. */
+  val readLatency: Int = 3
+
   /** The least power of 2 at or above `n` (at least 1). */
   def pow2(n: Int): Int = if (n <= 1) 1 else Integer.highestOneBit(n - 1) << 1
 }
