@@ -150,8 +150,7 @@ class ArmDatapath(val p: ArmParams) extends Module {
       }
       /** Operand `x` in cycle `t`, its fraction bits raised to `f`'s, sign-extended to `f`'s width. */
       def aligned(x: NodeId, t: Int): SInt = (tap(x, t) << (f.fracBits - analysis(x).format.fracBits)).asSInt.pad(f.width)
-      // Proven range: any top bits dropped here only repeat the sign.
-      def fit(v: SInt): SInt = if (v.getWidth >= f.width) v(f.width - 1, 0).asSInt else v.pad(f.width)
+      def fit(v: SInt): SInt = FixedHw.fitWidth(v, f.width)
       val ready = schedule(id)
       def issue = schedule.slot(id).get.issue
       def register(v: SInt, cycle: Int): SInt = RegEnable(fit(v), during(cycle))

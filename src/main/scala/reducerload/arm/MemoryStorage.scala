@@ -64,7 +64,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   private val addressing = b.banks.indices.map(new BankAddressing(_))
 
   /** A unit port's sources (`operands` by the residue of the cycle they are selected): the banks it reads, then a constant (or zero) if any. */
-  private final class PortSources(val port: Int, operands: Seq[(Int, Operand)]) {
+  private final class PortSources(operands: Seq[(Int, Operand)]) {
     /** Sources: a bank's read port (Left: bank, port) or a unit's output register (Right: bank). */
     private def sourceOf(o: Operand): Option[Either[(Int, Int), Int]] = o match {
       case Operand.Stored(x, bankPort) => Some(Left((b.bankOf(x).get, bankPort)))
@@ -91,7 +91,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   /** A multiplier unit: sources at the issue, each product's dropped bits the cycle before it is ready. */
   private final class MultiplierPlan(u: Int) {
     private val ops = opsOn(UnitKind.Multiplier, u)
-    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(port, ops.map(o => residue(o.issue) -> o.operands(port))))
+    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => residue(o.issue) -> o.operands(port))))
     private def drop(o: PlacedOp) = { val Mul(x, y) = graph(o.node): @unchecked; analysis.productRounding(fmt(x).fracBits, fmt(y).fracBits).drop }
     val drops: IndexedSeq[Int] = ops.map(drop).distinct.sorted.toIndexedSeq
     val dropSelect: Field = Field(log2Ceil(math.max(drops.size, 2)), ops.map(o => residue(b.ready(o.node).get - 1) -> BigInt(drops.indexOf(drop(o)))).toMap)
@@ -102,13 +102,9 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   /** An adder unit: sources and alignment shifts the cycle before the issue, add or subtract at the issue. */
   private final class AdderPlan(u: Int) {
     private val ops = opsOn(UnitKind.Adder, u)
-    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(port, ops.map(o => residue(o.issue - 1) -> o.operands(port))))
-    private def shift(o: PlacedOp, port: Int) = o.operands(port) match {
-      case Operand.Stored(x, _) => fmt(o.node).fracBits - fmt(x).fracBits
-      case Operand.Forwarded(x) => fmt(o.node).fracBits - fmt(x).fracBits
-      case Operand.Constant(x)  => fmt(o.node).fracBits - fmt(x).fracBits
-      case Operand.Zero         => 0
-    }
+    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => residue(o.issue - 1) -> o.operands(port))))
+    /** Fraction bits an operand gains to reach its sum's (the analysis's rule for exact sums); zero needs none. */
+    private def shift(o: PlacedOp, port: Int) = o.operands(port).carried.fold(0)(x => fmt(o.node).fracBits - fmt(x).fracBits)
     val shifts: IndexedSeq[IndexedSeq[Int]] = (0 to 1).map(port => ops.map(shift(_, port)).distinct.sorted.toIndexedSeq)
     val shiftSelects: IndexedSeq[Field] = (0 to 1).map(port =>
       Field(log2Ceil(math.max(shifts(port).size, 2)), ops.map(o => residue(o.issue - 1) -> BigInt(shifts(port).indexOf(shift(o, port)))).toMap))
@@ -125,7 +121,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
     adders.flatMap(_.fields) :+ inputSelect, phase)
 
   private def bankIndex(bank: Bank) = b.banks.indexOf(bank)
-  private def fit(v: SInt, width: Int): SInt = if (v.getWidth >= width) v(width - 1, 0).asSInt else v.pad(width)
+  private def fit(v: SInt, width: Int): SInt = FixedHw.fitWidth(v, width)
 
   /** Each unit's result, written into its bank (block RAM registers its write port), and its output register (forwarding). */
   private val next: IndexedSeq[SInt] = b.banks.indices.map(bank => Wire(SInt(b.unitWidths(bank).W)))

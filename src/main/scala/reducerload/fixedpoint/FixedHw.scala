@@ -32,6 +32,12 @@ object FixedHw {
       }
   }
 
+  /**
+   * `v` in `width` bits where its range is proven to fit them: the top bits dropped only repeat the
+   * sign (the analysis derived `width` from the value's range), or it is sign-extended.
+   */
+  def fitWidth(v: SInt, width: Int): SInt = if (v.getWidth >= width) v(width - 1, 0).asSInt else v.pad(width)
+
   /** Change the fraction bits by `drop`: fewer with `rounding` (drop > 0), more exactly (drop < 0). */
   def rescale(x: SInt, drop: Int, rounding: Rounding): SInt = if (drop >= 0) shiftRound(x, drop, rounding) else (x << -drop).asSInt
 

@@ -27,7 +27,15 @@ object Bank {
 }
 
 /** An operand of a shared unit: a value read from its bank, a constant of the graph, or zero. */
-sealed trait Operand
+sealed trait Operand {
+  /** The graph node it carries (None: zero). */
+  def carried: Option[NodeId] = this match {
+    case Operand.Stored(n, _) => Some(n)
+    case Operand.Forwarded(n) => Some(n)
+    case Operand.Constant(n)  => Some(n)
+    case Operand.Zero         => None
+  }
+}
 object Operand {
   /** Read from its bank, on the bank's read port `port` (0 or 1; each unit operand may take either). */
   final case class Stored(node: NodeId, port: Int = 0) extends Operand

@@ -105,7 +105,7 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
   /** Units that take `ops` operations at interval `ii`. */
   def unitsFor(ops: Int, ii: Int): Int = ceilDiv(ops, slotsPerUnit(ii))
 
-  /** 18x18 blocks at interval `ii`: per class, the fewest units that take its multiplies in `ii` slots each, and the CORDIC units'. */
+  /** 18x18 blocks at interval `ii`: per class, the fewest units that take its multiplies in `slotsPerUnit(ii)` slots each, and the CORDIC units'. */
   private def blocksFor(ii: Int): Int = classes.map(c => unitsFor(c.ops.size, ii) * c.shape.blocks).sum + cordicUnitsAt(ii) * cordic.multiplierBlocks
 
   /** The fewest blocks any interval needs: one unit per class, the fewest CORDIC units. */

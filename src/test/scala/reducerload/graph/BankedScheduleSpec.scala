@@ -34,13 +34,12 @@ class BankedScheduleSpec extends AnyFlatSpec {
           val o = placed.getOrElse(id, fail(s"node ${id.index} ($op) is on no unit"))
           val (lead, forwardLead) = if (o.kind == UnitKind.Multiplier) (b.mulLead, 0) else (b.addLead, 1)
           // The operation computes its node: the graph's operands, in an order the unit's arithmetic allows.
-          def node(x: Operand): Option[NodeId] = x match {
-            case Operand.Stored(n, _) => Some(n)
-            case Operand.Forwarded(n) => Some(n)
-            case Operand.Constant(n)  => assert(g(n).isInstanceOf[Op.Const]); Some(n)
-            case Operand.Zero         => None
+          o.operands.foreach {
+            case Operand.Constant(n) => assert(g(n).isInstanceOf[Op.Const], s"node ${id.index}: constant operand ${n.index} is no constant")
+            case Operand.Zero => ()
+            case stored => stored.carried.foreach(n => assert(!g(n).isInstanceOf[Op.Const], s"node ${id.index}: constant ${n.index} read as a value"))
           }
-          val taken = o.operands.map(node)
+          val taken = o.operands.map(_.carried)
           op match {
             case Op.Mul(x, y) => assert(o.kind == UnitKind.Multiplier && taken.flatten.sortBy(_.index) == Seq(x, y).sortBy(_.index) && !o.subtract)
             case Op.Add(x, y) => assert(o.kind == UnitKind.Adder && taken.flatten.sortBy(_.index) == Seq(x, y).sortBy(_.index) && !o.subtract)
@@ -62,7 +61,7 @@ class BankedScheduleSpec extends AnyFlatSpec {
             case Op.Mul(_, _) =>
               val shape = p.schedule.unitShape(o.unit)
               o.operands.zip(Seq(shape.wide, shape.narrow)).foreach { case (x, w) =>
-                node(x).foreach(n => assert(p.analysis(n).format.width <= w, s"node ${id.index}: a ${p.analysis(n).format.width}-bit operand on a $w-bit port"))
+                x.carried.foreach(n => assert(p.analysis(n).format.width <= w, s"node ${id.index}: a ${p.analysis(n).format.width}-bit operand on a $w-bit port"))
               }
               PipelinedMultiplier.latency(shape.wide, shape.narrow) + p.multiplierLatency - 1 + 1
             case _ => 1
