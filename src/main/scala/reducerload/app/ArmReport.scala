@@ -21,6 +21,11 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
   private val ii = schedule.clocksPerSample
   val throughput: String = if (ii == 1) "one sample per clock" else s"one sample every $ii clocks"
 
+  /** The torque the datapath computes for joint `i`, if any (a closed form computes one joint's). */
+  private def outputOf(i: Int) = p.analysis.outputs.indices.find(k => p.analysis.outputs(k).name == joints(i).name)
+  private def torqueCells(i: Int, fmt: (Double, Double) => String, none: String) =
+    outputOf(i).fold(none)(k => fmt(p.analysis.outputs(k).range.maxAbs, p.errorBounds(k)))
+
   /** (port, direction, format description). */
   val ports: Seq[(String, String, String)] =
     Seq(("clock", "in", "1 bit"), ("reset", "in", "1 bit, synchronous, active high: clears every valid bit"),
@@ -44,11 +49,12 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
   private def jointLines: Seq[String] = joints.zipWithIndex.map { case (j, i) =>
     val a = j.axis
     f"  ${i + 1}%d ${j.name}%-24s ${j.kind}%-10s axis (${a.x}%.4f, ${a.y}%.4f, ${a.z}%.4f), body ${j.body.mass}%.4f kg; " +
-      f"|qd| <= ${n.velocityLimits(i)} rad/s, |qdd| <= ${n.accelerationLimits(i)} rad/s^2; torque range ${p.analysis.outputs(i).range.maxAbs}%.3f N·m, " +
-      f"error bound ${p.errorBounds(i)}%.3e N·m"
+      f"|qd| <= ${n.velocityLimits(i)} rad/s, |qdd| <= ${n.accelerationLimits(i)} rad/s^2" +
+      torqueCells(i, (range, bound) => f"; torque range $range%.3f N·m, error bound $bound%.3e N·m", "; no torque computed")
   }
 
   def summaryLines: Seq[String] = estimate.toSeq.flatMap(_.lines) ++ Seq(
+    s"Computes: ${p.dynamics.description}",
     s"Robot: ${p.chain.name}, ${joints.size} moving joints (numbered from the base), gravity ${p.chain.gravity.toSeq.mkString("(", ", ", ")")} m/s^2",
     "Joints kept:") ++ jointLines ++ Seq(
     s"Operations after constant folding and sharing: ${counts.multiplications} multiplications (${counts.constantMultiplications} by a constant), " +
@@ -59,7 +65,7 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
         s"${counts.additions + counts.negations} adders; ${schedule.heldBits} register bits hold values between cycles")(b =>
         s"storage memory: ${b.adderUnits} adder units for ${counts.additions + counts.negations} additions, ${b.banks.size} banks of block RAM " +
           s"(two read ports each, ${b.memoryBits} bits), latency bound from dependences ${b.dependenceBound} cycles"),
-    f"Derived worst-case error bound: ${p.errorBound}%.3e N·m (largest over joints; vs double-precision RNEA at the unquantized inputs)",
+    f"Derived worst-case error bound: ${p.errorBound}%.3e N·m (largest over the torques; vs the double-precision dynamics at the unquantized inputs)",
     s"Fraction bits: velocity ${p.velocityFracBits}, acceleration ${p.accelerationFracBits}, constants ${p.constantFracBits}, " +
       s"products and sums ${p.internalFracBits}, output ${p.outputFracBits} (numeric.target-error, when set, chose them)",
     s"Output format: ${p.analysis.outputPortFormat}; widest internal node: ${p.analysis.widest._2.format}"
@@ -76,7 +82,7 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
     s"# $moduleName",
     "",
     s"- latency: ${p.latency} cycles; throughput: $throughput; ${schedule.multiplierBlocks} 18x18 multiplier blocks (${schedule.multiplierUnits} multiplier units, ${schedule.cordicUnits} CORDIC units)",
-    f"- derived error bound: ${p.errorBound}%.3e N·m (largest over joints)",
+    f"- derived error bound: ${p.errorBound}%.3e N·m (largest over the torques)",
     s"- regenerate: `$command`",
     "",
     "## Ports",
@@ -90,10 +96,16 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
     "| --- | --- | --- | --- | --- | --- | --- | --- |") ++ joints.indices.map { i =>
     val j = joints(i)
     f"| ${i + 1} | ${j.name} | ${j.kind} | (${j.axis.x}%.4f, ${j.axis.y}%.4f, ${j.axis.z}%.4f) | ${n.velocityLimits(i)} | ${n.accelerationLimits(i)} | " +
-      f"${p.analysis.outputs(i).range.maxAbs}%.3f | ${p.errorBounds(i)}%.3e |"
+      torqueCells(i, (range, bound) => f"$range%.3f | $bound%.3e |", "- | - |")
   } ++ monitor.toSeq.flatMap(m => Seq("", "## Reducer monitor register map", "",
     s"${m.registerMap.words} words of 32 bits, read on io_host_readAddress / io_host_readData (docs/monitor.md, \"Host interface\").", "") ++
-    m.registerMap.markdown) ++ Seq("", "## Details", "", "```") ++ summaryLines ++ Seq("```")).mkString("", "\n", "\n")
+    m.registerMap.markdown) ++ Seq("", "## Details", "", "```") ++ summaryLines ++ Seq("```") ++ Seq("",
+    "## Every node (derived from the declared ranges)", "",
+    "Range: the exact value's interval over the declared inputs; error: the derived worst case of the datapath's value; format: Q(integer.fraction) bits, sign included.", "",
+    "| node | range | error | format | width |", "| --- | --- | --- | --- | --- |") ++ p.graph.ids.map { id =>
+    val a = p.analysis(id)
+    f"| `${p.graph.describe(id)}` | [${a.range.lo}%.4g, ${a.range.hi}%.4g] | ${a.error}%.3e | ${a.format} | ${a.format.width} |"
+  }).mkString("", "\n", "\n")
 
   def json: String = {
     def fmt(f: FixedFormat) = Map("int_bits" -> f.intBits, "frac_bits" -> f.fracBits, "width" -> f.width).asJava
@@ -109,14 +121,16 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
         "adder_units" -> p.banked.fold(counts.additions + counts.negations)(_.adderUnits),
         "bank_memory_bits" -> p.banked.fold(0L)(_.memoryBits)).asJava,
       "command" -> command,
-      "model" -> "rnea",
+      "model" -> p.dynamics.name,
       "robot" -> p.chain.name,
       "joints" -> joints.indices.map { i =>
         val j = joints(i)
         Map[String, Any]("name" -> j.name, "type" -> j.kind.name, "axis" -> j.axis.toSeq.map(Double.box).asJava,
-          "max_velocity" -> n.velocityLimits(i), "max_acceleration" -> n.accelerationLimits(i),
-          "torque_range_nm" -> p.analysis.outputs(i).range.maxAbs, "error_bound_nm" -> p.errorBounds(i)).asJava
-      }.asJava,
+          "max_velocity" -> n.velocityLimits(i), "max_acceleration" -> n.accelerationLimits(i)) ++
+          outputOf(i).map(k => Map("torque_range_nm" -> p.analysis.outputs(k).range.maxAbs, "error_bound_nm" -> p.errorBounds(k))).getOrElse(Map.empty)
+      }.map(_.asJava).asJava,
+      "outputs" -> p.analysis.outputs.map(o => Map[String, Any]("name" -> o.name, "range_nm" -> o.range.maxAbs, "error_bound_nm" -> o.errorBound,
+        "format" -> fmt(o.format)).asJava).asJava,
       "operations" -> Map("multiplications" -> counts.multiplications, "constant_multiplications" -> counts.constantMultiplications,
         "additions" -> counts.additions, "negations" -> counts.negations, "sin_cos" -> counts.sinCos).asJava,
       "multiplier_blocks" -> schedule.multiplierBlocks,

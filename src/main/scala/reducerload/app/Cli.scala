@@ -108,7 +108,9 @@ object Cli {
         else if (design && Settings.byFlag.contains(name)) {
           val (v, t) = value()
           loop(t, opts, ovr :+ (Settings.byFlag(name).key -> v), pos)
-        } else throw new InputError(s"command line: unknown option --$name for '$command' (see: ./sbt \"run --help\")")
+        } else if (design && Settings.retired.contains(name))
+          throw new InputError(s"command line: --$name is retired: ${Settings.retired(name)}")
+        else throw new InputError(s"command line: unknown option --$name for '$command' (see: ./sbt \"run --help\")")
       case word :: _ => throw new InputError(s"command line: unexpected argument '$word' for '$command' (see: ./sbt \"run --help\")")
     }
     loop(args.toList, Map.empty, Vector.empty, Vector.empty)

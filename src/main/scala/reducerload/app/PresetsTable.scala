@@ -1,7 +1,7 @@
 package reducerload.app
 
 import reducerload.cordic.{CordicArchitecture, CordicParams}
-import reducerload.load.{LoadDatapath, LoadParams}
+import reducerload.load.LoadParams
 
 /**
  * The README's preset table, made from the presets themselves: architecture, rate, latency, the
@@ -21,14 +21,17 @@ object PresetsTable {
     classic + (table ++ shiftAdd ++ residual).mkString(" + ") + s", ${c.angleBits} / ${c.outputBits} bits"
   }
 
-  def rate(p: LoadParams): String = if (p.samplePeriod == 1) "every clock" else s"every ${p.samplePeriod} clocks"
+  def rate(p: LoadParams): String = {
+    val ii = p.arm.schedule.clocksPerSample
+    if (ii == 1) "every clock" else s"every $ii clocks"
+  }
 
   def header: Seq[String] =
     Seq("preset", "model", "CORDIC (angle / output bits)", "CORDIC units", "one sample", "latency", "derived bound", "max error, golden traces")
 
   def markdown: String = {
     val rows = LoadParams.presets.toSeq.map { case (name, p) =>
-      Seq(s"`$name`", p.model.name, cordicSummary(p.cordic), p.cordicUnits.toString, rate(p), s"${LoadDatapath.latency(p)} cycles",
+      Seq(s"`$name`", p.model.name, cordicSummary(p.cordic), p.arm.schedule.cordicUnits.toString, rate(p), s"${p.arm.latency} cycles",
         f"${p.errorBound}%.2e N·m", f"${Sweep.goldenError(p)}%.2e N·m")
     }
     (header +: header.map(_ => "---") +: rows).map(_.mkString("| ", " | ", " |")).mkString("\n")

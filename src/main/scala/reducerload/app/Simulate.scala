@@ -83,7 +83,7 @@ object Simulate {
       throw new InputError(s"$input:${table.rows(i)._1}: column '$col': ${rows(i)(c)} is beyond the declared range |$col| <= $limit " +
         s"(${beyond.size} value(s) in all; --saturate clamps and counts them, or widen the range)")
     }
-    if (engineName == "rtl" && Try(Seq("verilator", "--version").!!(ProcessLogger(_ => ()))).isFailure)
+    if (engineName == "rtl" && !VerilatorHarness.available)
       throw new InputError("simulate needs Verilator on the PATH (Debian: apt-get install verilator), or --engine model")
     SimulateRequest(params, d, rows, output, engineName, jobCount)
   }

@@ -50,14 +50,15 @@ object Sweep {
   }
 
   final case class Row(name: String, p: LoadParams, maxError: Double, estimate: Estimate) {
-    def latency: Int = LoadDatapath.latency(p)
+    def latency: Int = p.arm.latency
+    private def clocksPerSample = p.arm.schedule.clocksPerSample
     def cells: Seq[String] = {
       val fmax = estimate.fmaxEcp5Mhz
       val arch = p.cordic.architecture.name + (if (p.cordic.tableBits > 0) s"+table${p.cordic.tableBits}" else "") +
-        (if (p.cordicUnits == 1) "+shared" else "")
+        (if (p.arm.schedule.cordicUnits < p.arm.graph.angles.size) "+shared" else "")
       Seq(name, p.model.name, arch, p.cordic.outputBits.toString, p.cordic.iterations.toString, p.cordic.iterationsPerStage.toString,
         f"$maxError%.3e", f"${p.errorBound}%.3e", latency.toString, fmax.map(f => f"${latency * 1000 / f}%.1f").getOrElse(""),
-        fmax.map(f => f"${f * 1e6 / p.samplePeriod}%.3g").getOrElse(""), estimate.les.toString, estimate.registers.toString,
+        fmax.map(f => f"${f * 1e6 / clocksPerSample}%.3g").getOrElse(""), estimate.les.toString, estimate.registers.toString,
         estimate.mult18x18.toString, estimate.memoryBits.toString, fmax.map(f => f"$f%.1f").getOrElse(""))
     }
   }
@@ -68,13 +69,13 @@ object Sweep {
   def goldenError(p: LoadParams): Double = {
     val files = Files.list(Paths.get("golden")).iterator().asScala.filter(_.toString.endsWith(".csv")).toSeq.sorted
     if (files.isEmpty) throw new InputError("golden/: no traces (run from the repository root)")
-    val m = new LoadDatapathModel(p)
+    val m = new reducerload.arm.ArmModel(p.arm)
     files.map { f =>
-      val t = TraceCsv.read(f, JointSample.columns)
-      val cols = JointSample.columns.map(t.column)
+      val t = TraceCsv.read(f, Joint3Columns.names)
+      val cols = Joint3Columns.names.map(t.column)
       t.rows.indices.map { i =>
-        val s = JointSample.fromSeq(cols.map(_(i)))
-        math.abs(m.evaluate(s) - LoadReference.torque(p.robot, p.model, s))
+        val s = reducerload.arm.ArmSample.fromRow(cols.map(_(i)))
+        math.abs(m.evaluate(s).head - LoadReference.torque(p.robot, p.model, s))
       }.max
     }.max
   }
@@ -96,8 +97,8 @@ object Sweep {
     val distinct = grid.map(_._2).distinct
     val designs = distinct.zipWithIndex.map { case (p, i) =>
       println(s"sweep: elaborating ${i + 1} of ${distinct.size}: ${grid.filter(_._2 == p).map(_._1).mkString(" = ")}")
-      (p, s"LoadDatapath_${p.model.name}",
-        Emit.withBlackBoxes(ChiselStage.emitSystemVerilog(new LoadDatapath(p), Array.empty[String], Emit.firtoolOpts)), goldenError(p))
+      (p, p.arm.moduleName,
+        Emit.withBlackBoxes(ChiselStage.emitSystemVerilog(new reducerload.arm.ArmDatapath(p.arm), Array.empty[String], Emit.firtoolOpts)), goldenError(p))
     }
     val pool = java.util.concurrent.Executors.newFixedThreadPool(jobs)
     implicit val ec: ExecutionContext = ExecutionContext.fromExecutorService(pool)

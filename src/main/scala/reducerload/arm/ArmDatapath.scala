@@ -24,7 +24,7 @@ import reducerload.pipeline.{MemoryDelay, PipelinedMultiplier}
 class ArmDatapath(val p: ArmParams) extends Module {
   private val schedule = p.schedule
   private val ii = schedule.clocksPerSample
-  override def desiredName = s"ArmDatapath_${p.tag}"
+  override def desiredName = p.moduleName
   val io = IO(new Bundle {
     val in = Flipped(Decoupled(new ArmInput(p)))
     val out = Valid(new ArmOutput(p))
@@ -78,8 +78,7 @@ class ArmDatapath(val p: ArmParams) extends Module {
     require(reads.forall(_ >= ready), s"ArmDatapath: a value ready in cycle $ready is read earlier, in ${reads.min}")
     if (ii == 1)
       reads.distinct.sorted.foldLeft((Map.empty[Int, T], stage0, ready)) { case ((taps, v, t), r) =>
-        val n = r - t
-        val d = if (p.memoryDelayMinCycles > 0 && n >= p.memoryDelayMinCycles) MemoryDelay(v, n) else FixedHw.delay(v, n)
+        val d = MemoryDelay.balanced(v, r - t, p.memoryDelayMinCycles)
         (taps + (r -> d), d, r)
       }._1
     else {

@@ -6,6 +6,16 @@ import reducerload.graph.{GraphModel, SampleCodes}
 /** One sample of joint state in SI units: angles (rad), velocities (rad/s), accelerations (rad/s^2), one each per joint. */
 final case class ArmSample(q: IndexedSeq[Double], qd: IndexedSeq[Double], qdd: IndexedSeq[Double]) {
   require(q.size == qd.size && q.size == qdd.size, s"ArmSample: ${q.size} angles, ${qd.size} velocities, ${qdd.size} accelerations")
+  /** Angles, then velocities, then accelerations: a trajectory row's order. */
+  def toSeq: IndexedSeq[Double] = q ++ qd ++ qdd
+}
+object ArmSample {
+  /** A sample from a row of angles, velocities and accelerations (n each, in that order). */
+  def fromRow(row: Seq[Double]): ArmSample = {
+    require(row.size % 3 == 0, s"ArmSample: a row of ${row.size} values is not n angles, n velocities and n accelerations")
+    val n = row.size / 3
+    ArmSample(row.slice(0, n).toIndexedSeq, row.slice(n, 2 * n).toIndexedSeq, row.slice(2 * n, 3 * n).toIndexedSeq)
+  }
 }
 
 /** Raw output of one sample: torque codes and the per-joint out-of-range flags. */

@@ -4,10 +4,24 @@ import reducerload.cordic.CordicParams
 import reducerload.dynamics.{JointState, Rnea}
 import reducerload.fixedpoint.Rounding
 import reducerload.graph._
+import reducerload.load.{Joint3Load, LoadModel, RobotParams}
 import reducerload.robot.SerialChain
 
+/** What a datapath computes from its chain's joint states: the graph's outputs. */
+sealed abstract class Dynamics(val name: String, val description: String)
+object Dynamics {
+  /** Every joint torque by RNEA, one output per joint. */
+  case object Rnea extends Dynamics("rnea", "every joint torque by RNEA")
+
+  /** The planar arm's joint-3 load in closed form ([[reducerload.load.Joint3Load]]), one output. */
+  final case class Joint3(model: LoadModel, robot: RobotParams) extends Dynamics(model.name, s"joint-3 load: ${model.description}") {
+    require(model.closedForm, s"model ${model.name} is not a joint-3 closed form")
+    require(robot.isPlanar3, s"the joint-3 closed forms are for the built-in planar3, not ${robot.source}")
+  }
+}
+
 /**
- * Generator parameters of [[ArmDatapath]] for a serial arm: every joint torque by RNEA, as one
+ * Generator parameters of [[ArmDatapath]] for a serial arm: its torques (`dynamics`) as one
  * expression graph with the robot's constants folded. The joint count is the chain's; per-joint
  * ranges must match it. Formats, error bounds and the schedule are derived (see [[Analysis]]).
  *
@@ -27,7 +41,8 @@ final case class ArmParams(
   productRounding: Rounding = Rounding.Truncate,
   multiplierLatency: Int = 1,
   memoryDelayMinCycles: Int = 4,
-  scheduleRequest: ScheduleRequest = ScheduleRequest()) {
+  scheduleRequest: ScheduleRequest = ScheduleRequest(),
+  dynamics: Dynamics = Dynamics.Rnea) {
 
   require(maxVelocity.size == chain.size,
     s"robot ${chain.name} has ${chain.size} joints but max-velocity gives ${maxVelocity.size} value(s)")
@@ -42,8 +57,11 @@ final case class ArmParams(
   val numerics: Numerics = Numerics(maxVelocity, maxAcceleration, cordic, velocityFracBits, accelerationFracBits,
     constantFracBits, internalFracBits, outputFracBits, productRounding)
 
-  /** RNEA on graph nodes, the datapath's structure written once, and the vector-level bounds proved while building it. */
-  private lazy val built: (Graph, RangeHints) = ArmParams.rneaGraph(chain, maxVelocity, maxAcceleration)
+  /** The dynamics on graph nodes, the datapath's structure written once, and the vector-level bounds proved while building it. */
+  private lazy val built: (Graph, RangeHints) = dynamics match {
+    case Dynamics.Rnea             => ArmParams.rneaGraph(chain, maxVelocity, maxAcceleration)
+    case Dynamics.Joint3(model, r) => (ArmParams.joint3Graph(chain, model, r), RangeHints.none)
+  }
   lazy val graph: Graph = built._1
   lazy val rangeHints: RangeHints = built._2
   lazy val analysis: Analysis = new Analysis(graph, numerics, rangeHints)
@@ -81,9 +99,17 @@ final case class ArmParams(
   def errorBounds: IndexedSeq[Double] = analysis.outputs.map(_.errorBound)
   def errorBound: Double = errorBounds.max
 
-  /** Names the design: robot, joints and, when samples are spaced, the clocks per sample. */
-  def tag: String = s"${chain.name.replaceAll("[^A-Za-z0-9]", "_")}_${chain.size}dof" +
-    (if (schedule.clocksPerSample > 1) s"_ii${schedule.clocksPerSample}" else "") + (if (banked.isDefined) "_mem" else "")
+  /** Names the design: robot and joints (or the closed form) and, when samples are spaced, the clocks per sample. */
+  def tag: String = (dynamics match {
+    case Dynamics.Rnea => s"${chain.name.replaceAll("[^A-Za-z0-9]", "_")}_${chain.size}dof"
+    case d             => d.name
+  }) + (if (schedule.clocksPerSample > 1) s"_ii${schedule.clocksPerSample}" else "") + (if (banked.isDefined) "_mem" else "")
+
+  /** The top module's name: `LoadDatapath_<model>` for the joint-3 closed forms (the name their users know), else `ArmDatapath_<tag>`. */
+  def moduleName: String = dynamics match {
+    case Dynamics.Rnea => s"ArmDatapath_$tag"
+    case _             => s"LoadDatapath_$tag"
+  }
 }
 
 object ArmParams {
@@ -105,6 +131,15 @@ object ArmParams {
       val torques = Rnea.torques(chain, state)(va)
       (chain.joints.map(_.name).zip(torques.map(_.node)), va.hints)
     }
+
+  /** The joint-3 closed form of planar3 as a graph of one output, named after the chain's third joint. */
+  def joint3Graph(chain: SerialChain, model: LoadModel, robot: RobotParams): Graph = {
+    require(chain.size == 3, s"the joint-3 closed form needs a 3-joint chain, ${chain.name} has ${chain.size}")
+    GraphBuilder.build { b =>
+      Seq(chain.joints(2).name -> Joint3Load.torque(robot, model, (fn, angle) => b.trig(fn, angle),
+        j => b.input(Signal.Velocity(j)), j => b.input(Signal.Acceleration(j)))(b))
+    }
+  }
 }
 
 /** The arm a configuration describes: its chain and per-joint ranges resolved against it. */
@@ -130,10 +165,20 @@ object ArmConfig {
       case n => throw new IllegalArgumentException(s"robot ${chain.name} has ${chain.size} joints but $key gives $n values")
     }
 
-  /** The arm datapath's parameters from a configuration whose model is rnea (fraction bits fitted to `numeric.target-error` if set). */
+  /** The datapath's parameters from a configuration (fraction bits fitted to `numeric.target-error` if set). */
   def apply(p: LoadParams): ArmParams = {
     val asSet = configured(p)
-    if (p.targetError.isEmpty) asSet else fitted(asSet, perJoint(asSet.chain, p.targetError, "numeric.target-error", None))
+    if (p.targetError.isEmpty) asSet else fitted(asSet, perOutput(asSet, p.targetError))
+  }
+
+  /** A target per torque the datapath computes: one value for all, or one each. */
+  private def perOutput(p: ArmParams, targets: Seq[Double]): Seq[Double] = {
+    val names = p.graph.outputs.map(_.name)
+    targets.size match {
+      case 1                        => Seq.fill(names.size)(targets.head)
+      case n if n == names.size => targets
+      case n => throw new IllegalArgumentException(s"numeric.target-error gives $n values but ${p.chain.name} computes ${names.size} torque(s): ${names.mkString(", ")}")
+    }
   }
 
   /** Fraction-bit offsets tried for a target error: every kind of value moves together. */
@@ -153,13 +198,12 @@ object ArmConfig {
     fracBitShifts.iterator.flatMap(shifted).find(meets).getOrElse {
       val best = fracBitShifts.reverseIterator.flatMap(shifted).flatMap(bounds).next()
       val (worst, j) = best.zip(targets).map { case (b, t) => b / t }.zipWithIndex.maxBy(_._1)
-      throw new IllegalArgumentException(f"numeric.target-error ${targets(j)}%.3g N·m for ${p.jointNames(j)} cannot be met: with the most fraction bits (up to 40) " +
+      throw new IllegalArgumentException(f"numeric.target-error ${targets(j)}%.3g N·m for ${p.graph.outputs(j).name} cannot be met: with the most fraction bits (up to 40) " +
         f"its bound is ${best(j)}%.3g N·m, dominated by the sin/cos unit (raise cordic.output-bits)")
     }
   }
 
   private def configured(p: LoadParams): ArmParams = {
-    require(!p.model.closedForm, s"model ${p.model.name} is a joint-3 closed form, not an arm")
     val c = chain(p)
     ArmParams(c,
       perJoint(c, p.robot.maxVelocity, "robot.max-velocity", Some(c.joints.map(_.velocityLimit))),
@@ -167,6 +211,6 @@ object ArmConfig {
       cordic = p.cordic, velocityFracBits = p.velocityFracBits, accelerationFracBits = p.accelerationFracBits,
       constantFracBits = p.constantFracBits, internalFracBits = p.internalFracBits, outputFracBits = p.outputFracBits,
       productRounding = p.productRounding, multiplierLatency = p.multiplierLatency, memoryDelayMinCycles = p.memoryDelayMinCycles,
-      scheduleRequest = p.schedule)
+      scheduleRequest = p.schedule, dynamics = if (p.model.closedForm) Dynamics.Joint3(p.model, p.robot) else Dynamics.Rnea)
   }
 }

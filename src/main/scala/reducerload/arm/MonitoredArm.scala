@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.util._
 import reducerload.fixedpoint.{FixedFormat, FixedHw}
 import reducerload.graph.SampleCodes
-import reducerload.load.Timed
+import reducerload.pipeline.MemoryDelay
 import reducerload.monitor.{MonitorHostPort, MonitorParams, MonitorSample, MonitorSampleCodes, ReducerMonitor}
 
 /**
@@ -43,7 +43,7 @@ class MonitoredArm(val p: ArmParams, val monitor: MonitorParams) extends Module 
   private val velocities = (0 until joints).map { j =>
     val limit = numerics.velocityLimitRaw(j)
     val (clamped, _) = FixedHw.clamp(qdIn(j), -limit, limit, numerics.velocityFormats(j).width)
-    Timed(FixedHw.delay(clamped, 1), Some(ArmDatapath.inputCycle), p.memoryDelayMinCycles).alignedTo(p.latency)
+    MemoryDelay.balanced(FixedHw.delay(clamped, 1), p.latency - ArmDatapath.inputCycle, p.memoryDelayMinCycles)
   }
 
   private val sampleOutOfRange = datapath.io.out.bits.outOfRange.asUInt.orR

@@ -164,17 +164,16 @@ object Settings {
     new Choice("datapath.product-rounding", "", "rounding of products to internal-frac-bits", Nil, roundings, _.productRounding.name),
     new Natural("datapath.multiplier-latency", "cycles", "registers after each multiplier", Nil, _.multiplierLatency),
     new Natural("datapath.memory-delay-min-cycles", "cycles", "delays this long or longer use block RAM (0: registers only)", Nil, _.memoryDelayMinCycles),
-    new Natural("datapath.cordic-units", "", "3: one CORDIC unit per angle, a sample every clock; 1: one shared unit, a sample every 3 clocks", Nil, _.cordicUnits),
-    new Count("schedule.clocks-per-sample", "clocks", "model rnea: clocks between samples (the initiation interval; auto: the fewest the multiplier budget allows)",
+    new Count("schedule.clocks-per-sample", "clocks", "clocks between samples (the initiation interval; auto: the fewest the multiplier budget allows)",
       Seq("clocks-per-sample"), "auto", _.schedule.clocksPerSample),
-    new Count("schedule.max-multipliers", "18x18 blocks", "model rnea: 18x18 multiplier blocks the datapath may use, its CORDIC units' included (none: no budget; a monitor's come on top)", Seq("max-multipliers"),
+    new Count("schedule.max-multipliers", "18x18 blocks", "18x18 multiplier blocks the datapath may use, its CORDIC units' included (none: no budget; a monitor's come on top)", Seq("max-multipliers"),
       "none", _.schedule.maxMultipliers),
-    new Count("schedule.cordic-units", "", "model rnea: sin/cos units shared by the joint angles (auto: the fewest that keep clocks-per-sample)", Nil,
+    new Count("schedule.cordic-units", "", "sin/cos units shared by the angles (auto: the fewest that keep clocks-per-sample)", Nil,
       "auto", _.schedule.cordicUnits),
-    new Choice("schedule.storage", "", "model rnea, clocks-per-sample >= 2: registers (every value its own registers, operands multiplexed) or memory " +
+    new Choice("schedule.storage", "", "clocks-per-sample >= 2: registers (every value its own registers, operands multiplexed) or memory " +
       "(values in block-RAM banks read by address, adders shared too: far fewer logic elements)", Nil,
       reducerload.graph.Storage.all.map(_.name), _.schedule.storage.name),
-    new PerJoint("numeric.target-error", "N·m", "model rnea: derived error bound to meet per joint; the datapath's fraction bits become the fewest that meet it " +
+    new PerJoint("numeric.target-error", "N·m", "derived error bound to meet per torque; the datapath's fraction bits become the fewest that meet it " +
       "(none: as set above)", Seq("target-error"), _.targetError, keyword = Some("none")),
     new Switch("monitor.enabled", "", "build the reducer life and limit monitor beside the arm datapath (model rnea; docs/monitor.md)", Nil,
       _.monitor.enabled),
@@ -213,10 +212,15 @@ object Settings {
       }
     }.last
 
+  /** Keys earlier versions read, and what replaces each. */
+  val retired: Map[String, String] = Map(
+    "datapath.cordic-units" -> "the scheduler shares CORDIC units now: schedule.cordic-units = 1 with schedule.clocks-per-sample = 3 is the old value 1")
+
   /** Build parameters from a complete, type-checked configuration. */
   def toParams(c: Config, source: String): LoadParams = {
     val known = all.map(_.key).toSet
     val present = c.entrySet().asScala.map(_.getKey).toSeq.sorted
+    present.find(retired.contains).foreach(k => throw new InputError(s"$source: key '$k' is retired: ${retired(k)}"))
     present.find(k => !known.contains(k)).foreach { k =>
       val hint = all.map(_.key).minByOption(distance(_, k)).filter(distance(_, k) <= 3).map(s => s" (did you mean '$s'?)").getOrElse("")
       throw new InputError(s"$source: unknown key '$k'$hint")
@@ -268,7 +272,6 @@ object Settings {
         productRounding = rounding("datapath.product-rounding"),
         multiplierLatency = int("datapath.multiplier-latency"),
         memoryDelayMinCycles = int("datapath.memory-delay-min-cycles"),
-        cordicUnits = int("datapath.cordic-units"),
         targetError = joints("numeric.target-error"),
         schedule = reducerload.graph.ScheduleRequest(count("schedule.clocks-per-sample"), count("schedule.max-multipliers"), count("schedule.cordic-units"),
           reducerload.graph.Storage.all.find(_.name == str("schedule.storage")).get),
@@ -287,10 +290,10 @@ object Settings {
           ratedLifeHours = real("monitor.rated-life")
         )
       )
-      // An arm is checked whole here (URDF, joint count, ranges, formats), and its monitor with it,
-      // so their errors name this configuration.
-      if (!p.model.closedForm) {
-        val arm = reducerload.arm.ArmConfig(p)
+      // The datapath is checked whole here (URDF, joint count, ranges, formats, schedule), and its
+      // monitor with it, so their errors name this configuration.
+      locally {
+        val arm = p.arm
         arm.schedule
         arm.banked
         if (p.monitor.enabled) { MonitorConfig(arm, p.monitor); MonitorConfig.rated(arm, p.monitor) }

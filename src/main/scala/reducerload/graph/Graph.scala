@@ -20,6 +20,8 @@ final case class AngleSum(terms: Seq[(Int, Int)]) {
   /** Input angles rounded into this sum (each adds its rounding error). */
   def weight: Int = terms.map(_._2.abs).sum
   def joints: Seq[Int] = terms.map(_._1)
+  /** The sum in radians for joint angles `q` (rad). */
+  def radians(q: Seq[Double]): Double = terms.map { case (j, k) => k * q(j) }.sum
   override def toString: String = terms.map { case (j, k) => (if (k == 1) "" else s"$k") + s"q${j + 1}" }.mkString("+")
 }
 object AngleSum {
@@ -31,6 +33,8 @@ sealed abstract class TrigFn(val name: String) { override def toString: String =
 object TrigFn {
   case object Sin extends TrigFn("sin")
   case object Cos extends TrigFn("cos")
+  /** The function in double precision. */
+  def reference(fn: TrigFn, rad: Double): Double = if (fn == Sin) math.sin(rad) else math.cos(rad)
 }
 
 /** One operation of the datapath. Constants are SI values, folded at elaboration. */
@@ -66,6 +70,17 @@ final case class Graph(ops: IndexedSeq[Op], outputs: IndexedSeq[Output]) {
   /** Evaluate every node in order with `f`, given the values of its operands. */
   def fold[T](f: (Op, NodeId => T) => T): IndexedSeq[T] =
     ops.foldLeft(Vector.empty[T]) { (done, op) => done :+ f(op, id => done(id.index)) }
+
+  /** One node as a line of a report: `n7 = n3 * n5`, `n2 = sin(q2+q3)`, `n0 = 1.23`. */
+  def describe(id: NodeId): String = s"n${id.index} = " + (apply(id) match {
+    case Op.Const(v)       => v.toString
+    case Op.Input(s)       => s.toString
+    case Op.Trig(fn, a)    => s"$fn($a)"
+    case Op.Add(a, b)      => s"n${a.index} + n${b.index}"
+    case Op.Sub(a, b)      => s"n${a.index} - n${b.index}"
+    case Op.Neg(a)         => s"-n${a.index}"
+    case Op.Mul(a, b)      => s"n${a.index} * n${b.index}"
+  })
 
   def angles: Seq[AngleSum] = ops.collect { case Op.Trig(_, a) => a }.distinct
   def signals: Seq[Signal] = ops.collect { case Op.Input(s) => s }.distinct

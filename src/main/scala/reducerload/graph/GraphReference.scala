@@ -12,8 +12,7 @@ object GraphReference {
         case Input(Signal.Velocity(j))     => qd(j)
         case Input(Signal.Acceleration(j)) => qdd(j)
         case Trig(fn, angle) =>
-          val a = angle.terms.map { case (j, k) => k * q(j) }.sum
-          if (fn == TrigFn.Sin) math.sin(a) else math.cos(a)
+          TrigFn.reference(fn, angle.radians(q))
         case Add(a, b) => at(a) + at(b)
         case Sub(a, b) => at(a) - at(b)
         case Neg(a)    => -at(a)

@@ -51,11 +51,7 @@ final case class Numerics(
   accelerationLimits.zipWithIndex.foreach { case (a, j) =>
     require(finite(a) && a > 0 && a <= 1e5, s"max-acceleration of joint ${j + 1} must be in (0, 100000] rad/s^2, got $a")
   }
-  Seq("velocity-frac-bits" -> velocityFracBits, "acceleration-frac-bits" -> accelerationFracBits, "constant-frac-bits" -> constantFracBits,
-    "internal-frac-bits" -> internalFracBits, "output-frac-bits" -> outputFracBits).foreach { case (name, bits) =>
-    require(bits >= 1 && bits <= 40, s"datapath.$name must be in 1..40, got $bits")
-  }
-  require(outputFracBits <= internalFracBits, s"datapath.output-frac-bits ($outputFracBits) must not exceed internal-frac-bits ($internalFracBits)")
+  Numerics.checkFracBits(velocityFracBits, accelerationFracBits, constantFracBits, internalFracBits, outputFracBits)
 
   def joints: Int = velocityLimits.size
   def angleBits: Int = cordic.angleBits
@@ -74,4 +70,15 @@ final case class Numerics(
 
   /** Half an angle code, in radians: inputs are rounded to the nearest code. */
   val angleError: Double = math.Pi / math.pow(2.0, angleBits)
+}
+
+object Numerics {
+  /** The fraction-bit settings' own limits, checked wherever they are set. */
+  def checkFracBits(velocity: Int, acceleration: Int, constant: Int, internal: Int, output: Int): Unit = {
+    Seq("velocity-frac-bits" -> velocity, "acceleration-frac-bits" -> acceleration, "constant-frac-bits" -> constant,
+      "internal-frac-bits" -> internal, "output-frac-bits" -> output).foreach { case (name, bits) =>
+      require(bits >= 1 && bits <= 40, s"datapath.$name must be in 1..40, got $bits")
+    }
+    require(output <= internal, s"datapath.output-frac-bits ($output) must not exceed internal-frac-bits ($internal)")
+  }
 }

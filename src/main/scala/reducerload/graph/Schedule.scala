@@ -2,7 +2,6 @@ package reducerload.graph
 
 import reducerload.cordic.CordicParams
 import reducerload.fixedpoint.Rounding
-import reducerload.load.TimedArith
 import reducerload.pipeline.PipelinedMultiplier
 
 /**
@@ -58,7 +57,7 @@ private final case class ScheduleState(ready: Vector[Option[Int]], slots: Vector
  *
  * Timing of one operation issued (reading its operands) in cycle r:
  *  - add/sub/neg: result registered, ready at r + 1;
- *  - multiply: the unit's pipelined multiplier ([[TimedArith.mulLatency]] without rounding) then,
+ *  - multiply: the unit's pipelined multiplier ([[PipelinedMultiplier.latency]] plus `multiplierLatency - 1` registers) then,
  *    when units are shared or the product rounds, a register that captures it: ready at
  *    r + multiplier latency (+ 1);
  *  - sin/cos of an angle sum: the sum registered, then the CORDIC unit, then (shared) a capture register.
@@ -178,7 +177,7 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
     val Mul(a, b) = graph(id): @unchecked
     val rounds = analysis.productRounding(analysis(a).format.fracBits, analysis(b).format.fracBits).rounding != Rounding.Truncate
     val shape = if (dedicated) shapeOf(id) else classes(classOf(id)).shape
-    TimedArith.mulLatency(shape.wide, shape.narrow, multiplierLatency, Rounding.Truncate) +
+    PipelinedMultiplier.latency(shape.wide, shape.narrow) + multiplierLatency - 1 +
       (if (!dedicated || rounds) 1 else 0)
   }
 

@@ -34,6 +34,10 @@ class MemoryDelay(width: Int, cycles: Int) extends Module {
 
 object MemoryDelay {
 
+  /** `x` delayed by `cycles` clocks: in block RAM from `memoryMinCycles` on (0: never), else in registers. */
+  def balanced[T <: Data](x: T, cycles: Int, memoryMinCycles: Int): T =
+    if (memoryMinCycles > 0 && cycles >= memoryMinCycles) apply(x, cycles) else reducerload.fixedpoint.FixedHw.delay(x, cycles)
+
   /** `x` delayed by `cycles` clocks through a [[MemoryDelay]]. */
   def apply[T <: Data](x: T, cycles: Int): T = {
     val d = Module(new MemoryDelay(x.getWidth, cycles))

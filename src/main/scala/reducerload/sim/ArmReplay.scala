@@ -7,18 +7,21 @@ import reducerload.graph.SampleCodes
 /**
  * Every joint of an arm (`ArmDatapath`, model rnea) as `run simulate` replays it: columns
  * q1..qN,qd1..qdN,qdd1..qddN, result `idx,tau1_hw,tau1_ref,tau1_error,...,out_of_range`.
+ * [[LoadReplay]] changes the columns and the reference for the joint-3 closed forms.
  */
-final class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCodes] {
+class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCodes] {
   private val model = new ArmModel(p)
-  private val joints = p.chain.size
+  /** The model in long arithmetic when the formats allow (tested equal to `model`). */
+  private val fast = if (FastArmModel.supports(p)) Some(new FastArmModel(p)) else None
+  protected val joints: Int = p.chain.size
   private val angleFormat = FastFixed.angleFormat(p.numerics.angleBits)
 
-  val columns: Seq[String] = ArmTrajectory.columns(joints)
+  def columns: Seq[String] = ArmTrajectory.columns(joints)
   val limits: Seq[(Int, Double)] =
     (0 until joints).map(j => (joints + j, p.numerics.velocityLimits(j))) ++
       (0 until joints).map(j => (2 * joints + j, p.numerics.accelerationLimits(j)))
 
-  private def sample(row: IndexedSeq[Double]) = ArmSample(row.slice(0, joints), row.slice(joints, 2 * joints), row.slice(2 * joints, 3 * joints))
+  protected def sample(row: IndexedSeq[Double]) = ArmSample(row.slice(0, joints), row.slice(joints, 2 * joints), row.slice(2 * joints, 3 * joints))
 
   /** `model.encode` of the row's sample, in fast exact arithmetic (tested equal). */
   def encode(row: IndexedSeq[Double]): SampleCodes = {
@@ -27,7 +30,7 @@ final class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOut
       (0 until joints).map(j => FastFixed.codeHalfUp(row(joints + j), n.velocityPortFormat)),
       (0 until joints).map(j => FastFixed.codeHalfUp(row(2 * joints + j), n.accelerationPortFormat)))
   }
-  def evaluate(in: SampleCodes): ArmOutputCodes = model.evaluate(in)
+  def evaluate(in: SampleCodes): ArmOutputCodes = fast.fold(model.evaluate(in))(_.evaluate(in))
 
   lazy val ports: HarnessPorts = ArmHarnessPorts(p)
   def harnessValues(in: SampleCodes): Seq[BigInt] = ArmHarnessPorts.values(in)
@@ -36,7 +39,7 @@ final class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOut
   def samplePeriod: Int = p.schedule.clocksPerSample
   def latency: Int = p.latency
 
-  val outputHeader: String =
+  def outputHeader: String =
     ("idx" +: (1 to joints).flatMap(j => Seq(s"tau${j}_hw", s"tau${j}_ref", s"tau${j}_error")) :+ "out_of_range").mkString(",")
 
   def result(index: Long, row: IndexedSeq[Double], out: ArmOutputCodes, text: java.lang.StringBuilder, errors: Array[Double]): Boolean = {

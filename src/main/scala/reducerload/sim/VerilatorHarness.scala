@@ -41,6 +41,9 @@ object VerilatorHarness {
     Try(Seq("verilator", "--version").!!(ProcessLogger(_ => ())).trim).getOrElse(
       throw new IllegalStateException("the Verilator harness needs verilator on the PATH (Debian: apt-get install verilator)"))
 
+  /** Whether `verilator` runs on this machine. */
+  def available: Boolean = Try(verilatorVersion()).isSuccess
+
   /** Executable name inside a cache entry. */
   private[sim] val executableName = "harness"
 

@@ -2,10 +2,10 @@ package reducerload.app
 
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import reducerload.arm.{ArmConfig, ArmModel, ArmSample, ArmTrajectory}
+import reducerload.arm.{ArmConfig, ArmDatapath, ArmModel, ArmOutputCodes, ArmSample, ArmTrajectory}
 import reducerload.dynamics.Rnea
 import reducerload.load._
-import reducerload.sim.{Cycle, LoadDriver, Stream}
+import reducerload.sim.{ArmDriver, Cycle}
 import reducerload.testutil.{ArmGolden, Golden, Seeds, SimBackend}
 
 import java.nio.charset.StandardCharsets
@@ -41,21 +41,21 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
   private def file(header: String, lines: Seq[String]): String = (header +: lines).mkString("", "\n", "\n")
 
   /** The golden traces, out-of-range rows, values beyond the port formats, and exact rounding ties of the input codes. */
-  private def jointSamples(p: LoadParams, rng: Random): IndexedSeq[JointSample] = {
+  private def jointSamples(p: LoadParams, rng: Random): IndexedSeq[ArmSample] = {
     val tie = 1 + math.scalb(1.0, -p.velocityFracBits - 1)
     Golden.all.flatMap(_.samples).toIndexedSeq ++ IndexedSeq.fill(200)(LoadChecks.outOfRangeSample(p.robot, rng)) ++ IndexedSeq(
-      JointSample(0.1, 0.2, 0.3, 1e6, -1e6, 0, 1e7, -1e7, 0),
-      JointSample(tie, -tie, tie, tie, -tie, tie, tie, -tie, tie))
+      ArmSample.fromRow(Seq(0.1, 0.2, 0.3, 1e6, -1e6, 0, 1e7, -1e7, 0)),
+      ArmSample.fromRow(Seq(tie, -tie, tie, tie, -tie, tie, tie, -tie, tie)))
   }
 
   /** The joint-3 file the old simulate wrote from RTL outputs: BigDecimal conversions of the model. */
-  private def jointFile(p: LoadParams, samples: IndexedSeq[JointSample], outs: IndexedSeq[LoadOutputCodes]): String = {
-    val model = new LoadDatapathModel(p)
+  private def jointFile(p: LoadParams, samples: IndexedSeq[ArmSample], outs: IndexedSeq[ArmOutputCodes]): String = {
+    val model = new LoadChecks.Joint3Model(p)
     assert(outs.size == samples.size)
     file("idx,load_hw,load_ref,error,out_of_range", samples.indices.map { i =>
       val hw = model.loadOf(outs(i))
       val ref = LoadReference.torque(p.robot, p.model, samples(i))
-      s"$i,$hw,$ref,${hw - ref},${if (outs(i).outOfRange) 1 else 0}"
+      s"$i,$hw,$ref,${hw - ref},${if (outs(i).outOfRange.exists(identity)) 1 else 0}"
     })
   }
 
@@ -63,16 +63,15 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
     assume(verilatorPresent, "verilator is not installed")
     val p = LoadParams.default
     val samples = jointSamples(p, new Random(Seeds("simulate-engines-default", 51L)))
-    val model = new LoadDatapathModel(p)
-    val observed = ArrayBuffer.empty[LoadOutputCodes]
-    test(new LoadDatapath(p)).withAnnotations(SimBackend.annotations) { dut =>
-      val stimulus = Stream.spaced(samples.iterator.map(s => Cycle.Sample(model.encode(s))), p.samplePeriod) ++
-        Iterator.fill(dut.latency + 1)(Cycle.Bubble)
-      LoadDriver.run(dut, stimulus, (_, out) => out.foreach(observed += _))
+    val model = new LoadChecks.Joint3Model(p)
+    val observed = ArrayBuffer.empty[ArmOutputCodes]
+    test(new ArmDatapath(p.arm)).withAnnotations(SimBackend.annotations) { dut =>
+      val stimulus = samples.iterator.map(s => Cycle.Sample(model.encode(s))) ++ Iterator.fill(p.arm.latency + 1)(Cycle.Bubble)
+      ArmDriver.run(dut, stimulus, (_, out) => out.foreach(observed += _), holdUntilReady = true)
     }
     val expected = jointFile(p, samples, observed.toIndexedSeq)
     assert(expected.linesIterator.count(_.endsWith(",1")) >= 200, "too few rows flagged out of range")
-    val input = csv(JointSample.columns, samples.map(_.toSeq))
+    val input = csv(Joint3Columns.names, samples.map(_.toSeq))
     Seq(Seq("--jobs", "1"), Seq("--jobs", "2"), Seq("--engine", "model", "--jobs", "2")).foreach { args =>
       assert(simulate(input, "--saturate" +: args: _*) == expected, s"simulate ${args.mkString(" ")} wrote another file")
     }
@@ -81,12 +80,11 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
   it should "wait for ready with a shared CORDIC unit: the harness writes the model's file (compact preset)" in {
     assume(verilatorPresent, "verilator is not installed")
     val p = LoadParams.compact
-    assert(p.samplePeriod > 1, "the compact preset no longer shares the CORDIC unit")
+    assert(p.arm.schedule.clocksPerSample > 1, "the compact preset no longer shares the CORDIC unit")
     val samples = jointSamples(p, new Random(Seeds("simulate-engines-compact", 52L)))
-    val model = new LoadDatapathModel(p)
+    val model = new LoadChecks.Joint3Model(p)
     val expected = jointFile(p, samples, samples.map(s => model.evaluate(model.encode(s))))
-    val input = csv(JointSample.columns, samples.map(_.toSeq))
-    // The joint-3 closed form shares its CORDIC unit by datapath.cordic-units (schedule.* is for model rnea).
+    val input = csv(Joint3Columns.names, samples.map(_.toSeq))
     Seq(Seq("--jobs", "2"), Seq("--engine", "model", "--jobs", "1")).foreach { args =>
       assert(simulate(input, Seq("--preset", "compact", "--saturate") ++ args: _*) == expected, s"simulate ${args.mkString(" ")} wrote another file")
     }

@@ -105,7 +105,7 @@ class SimulateSpec extends AnyFlatSpec {
       out
     }
     val joint3 = write()
-    val table = reducerload.trace.TraceCsv.read(joint3, reducerload.load.JointSample.columns)
+    val table = reducerload.trace.TraceCsv.read(joint3, reducerload.load.Joint3Columns.names)
     assert(table.header.mkString(",") == header && table.rows.size == 500)
     val d = Simulate.design(reducerload.load.LoadParams.default)
     d.limits.foreach { case (c, limit) =>

@@ -33,7 +33,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     val label = (if (p.schedule.clocksPerSample == 1) robot else s"$robot II=${p.schedule.clocksPerSample}") +
       (if (p.banked.isDefined) " memory" else "") +
       (if (targetError.isEmpty) "" else s" target ${targetError.mkString(",")} (F=${p.internalFracBits})")
-    ArmChecks.run(this, label, p, traces.flatMap(_.samples).toIndexedSeq, random, rng, traces.flatMap(_.torques).toIndexedSeq)
+    ArmChecks.run(this, label, p, traces.flatMap(_.samples).toIndexedSeq, random, rng, Seq("pinocchio" -> traces.flatMap(_.torques).toIndexedSeq),
+      ArmChecks.target, s => Rnea.reference(p.chain, s.q, s.qd, s.qdd))
   }
 
   it should "compute every torque of the planar arm within 1e-3 N·m of Pinocchio, bit-exact with the model" in {
@@ -82,7 +83,9 @@ object ArmChecks {
   /**
    * Runs golden samples then random ones through the RTL, each offered until the design takes it
    * (back-pressure); checks bits against the model at the reported latency after the cycle each
-   * sample entered, the interval between samples, and torques against the references.
+   * sample entered, the interval between samples, and every output torque against `reference` (the
+   * same dynamics in doubles) within its derived bound, and against each independent golden set
+   * (`goldenTorques`: name, torques per golden sample and output) within its bound and `target` N·m.
    */
   def run(
     spec: AnyFlatSpec with ChiselScalatestTester,
@@ -91,7 +94,9 @@ object ArmChecks {
     golden: IndexedSeq[ArmSample],
     random: IndexedSeq[ArmSample],
     rng: Random,
-    goldenTorques: IndexedSeq[IndexedSeq[Double]]
+    goldenTorques: Seq[(String, IndexedSeq[IndexedSeq[Double]])],
+    target: Double,
+    reference: ArmSample => IndexedSeq[Double]
   ): Unit = {
     import spec._
     val model = new ArmModel(p)
@@ -116,17 +121,19 @@ object ArmChecks {
       val hw = golden.indices.map(k => observed(takenAt(k) + latency).getOrElse(fail(s"$label: golden sample $k produced no output")))
       assert(hw.forall(!_.outOfRange.exists(identity)), s"$label: an in-range golden sample raised outOfRange")
       val tau = hw.map(model.torques)
-      val ref = golden.map(s => Rnea.reference(p.chain, s.q, s.qd, s.qdd))
-      p.jointNames.indices.foreach { j =>
+      val ref = golden.map(reference)
+      val names = p.graph.outputs.map(_.name)
+      names.indices.foreach { j =>
         val err = tau.zip(ref).map { case (h, r) => math.abs(h(j) - r(j)) }.max
-        println(f"[arm] $label ${p.jointNames(j)}%-22s max |hw - rnea| $err%.3e N·m (bound ${p.errorBounds(j)}%.3e)")
-        assert(err <= p.errorBounds(j), s"$label joint ${j + 1}: error $err above the derived bound ${p.errorBounds(j)}")
+        println(f"[arm] $label ${names(j)}%-22s max |hw - ${p.dynamics.name}| $err%.3e N·m (bound ${p.errorBounds(j)}%.3e)")
+        assert(err <= p.errorBounds(j), s"$label ${names(j)}: error $err above the derived bound ${p.errorBounds(j)}")
       }
-      p.jointNames.indices.foreach { j =>
-        val err = tau.zip(goldenTorques).map { case (h, r) => math.abs(h(j) - r(j)) }.max
-        println(f"[arm] $label ${p.jointNames(j)}%-22s max |hw - pinocchio| $err%.3e N·m (bound ${p.errorBounds(j)}%.3e, target 1e-3)")
-        assert(err <= p.errorBounds(j) + 1e-9, s"$label joint ${j + 1}: error vs Pinocchio $err above the derived bound ${p.errorBounds(j)}")
-        assert(err <= ArmChecks.target, s"$label joint ${j + 1}: error vs Pinocchio $err above the target ${ArmChecks.target} N·m")
+      for ((source, torques) <- goldenTorques; j <- names.indices) {
+        assert(torques.size == golden.size, s"$label: ${torques.size} $source torques for ${golden.size} golden samples")
+        val err = tau.zip(torques).map { case (h, r) => math.abs(h(j) - r(j)) }.max
+        println(f"[arm] $label ${names(j)}%-22s max |hw - $source| $err%.3e N·m (bound ${p.errorBounds(j)}%.3e, target $target%.0e)")
+        assert(err <= p.errorBounds(j) + 1e-9, s"$label ${names(j)}: error vs $source $err above the derived bound ${p.errorBounds(j)}")
+        assert(err <= target, s"$label ${names(j)}: error vs $source $err above the target $target N·m")
       }
       println(s"[arm] $label: latency $latency cycles, one sample per $period clocks, ${p.schedule.multiplierBlocks} multiplier blocks, " +
         s"${p.graph.counts}, outputs bit-exact with the model over ${entered.size} cycles")

@@ -15,7 +15,7 @@ import scala.util.{Failure, Random, Success, Try}
 class ParamFuzzSpec extends AnyFlatSpec {
   behavior of "LoadParams under fuzzed configurations"
 
-  private val parameterNames = Seq("CordicParams.", "LoadParams.", "RobotParams.")
+  private val parameterNames = Seq("CordicParams.", "RobotParams.", "datapath.", "declared ranges")
 
   it should "build and meet the bound, or refuse naming the parameter, for 300 random configurations" in {
     val rng = new Random(Seeds("param-fuzz", 61L))
@@ -35,20 +35,20 @@ class ParamFuzzSpec extends AnyFlatSpec {
           velocityFracBits = pick(8, 24), accelerationFracBits = pick(8, 24), constantFracBits = pick(10, 26),
           internalFracBits = pick(8, 22), outputFracBits = pick(6, 16), productRounding = Rounding.all(rng.nextInt(2)),
           multiplierLatency = pick(1, 3), memoryDelayMinCycles = Seq(0, 3, 4, 8)(rng.nextInt(4)))
-      } match {
+      }.flatMap(p => Try { p.arm.analysis; p }) match {
         case Failure(e: IllegalArgumentException) =>
           assert(parameterNames.exists(e.getMessage.contains), s"configuration $i refused without naming a parameter: ${e.getMessage}")
           assert(!e.getMessage.contains("\n"))
           "refused"
         case Failure(e) => fail(s"configuration $i: ${e.getClass.getName}: ${e.getMessage}")
         case Success(p) =>
-          val m = new LoadDatapathModel(p)
+          val m = new LoadChecks.Joint3Model(p)
           (0 until 40).foreach { _ =>
             val s = LoadChecks.randomSample(p.robot, rng)
             val err = math.abs(m.evaluate(s) - LoadReference.torque(p.robot, p.model, s))
             assert(err <= p.errorBound, s"configuration $i: error $err exceeds its bound ${p.errorBound}")
           }
-          if (i % 30 == 0) ChiselStage.convert(new LoadDatapath(p)) // elaborates without exceptions
+          if (i % 30 == 0) ChiselStage.convert(new reducerload.arm.ArmDatapath(p.arm)) // elaborates without exceptions
           "built"
       }
     }

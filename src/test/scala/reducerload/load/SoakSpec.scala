@@ -14,7 +14,7 @@ class SoakSpec extends AnyFlatSpec {
   it should "stream 20,000 samples with bubbles, resets and out-of-range inputs, every output bit-exact" in {
     assume(SimBackend.isVerilator, "the soak runs on Verilator")
     val seed = Seeds("soak-short", 51L)
-    val r = Soak.run(LoadParams.default, 20000, seed, resets = 4)
+    val r = Soak.run(LoadParams.default.arm, 20000, seed, resets = 4)
     println(f"[soak] ${r.checked} outputs checked over ${r.cycles} cycles, ${r.mismatches} mismatches, ${r.samples / r.seconds}%.0f samples/s")
     assert(r.mismatches == 0, r.examples.mkString("\n"))
     assert(r.checked > 19000)

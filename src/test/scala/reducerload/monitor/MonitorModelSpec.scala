@@ -14,7 +14,7 @@ class MonitorModelSpec extends AnyFlatSpec {
   /** One joint fed like the datapath: the golden tau3 in the load output format, d3 in the velocity format. */
   private def goldenParams(exponent: Double): MonitorParams = {
     val lp = LoadParams.default
-    MonitorParams(Seq("joint3"), Seq(lp.outputFormat), Seq(lp.velocityFormats(2)), Seq(60.0), Seq(90.0), Seq(exponent), Seq(101.0),
+    MonitorParams(Seq("joint3"), Seq(lp.arm.analysis.outputPortFormat), Seq(lp.arm.numerics.velocityFormats(2)), Seq(60.0), Seq(90.0), Seq(exponent), Seq(101.0),
       Seq(12), Seq(10.0), samplePeriodS = 5e-3)
   }
 
@@ -44,7 +44,7 @@ class MonitorModelSpec extends AnyFlatSpec {
       val p = goldenParams(exponent)
       val samples = t.samples.indices.map { i =>
         MonitorSampleCodes(IndexedSeq(p.torqueFormats(0).quantize(t.exact(i), Rounding.HalfUp)),
-          IndexedSeq(p.velocityFormats(0).quantize(t.samples(i).d3, Rounding.HalfUp)), IndexedSeq(false))
+          IndexedSeq(p.velocityFormats(0).quantize(t.samples(i).qd(2), Rounding.HalfUp)), IndexedSeq(false))
       }
       compare(p, samples, t.name)
     }

@@ -3,7 +3,10 @@ package reducerload.sim
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.fixedpoint.{FixedFormat, Rounding}
 import reducerload.cordic.CordicModel
-import reducerload.load.{LoadChecks, LoadDatapathModel, LoadInputCodes, LoadParams}
+import reducerload.arm.{ArmConfig, ArmModel, ArmParams}
+import reducerload.graph.SampleCodes
+import reducerload.load.{LoadChecks, LoadParams}
+import reducerload.testutil.ArmGolden
 import reducerload.testutil.Seeds
 
 import scala.util.Random
@@ -40,8 +43,8 @@ class FastFixedSpec extends AnyFlatSpec {
 
   it should "give the models' angle codes, wrapping included" in {
     val rng = new Random(Seeds("fast-fixed-angles", 62L))
-    val model = new LoadDatapathModel(LoadParams.default)
-    val bits = LoadParams.default.angleBits
+    val model = new ArmModel(LoadParams.default.arm)
+    val bits = LoadParams.default.arm.numerics.angleBits
     val angles = Seq.fill(20000)((rng.nextDouble() * 2 - 1) * math.pow(10, rng.nextInt(5) - 1)) ++
       Seq.fill(2000)(2 * math.Pi * math.scalb(rng.nextInt(1 << 20) + 0.5, -bits)) ++ Seq(0.0, math.Pi, -math.Pi, 2 * math.Pi, 1e6)
     val wrong = angles.filter(a => FastFixed.angleCode(a, FastFixed.angleFormat(bits)) != model.angleCode(a))
@@ -76,23 +79,40 @@ class FastFixedSpec extends AnyFlatSpec {
     }
   }
 
-  it should "evaluate the joint-3 datapath like LoadDatapathModel, out-of-range inputs included, for every preset" in {
+  /** `p`'s long model against its BigInt model on `samples` plus random extreme port codes (clamped and flagged). */
+  private def checkFastModel(label: String, p: ArmParams, samples: Seq[SampleCodes], rng: Random): Unit = {
+    assert(FastArmModel.supports(p), s"$label: the long model does not cover it")
+    val model = new ArmModel(p)
+    val fast = new FastArmModel(p)
+    val n = p.numerics
+    val extremes = Seq.fill(200) {
+      val e = samples(rng.nextInt(samples.size))
+      def extreme(f: FixedFormat) = if (rng.nextBoolean()) f.maxRaw else f.minRaw
+      SampleCodes(e.angles, e.velocities.map(_ => extreme(n.velocityPortFormat)), e.accelerations.map(_ => extreme(n.accelerationPortFormat)))
+    }
+    val all = samples ++ extremes
+    val wrong = all.filter(s => fast.evaluate(s) != model.evaluate(s))
+    assert(wrong.isEmpty, s"$label: differs at ${wrong.take(3)}")
+    assert(all.exists(s => model.evaluate(s).outOfRange.exists(identity)) && all.exists(s => !model.evaluate(s).outOfRange.exists(identity)))
+  }
+
+  it should "evaluate the joint-3 datapath like its BigInt model, out-of-range inputs included, for every preset" in {
     val rng = new Random(Seeds("fast-load-model", 65L))
     LoadParams.presets.foreach { case (name, p) =>
-      assert(FastLoadModel.supports(p), s"preset $name: the long model does not cover it")
-      val model = new LoadDatapathModel(p)
-      val fast = new FastLoadModel(p)
+      val model = new LoadChecks.Joint3Model(p)
       val samples = Seq.fill(4000)(LoadChecks.randomSample(p.robot, rng)).map(model.encode) ++
-        Seq.fill(1000)(LoadChecks.outOfRangeSample(p.robot, rng)).map(model.encode) ++
-        // Extreme codes of the input formats: clamped and flagged.
-        Seq.fill(200) {
-          val e = model.encode(LoadChecks.randomSample(p.robot, rng))
-          def extreme(f: FixedFormat) = if (rng.nextBoolean()) f.maxRaw else f.minRaw
-          LoadInputCodes(e.t1, e.t2, e.t3, p.velocityFormats.map(extreme), p.accelerationFormats.map(extreme))
-        }
-      val wrong = samples.filter(s => fast.evaluate(s) != model.evaluate(s))
-      assert(wrong.isEmpty, s"preset $name: differs at ${wrong.take(3)}")
-      assert(samples.exists(s => model.evaluate(s).outOfRange) && samples.exists(s => !model.evaluate(s).outOfRange))
+        Seq.fill(1000)(LoadChecks.outOfRangeSample(p.robot, rng)).map(model.encode)
+      checkFastModel(s"preset $name", p.arm, samples, rng)
+    }
+  }
+
+  it should "evaluate every joint of the UR5 and the Panda like their BigInt models" in {
+    val rng = new Random(Seeds("fast-arm-model", 66L))
+    Seq("ur5", "panda").foreach { robot =>
+      val traces = ArmGolden.of(robot)
+      val p = ArmConfig(traces.head.config)
+      val model = new ArmModel(p)
+      checkFastModel(robot, p, traces.flatMap(_.samples).take(1500).map(model.encode), rng)
     }
   }
 }

@@ -1,7 +1,7 @@
 package reducerload.sim
 
 import reducerload.app.{Emit, Top}
-import reducerload.load.{LoadChecks, LoadDatapath, LoadDatapathModel, LoadParams}
+import reducerload.load.{LoadChecks, LoadParams}
 
 import scala.util.Random
 
@@ -16,21 +16,22 @@ object HarnessBenchmark {
     val cache = if (args.contains("--fresh")) java.nio.file.Files.createTempDirectory("harness-benchmark-cache-") else VerilatorHarness.cacheRoot
     require(n >= 1, s"sample count must be >= 1, got $n")
     val p = LoadParams.default
-    val model = new LoadDatapathModel(p)
+    val model = new LoadChecks.Joint3Model(p)
     val rng = new Random(7L)
-    val inputs = IndexedSeq.fill(n)(LoadHarnessPorts.values(model.encode(LoadChecks.randomSample(p.robot, rng))))
+    val codes = IndexedSeq.fill(n)(model.encode(LoadChecks.randomSample(p.robot, rng)))
+    val inputs = codes.map(ArmHarnessPorts.values)
     val verilog = Emit.emit(p, Top.Load, "benchmark").verilog
 
     val compileStart = System.nanoTime()
-    val harness = VerilatorHarness.compile(verilog, s"LoadDatapath_${p.model.name}", LoadHarnessPorts(p), cache)
+    val harness = VerilatorHarness.compile(verilog, p.arm.moduleName, ArmHarnessPorts(p.arm), cache)
     val compileSeconds = (System.nanoTime() - compileStart) / 1e9
 
     val runStart = System.nanoTime()
-    val r = harness.run(inputs, samplePeriod = p.samplePeriod, drainCycles = LoadDatapath.latency(p) + 1)
+    val r = harness.run(inputs, samplePeriod = p.arm.schedule.clocksPerSample, drainCycles = p.arm.latency + 1)
     val runSeconds = (System.nanoTime() - runStart) / 1e9
     require(r.outputs.size == n, s"${r.outputs.size} outputs for $n samples")
     val checked = 10000.min(n)
-    val wrong = (0 until checked).count(i => LoadHarnessPorts.codes(r.outputs(i)) != model.evaluate(LoadInputs(inputs(i))))
+    val wrong = (0 until checked).count(i => ArmHarnessPorts.codes(r.outputs(i), 1) != model.evaluate(codes(i)))
     require(wrong == 0, s"$wrong of the first $checked outputs differ from the model")
 
     println(f"[benchmark] $n samples, default preset, ${r.stats.cycles} cycles; first $checked bit-exact with the model")
@@ -40,9 +41,5 @@ object HarnessBenchmark {
     println(f"[benchmark] run (files, process, decoding): $runSeconds%.2f s = ${n / runSeconds}%.0f samples/s excluding the build")
     if (args.contains("--fresh")) VerilatorHarness.deleteTree(cache)
     println(f"[benchmark] with the build: ${compileSeconds + runSeconds}%.2f s = ${n / (compileSeconds + runSeconds)}%.0f samples/s")
-  }
-
-  private object LoadInputs {
-    def apply(v: Seq[BigInt]) = reducerload.load.LoadInputCodes(v(0), v(1), v(2), v.slice(3, 6), v.slice(6, 9))
   }
 }

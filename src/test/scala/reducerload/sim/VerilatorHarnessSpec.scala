@@ -2,7 +2,9 @@ package reducerload.sim
 
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.app.{Emit, Top}
-import reducerload.load.{LoadChecks, LoadDatapath, LoadDatapathModel, LoadInputCodes, LoadParams}
+import reducerload.arm.ArmModel
+import reducerload.graph.SampleCodes
+import reducerload.load.{LoadChecks, LoadParams}
 import reducerload.testutil.{Golden, Seeds}
 
 import scala.jdk.CollectionConverters._
@@ -22,30 +24,32 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
   private def emitted(p: LoadParams) = Emit.emit(p, Top.Load, "test")
 
   /** Golden traces, then seeded random samples (1 in 8 beyond the declared ranges), then every port at its extreme codes. */
-  private def samples(p: LoadParams, label: String, seed: Long, randomCount: Int): IndexedSeq[LoadInputCodes] = {
-    val model = new LoadDatapathModel(p)
+  private def samples(p: LoadParams, label: String, seed: Long, randomCount: Int): IndexedSeq[SampleCodes] = {
+    val model = new LoadChecks.Joint3Model(p)
     val rng = new Random(Seeds(label, seed))
     val golden = Golden.all.flatMap(_.samples.map(model.encode))
     val random = Seq.fill(randomCount) {
       model.encode(if (rng.nextInt(8) == 0) LoadChecks.outOfRangeSample(p.robot, rng) else LoadChecks.randomSample(p.robot, rng))
     }
-    val ports = LoadHarnessPorts(p).inputs
+    val ports = ArmHarnessPorts(p.arm).inputs
     def at(pick: HarnessPort => BigInt) = {
       val v = ports.map(pick)
-      LoadInputCodes(v(0), v(1), v(2), v.slice(3, 6), v.slice(6, 9))
+      SampleCodes(v.slice(0, 3).toIndexedSeq, v.slice(3, 6).toIndexedSeq, v.slice(6, 9).toIndexedSeq)
     }
     (golden ++ random ++ Seq(at(_.minValue), at(_.maxValue), at(q => if (q.signed) q.minValue else q.maxValue))).toIndexedSeq
   }
 
-  private def checkBitExact(label: String, p: LoadParams, in: IndexedSeq[LoadInputCodes], r: HarnessResult): Unit = {
-    val model = new LoadDatapathModel(p)
+  private def codes(p: LoadParams, out: IndexedSeq[BigInt]) = ArmHarnessPorts.codes(out, p.arm.graph.outputs.size)
+
+  private def checkBitExact(label: String, p: LoadParams, in: IndexedSeq[SampleCodes], r: HarnessResult): Unit = {
+    val model = new ArmModel(p.arm)
     assert(r.outputs.size == in.size, s"$label: ${r.outputs.size} outputs for ${in.size} samples")
     assert(r.acceptedCycles.size == in.size)
-    val wrong = in.indices.filter(i => LoadHarnessPorts.codes(r.outputs(i)) != model.evaluate(in(i)))
+    val wrong = in.indices.filter(i => codes(p, r.outputs(i)) != model.evaluate(in(i)))
     assert(wrong.isEmpty, s"$label: ${wrong.size} outputs differ from the model, first at sample ${wrong.headOption.getOrElse(-1)}: " +
       wrong.headOption.map(i => s"${r.outputs(i)} vs ${model.evaluate(in(i))}").getOrElse(""))
     // Fixed latency: each output appears exactly `latency` clocks after its sample was taken.
-    val latency = LoadDatapath.latency(p)
+    val latency = p.arm.latency
     assert(in.indices.forall(i => r.outputCycles(i) == r.acceptedCycles(i) + latency), s"$label: an output is not $latency clocks after its sample")
   }
 
@@ -53,12 +57,12 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
     assume(verilatorPresent, "verilator is not installed")
     val p = LoadParams.default
     val in = samples(p, "harness-default", 31L, 20000)
-    val harness = VerilatorHarness.compile(emitted(p).verilog, s"LoadDatapath_${p.model.name}", LoadHarnessPorts(p))
-    val r = harness.run(in.map(LoadHarnessPorts.values), samplePeriod = 1, drainCycles = LoadDatapath.latency(p) + 1)
+    val harness = VerilatorHarness.compile(emitted(p).verilog, p.arm.moduleName, ArmHarnessPorts(p.arm))
+    val r = harness.run(in.map(ArmHarnessPorts.values), samplePeriod = 1, drainCycles = p.arm.latency + 1)
     checkBitExact("default", p, in, r)
     // One sample per clock: taken on consecutive cycles from cycle 0.
     assert(r.acceptedCycles == in.indices.map(_.toLong))
-    val flagged = r.outputs.count(_(1) != 0)
+    val flagged = r.outputs.count(o => codes(p, o).outOfRange.exists(identity))
     assert(flagged > 0, "no out-of-range sample was flagged")
     // The process's own CPU time: positive, and (one thread) not beyond its wall time by more than the clock's granularity.
     assert(r.stats.cpuSeconds > 0 && r.stats.cpuSeconds <= r.stats.seconds + 0.05, s"harness CPU ${r.stats.cpuSeconds} s, wall ${r.stats.seconds} s")
@@ -70,21 +74,21 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
   it should "wait for ready with a shared CORDIC unit: samples offered every clock are taken every third (compact preset)" in {
     assume(verilatorPresent, "verilator is not installed")
     val p = LoadParams.compact
-    assert(p.samplePeriod == 3)
+    assert(p.arm.schedule.clocksPerSample == 3)
     val in = samples(p, "harness-compact", 32L, 3000)
-    val harness = VerilatorHarness.compile(emitted(p).verilog, s"LoadDatapath_${p.model.name}", LoadHarnessPorts(p))
-    val drain = LoadDatapath.latency(p) + 1
+    val harness = VerilatorHarness.compile(emitted(p).verilog, p.arm.moduleName, ArmHarnessPorts(p.arm))
+    val drain = p.arm.latency + 1
     // samplePeriod 1 offers a sample on every clock; io_in_ready is low two clocks out of three.
-    val r = harness.run(in.map(LoadHarnessPorts.values), samplePeriod = 1, drainCycles = drain)
+    val r = harness.run(in.map(ArmHarnessPorts.values), samplePeriod = 1, drainCycles = drain)
     checkBitExact("compact", p, in, r)
     val gaps = r.acceptedCycles.zip(r.acceptedCycles.tail).map { case (a, b) => b - a }.distinct
     assert(gaps == Seq(3L), s"samples were taken with gaps $gaps, expected every third clock")
-    // A longer period than the design needs is honoured as given.
-    val slow = harness.run(in.take(500).map(LoadHarnessPorts.values), samplePeriod = 5, drainCycles = drain)
+    // A longer period than the design needs is honoured: samples 5 clocks apart or more, taken on the design's one-in-3 input clocks.
+    val slow = harness.run(in.take(500).map(ArmHarnessPorts.values), samplePeriod = 5, drainCycles = drain)
     checkBitExact("compact, period 5", p, in.take(500), slow)
-    assert(slow.acceptedCycles.zip(slow.acceptedCycles.tail).forall { case (a, b) => b - a == 5 })
+    assert(slow.acceptedCycles.zip(slow.acceptedCycles.tail).forall { case (a, b) => b - a >= 5 && (b - a) % 3 == 0 })
     // A stall limit shorter than the design's refusal fails loudly instead of hanging or dropping.
-    val e = intercept[IllegalStateException](harness.run(in.take(10).map(LoadHarnessPorts.values), samplePeriod = 1, drainCycles = drain, maxStallCycles = 1))
+    val e = intercept[IllegalStateException](harness.run(in.take(10).map(ArmHarnessPorts.values), samplePeriod = 1, drainCycles = drain, maxStallCycles = 1))
     assert(e.getMessage.contains("io_in_ready stayed low"), e.getMessage)
   }
 
@@ -92,9 +96,9 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
     assume(verilatorPresent, "verilator is not installed")
     val p = LoadParams.default
     val verilog = emitted(p).verilog
-    val first = VerilatorHarness.compile(verilog, s"LoadDatapath_${p.model.name}", LoadHarnessPorts(p))
+    val first = VerilatorHarness.compile(verilog, p.arm.moduleName, ArmHarnessPorts(p.arm))
     val start = System.nanoTime()
-    val second = VerilatorHarness.compile(verilog, s"LoadDatapath_${p.model.name}", LoadHarnessPorts(p))
+    val second = VerilatorHarness.compile(verilog, p.arm.moduleName, ArmHarnessPorts(p.arm))
     val seconds = (System.nanoTime() - start) / 1e9
     assert(second.fromCache, "the second compile of the same design was not a cache hit")
     assert(second.directory == first.directory)
@@ -107,16 +111,16 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
   it should "refuse a port description that does not match the design, and values that do not fit a port" in {
     val p = LoadParams.default
     val verilog = emitted(p).verilog
-    val top = s"LoadDatapath_${p.model.name}"
-    val ports = LoadHarnessPorts(p)
+    val top = p.arm.moduleName
+    val ports = ArmHarnessPorts(p.arm)
     def refused(words: String*)(f: => Any): Unit = {
       val e = intercept[IllegalArgumentException](f)
       words.foreach(w => assert(e.getMessage.contains(w), s"'${e.getMessage}' does not mention '$w'"))
     }
     val wrongWidth = ports.copy(inputs = ports.inputs.updated(0, ports.inputs(0).copy(width = ports.inputs(0).width + 1)))
-    refused("io_in_bits_t1", "bits wide")(VerilatorHarness.checkPorts(verilog, top, wrongWidth))
-    refused("no port 'io_in_bits_q_0'")(VerilatorHarness.checkPorts(verilog, top, ports.copy(inputs = ports.inputs :+ HarnessPort("io_in_bits_q_0", 3, signed = false))))
-    refused("io_in_bits_dd3", "not in the harness description")(VerilatorHarness.checkPorts(verilog, top, ports.copy(inputs = ports.inputs.init)))
+    refused("io_in_bits_q_0", "bits wide")(VerilatorHarness.checkPorts(verilog, top, wrongWidth))
+    refused("no port 'io_in_bits_t1'")(VerilatorHarness.checkPorts(verilog, top, ports.copy(inputs = ports.inputs :+ HarnessPort("io_in_bits_t1", 3, signed = false))))
+    refused("io_in_bits_qdd_2", "not in the harness description")(VerilatorHarness.checkPorts(verilog, top, ports.copy(inputs = ports.inputs.init)))
     refused("'io_in_ready' is an output")(VerilatorHarness.checkPorts(verilog, top,
       ports.copy(inReady = None, inputs = ports.inputs :+ HarnessPort("io_in_ready", 1, signed = false))))
     refused("no module 'Nope'")(VerilatorHarness.checkPorts(verilog, "Nope", ports))
@@ -126,7 +130,7 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
     if (verilatorPresent) {
       val harness = VerilatorHarness.compile(verilog, top, ports)
       val tooBig = Seq.fill(9)(BigInt(0)).updated(3, ports.inputs(3).maxValue + 1)
-      refused("io_in_bits_d1", "does not fit")(harness.run(Seq(tooBig)))
+      refused("io_in_bits_qd_0", "does not fit")(harness.run(Seq(tooBig)))
       refused("9 input ports")(harness.run(Seq(Seq(BigInt(1)))))
     }
   }

@@ -2,7 +2,6 @@ package reducerload.sim
 
 import reducerload.cordic.CordicParams
 import reducerload.fixedpoint.{FixedFormat, Rounding}
-import reducerload.load.{LoadArith, LoadInputCodes, LoadOutputCodes, LoadParams, LoadRecipe, RecipeInputs}
 
 /**
  * [[reducerload.cordic.CordicModel.sinCosRaw]] in long arithmetic, for units whose formats all fit
@@ -79,63 +78,3 @@ final class FastCordic(p: CordicParams) {
   }
 }
 
-/** [[reducerload.load.IntArith]] in longs: exact, every result checked against its proven format (at most 62 bits). */
-object LongArith extends LoadArith[Long] {
-  private def checked(v: Long, out: FixedFormat, what: String): Long = {
-    if (out.width > 62 || v < FastFixed.minOf(out) || v > FastFixed.maxOf(out))
-      throw new IllegalArgumentException(s"LoadDatapathModel: $what = $v outside its proven format $out")
-    v
-  }
-  def add(a: Long, aFmt: FixedFormat, b: Long, bFmt: FixedFormat, bShift: Int, out: FixedFormat): Long = {
-    require(aFmt.fracBits == bFmt.fracBits && out.fracBits == aFmt.fracBits, s"add: fraction bits differ ($aFmt, $bFmt -> $out)")
-    require(bFmt.width + bShift <= 62, s"add: $bFmt << $bShift is wider than 62 bits")
-    checked(a + (b << bShift), out, "sum")
-  }
-  def mul(a: Long, aFmt: FixedFormat, b: Long, bFmt: FixedFormat, out: FixedFormat, rounding: Rounding): Long =
-    checked(FastFixed.mulShiftRound(a, b, aFmt.fracBits + bFmt.fracBits - out.fracBits, rounding), out, "product")
-  def constant(raw: BigInt, fmt: FixedFormat): Long = raw.toLong
-}
-
-/**
- * [[reducerload.load.LoadDatapathModel.evaluate]] in long arithmetic: the same [[LoadRecipe]] on
- * [[LongArith]] and three [[FastCordic]] evaluations; tested equal to the model. Only for designs
- * whose formats fit 62 bits ([[FastLoadModel.supports]]).
- */
-final class FastLoadModel(p: LoadParams) {
-  private val cordic = new FastCordic(p.cordic)
-  private val turnMask = (1L << p.angleBits) - 1
-  private val velocityLimit = p.velocityLimitRaw.map(_.toLong).toArray
-  private val accelerationLimit = p.accelerationLimitRaw.map(_.toLong).toArray
-  private val (outMin, outMax) = (FastFixed.minOf(p.outputFormat), FastFixed.maxOf(p.outputFormat))
-  private val drop = p.internalFracBits - p.outputFracBits
-
-  def evaluate(in: LoadInputCodes): LoadOutputCodes = {
-    var flagged = false // set by any clamp
-    def clamp(x: BigInt, limit: Long): Long = {
-      require(x.isValidLong, s"input code $x does not fit 64 bits")
-      val v = x.toLong
-      if (v > limit) { flagged = true; limit } else if (v < -limit) { flagged = true; -limit } else v
-    }
-    val d = Array(clamp(in.d(0), velocityLimit(0)), clamp(in.d(1), velocityLimit(1)), clamp(in.d(2), velocityLimit(2)))
-    val dd = Array(clamp(in.dd(0), accelerationLimit(0)), clamp(in.dd(1), accelerationLimit(1)), clamp(in.dd(2), accelerationLimit(2)))
-    val (t1, t2, t3) = (in.t1.toLong, in.t2.toLong, in.t3.toLong)
-    val t23 = (t2 + t3) & turnMask
-    val t123 = (t23 + t1) & turnMask
-    val sc = new Array[Long](6)
-    cordic.sinCosRaw(t3, sc, 0)
-    cordic.sinCosRaw(t23, sc, 2)
-    cordic.sinCosRaw(t123, sc, 4)
-    val total = LoadRecipe(p, LongArith, RecipeInputs(d(0), d(1), dd(0), dd(1), dd(2), sc(2), sc(0), sc(3), sc(1), sc(5)))
-    val rounded = FastFixed.shiftRound(total, drop, Rounding.HalfUp)
-    val load = rounded.max(outMin).min(outMax)
-    LoadOutputCodes(BigInt(load), flagged || load != rounded)
-  }
-}
-
-object FastLoadModel {
-  /** Whether the long model can run `p`: every format of its datapath and CORDIC fits 62 bits. */
-  def supports(p: LoadParams): Boolean =
-    scala.util.Try { new FastCordic(p.cordic); () }.isSuccess &&
-      (p.formats.values ++ p.velocityFormats ++ p.accelerationFormats ++ Seq(p.constantFormat, p.outputFormat)).forall(_.width <= 62) &&
-      (p.velocityLimitRaw ++ p.accelerationLimitRaw).forall(_.isValidLong)
-}

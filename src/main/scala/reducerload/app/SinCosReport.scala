@@ -1,0 +1,63 @@
+package reducerload.app
+
+import com.typesafe.config.{ConfigRenderOptions, ConfigValueFactory}
+import reducerload.cordic.CordicParams
+import reducerload.fixedpoint.FixedFormat
+
+import scala.jdk.CollectionConverters._
+
+/** The report of a lone CORDIC sin/cos unit's emission (`--top sincos`); datapaths have [[ArmReport]]. */
+final case class SinCosReport(c: CordicParams, moduleName: String, command: String, estimate: Option[Estimate] = None) {
+  val throughput: String = "one angle per clock"
+
+  /** (port, direction, format description). */
+  val ports: Seq[(String, String, String)] = Seq(
+    ("clock", "in", "1 bit"),
+    ("reset", "in", "1 bit, synchronous, active high: clears every valid bit"),
+    ("io_in_valid", "in", "1 bit"),
+    ("io_in_bits", "in", s"unsigned ${c.angleBits} bits, binary angle"),
+    ("io_out_valid", "out", s"1 bit, ${c.latency} cycles after the angle"),
+    ("io_out_bits_cos", "out", c.outputFormat.describe),
+    ("io_out_bits_sin", "out", c.outputFormat.describe)
+  )
+
+  def portLines: Seq[String] = "Ports:" +: ports.map { case (n, d, f) => f"  $n%-24s $d%-3s $f" }
+
+  def summaryLines: Seq[String] = estimate.toSeq.flatMap(_.lines) ++ c.report.linesIterator.toSeq
+
+  def markdown: String = (Seq(
+    s"# $moduleName",
+    "",
+    s"- latency: ${c.latency} cycles; throughput: $throughput",
+    f"- derived error bound: ${c.errorBound}%.3e",
+    s"- regenerate: `$command`",
+    "",
+    "## Ports",
+    "",
+    "| port | dir | format |",
+    "| --- | --- | --- |"
+  ) ++ ports.map { case (n, d, f) => s"| `$n` | $d | $f |" } ++ Seq("", "## Details", "", "```") ++ summaryLines ++ Seq("```"))
+    .mkString("", "\n", "\n")
+
+  def json: String = {
+    def fmt(f: FixedFormat) = Map("int_bits" -> f.intBits, "frac_bits" -> f.fracBits, "width" -> f.width).asJava
+    val fields = Map[String, Any](
+      "top" -> moduleName,
+      "latency_cycles" -> c.latency,
+      "clocks_per_sample" -> 1,
+      "command" -> command,
+      "cordic" -> Map(
+        "tag" -> c.tag,
+        "angle_bits" -> c.angleBits,
+        "output_format" -> fmt(c.outputFormat),
+        "iterations" -> c.iterations,
+        "iterations_per_stage" -> c.iterationsPerStage,
+        "latency_cycles" -> c.latency,
+        "gain_k" -> c.gainK,
+        "error_bound" -> c.errorBound,
+        "atan_table_hex" -> c.atanTable.map(_.toString(16)).asJava
+      ).asJava,
+      "estimate" -> estimate.map(_.toMap.asJava).orNull)
+    ConfigValueFactory.fromMap(fields.asJava).render(ConfigRenderOptions.concise().setJson(true).setFormatted(true)) + "\n"
+  }
+}
