@@ -184,18 +184,33 @@ object ArmConfig {
   /** Fraction-bit offsets tried for a target error: every kind of value moves together. */
   val fracBitShifts: Range = -16 to 16
 
+  /** Each fraction-bit setting on its own, moved by some bits. */
+  private val fracBitKinds: Seq[(ArmParams, Int) => ArmParams] = Seq(
+    (q, d) => q.copy(outputFracBits = q.outputFracBits + d),
+    (q, d) => q.copy(constantFracBits = q.constantFracBits + d),
+    (q, d) => q.copy(velocityFracBits = q.velocityFracBits + d),
+    (q, d) => q.copy(accelerationFracBits = q.accelerationFracBits + d),
+    (q, d) => q.copy(internalFracBits = q.internalFracBits + d))
+
   /**
-   * `p` with every fraction-bit setting moved by the same number of bits: the fewest for which each
-   * joint's derived bound meets its target (fewer bits: narrower operands, adders and registers,
-   * fewer multiplier blocks once an operand drops below a 17-bit chunk boundary). The graph does not
-   * change, only its analysis, so each try costs one analysis.
+   * `p`'s fraction bits fitted to per-output targets: first every setting moved by the same number
+   * of bits, the fewest for which each output's derived bound meets its target; then each kind of
+   * value on its own, one bit at a time, while every bound still meets (kinds whose errors weigh
+   * little, often the constants' or the output's, end up narrower than the rest). Fewer bits:
+   * narrower operands, adders and registers, fewer multiplier blocks once an operand drops below a
+   * 17-bit chunk boundary. The graph does not change, only its analysis, so each try costs one analysis.
    */
   def fitted(p: ArmParams, targets: Seq[Double]): ArmParams = {
     def shifted(d: Int) = scala.util.Try(p.copy(velocityFracBits = p.velocityFracBits + d, accelerationFracBits = p.accelerationFracBits + d,
       constantFracBits = p.constantFracBits + d, internalFracBits = p.internalFracBits + d, outputFracBits = p.outputFracBits + d)).toOption
     def bounds(q: ArmParams) = scala.util.Try(new Analysis(p.graph, q.numerics, p.rangeHints).outputs.map(_.errorBound)).toOption
     def meets(q: ArmParams) = bounds(q).exists(_.zip(targets).forall { case (b, t) => b <= t })
-    fracBitShifts.iterator.flatMap(shifted).find(meets).getOrElse {
+    @scala.annotation.tailrec def narrowed(q: ArmParams): ArmParams =
+      fracBitKinds.iterator.flatMap(kind => scala.util.Try(kind(q, -1)).toOption).find(meets) match {
+        case Some(fewer) => narrowed(fewer)
+        case None        => q
+      }
+    fracBitShifts.iterator.flatMap(shifted).find(meets).map(narrowed).getOrElse {
       val best = fracBitShifts.reverseIterator.flatMap(shifted).flatMap(bounds).next()
       val (worst, j) = best.zip(targets).map { case (b, t) => b / t }.zipWithIndex.maxBy(_._1)
       throw new IllegalArgumentException(f"numeric.target-error ${targets(j)}%.3g N·m for ${p.graph.outputs(j).name} cannot be met: with the most fraction bits (up to 40) " +

@@ -92,6 +92,16 @@ object LoadParams {
   val compact: LoadParams = paper.copy(model = LoadModel.Exact, schedule = sharedCordic)
 
   /**
+   * The default's accuracy (derived bound <= 1e-4 N·m, `numeric.target-error` choosing the fraction
+   * bits) with one CORDIC unit and shared multipliers, a sample every 3 clocks (50 M samples/s at
+   * 150 MHz): a 24-bit unit whose 2^11-entry table feeds the residual rotation directly.
+   */
+  val shared: LoadParams = LoadParams(
+    cordic = CordicParams.tableResidual.copy(angleBits = 24, outputBits = 24, iterations = 12, tableBits = 11),
+    targetError = Seq(1e-4),
+    schedule = sharedCordic)
+
+  /**
    * The end of the trade with the fewest resources: 16-bit table-assisted residual CORDIC, one unit
    * shared by the three angles (one sample every 3 clocks; about 2e-2 N·m).
    */
@@ -135,5 +145,5 @@ object LoadParams {
 
   /** The shipped presets, in the order the README and the sweep list them. */
   val presets: scala.collection.immutable.ListMap[String, LoadParams] = scala.collection.immutable.ListMap(
-    "default" -> default, "paper" -> paper, "compact" -> compact, "smallest" -> smallest, "accurate" -> accurate, "fastest" -> fastest)
+    "default" -> default, "paper" -> paper, "compact" -> compact, "shared" -> shared, "smallest" -> smallest, "accurate" -> accurate, "fastest" -> fastest)
 }

@@ -144,6 +144,17 @@ class TargetErrorSpec extends AnyFlatSpec {
       val oneLess = scala.util.Try(p.copy(velocityFracBits = p.velocityFracBits - 1, accelerationFracBits = p.accelerationFracBits - 1,
         constantFracBits = p.constantFracBits - 1, internalFracBits = p.internalFracBits - 1, outputFracBits = p.outputFracBits - 1))
       oneLess.foreach(q => assert(q.errorBounds.zipWithIndex.exists { case (b, _) => b > target }, s"target $target: one bit fewer also meets it"))
+      // No kind of value can lose a bit on its own either (the fit narrows each kind after the common shift).
+      val kinds = Seq[(String, ArmParams => ArmParams)](
+        "velocity" -> (q => q.copy(velocityFracBits = q.velocityFracBits - 1)),
+        "acceleration" -> (q => q.copy(accelerationFracBits = q.accelerationFracBits - 1)),
+        "constant" -> (q => q.copy(constantFracBits = q.constantFracBits - 1)),
+        "internal" -> (q => q.copy(internalFracBits = q.internalFracBits - 1)),
+        "output" -> (q => q.copy(outputFracBits = q.outputFracBits - 1)))
+      kinds.foreach { case (kind, less) =>
+        scala.util.Try(less(p)).flatMap(q => scala.util.Try(q.errorBounds)).foreach(bounds =>
+          assert(bounds.exists(_ > target), s"target $target: one $kind fraction bit fewer also meets it"))
+      }
       assert(fewer.internalFracBits <= p.internalFracBits)
       println(f"[target] ur5 target $target%.0e N·m: internal frac bits ${p.internalFracBits}, worst bound ${p.errorBound}%.3e, " +
         s"widest node ${p.analysis.widest._2.format}, ${p.copy(scheduleRequest = ScheduleRequest(None, Some(66))).schedule.unitSummary}")

@@ -46,4 +46,8 @@ class LoadDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     assert(LoadParams.compact.arm.schedule.cordicUnits == 1 && LoadParams.compact.arm.schedule.clocksPerSample == 3)
     runDesign("compact", LoadParams.compact, 1e-3, 23L)
   }
+
+  it should "compute the exact load within 1e-4 N·m with one CORDIC unit and shared multipliers, fraction bits from the target (shared preset)" in {
+    runDesign("shared", LoadParams.shared, 1e-4, 24L)
+  }
 }
