@@ -199,13 +199,14 @@ def absorb_bram_output_registers(path, top):
 
     changed = 0
     for ram in [c for c in cells.values() if c["type"] == "DP16KD"]:
-        if ram["parameters"].get("REGMODE_B", "NOREG") != "NOREG":
+        if ram["parameters"].get("REGMODE_A", "NOREG") != "NOREG" or ram["parameters"].get("REGMODE_B", "NOREG") != "NOREG":
             continue
-        clock = ram["connections"].get("CLKB")
         plan = []
         for port, conn in ram["connections"].items():
             if not port.startswith(("DOA", "DOB")) or not bits_of(conn):
                 continue
+            # Each read port has its own clock: DOA* is read on CLKA, DOB* on CLKB (yosys reads wide ROMs on port A).
+            clock = ram["connections"].get("CLKA" if port.startswith("DOA") else "CLKB")
             users = readers.get(bits_of(conn)[0], [])
             if not users:
                 continue  # unused output bit
