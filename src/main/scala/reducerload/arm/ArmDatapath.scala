@@ -5,7 +5,7 @@ import chisel3.util._
 import reducerload.cordic.CordicSinCos
 import reducerload.fixedpoint.{FixedHw, Rounding}
 import reducerload.graph._
-import reducerload.pipeline.{MemoryDelay, PipelinedMultiplier}
+import reducerload.pipeline.{MemoryDelay, MultiplierImpl, PipelinedMultiplier}
 
 /**
  * Every joint torque of a serial arm: the hardware interpretation of the graph in `p.graph` at the
@@ -21,7 +21,7 @@ import reducerload.pipeline.{MemoryDelay, PipelinedMultiplier}
  * Cycle 1 registers the input; cycle 2 clamps each velocity and acceleration to its joint's declared
  * range (flagging the joint). Data registers have no reset; the valid chain and the phase do.
  */
-class ArmDatapath(val p: ArmParams) extends Module {
+class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
   private val schedule = p.schedule
   private val ii = schedule.clocksPerSample
   override def desiredName = p.moduleName

@@ -5,7 +5,7 @@ import chisel3.util._
 import reducerload.cordic.SinCos
 import reducerload.fixedpoint.FixedHw
 import reducerload.graph._
-import reducerload.pipeline.PipelinedMultiplier
+import reducerload.pipeline.{MultiplierImpl, PipelinedMultiplier}
 
 /**
  * The memory-storage body of [[ArmDatapath]] (`schedule.storage = memory`): the hardware of a
@@ -21,7 +21,7 @@ import reducerload.pipeline.PipelinedMultiplier
  * every sample. The result is each output node's value, held until `outputsReady`.
  */
 final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: Int => Bool,
-  held: (SInt, Int, Seq[Int]) => Map[Int, SInt], signals: Signal => SInt, cordic: IndexedSeq[SinCos]) {
+  held: (SInt, Int, Seq[Int]) => Map[Int, SInt], signals: Signal => SInt, cordic: IndexedSeq[SinCos])(implicit multiplierImpl: MultiplierImpl) {
   import Op._
   private val analysis = p.analysis
   private val graph = p.graph

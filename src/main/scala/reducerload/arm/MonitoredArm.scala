@@ -4,7 +4,7 @@ import chisel3._
 import chisel3.util._
 import reducerload.fixedpoint.{FixedFormat, FixedHw}
 import reducerload.graph.SampleCodes
-import reducerload.pipeline.MemoryDelay
+import reducerload.pipeline.{MemoryDelay, MultiplierImpl}
 import reducerload.monitor.{MonitorHostPort, MonitorParams, MonitorSample, MonitorSampleCodes, ReducerMonitor}
 
 /**
@@ -22,7 +22,7 @@ import reducerload.monitor.{MonitorHostPort, MonitorParams, MonitorSample, Monit
  * snapshot pulsed in cycle t holds the samples whose torques left `io.out` before cycle t, i.e. the
  * samples given on `io.in` before cycle t - `p.latency`.
  */
-class MonitoredArm(val p: ArmParams, val monitor: MonitorParams) extends Module {
+class MonitoredArm(val p: ArmParams, val monitor: MonitorParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
   MonitoredArm.check(p, monitor)
   override def desiredName = s"MonitoredArm_${p.tag}"
   val io = IO(new Bundle {

@@ -2,6 +2,7 @@ package reducerload.cordic
 
 import chisel3._
 import chisel3.util._
+import reducerload.pipeline.MultiplierImpl
 
 /**
  * Pipelined CORDIC sin/cos: a `Valid` binary angle in, a `Valid` (cos, sin) out exactly `latency`
@@ -9,7 +10,7 @@ import chisel3.util._
  * Stages: input register, table register (with a table), `p.stageIterations.size` rotation stages,
  * the residual rotation (residual architecture), output stage.
  */
-class CordicSinCos(val p: CordicParams) extends Module {
+class CordicSinCos(val p: CordicParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
   override def desiredName = s"CordicSinCos_${p.tag}"
   val io = IO(new Bundle {
     val in = Flipped(Valid(UInt(p.angleBits.W)))

@@ -3,7 +3,7 @@ package reducerload.cordic
 import chisel3._
 import chisel3.util._
 import reducerload.fixedpoint.FixedHw
-import reducerload.pipeline.{MemoryDelay, SignedMultiply}
+import reducerload.pipeline.{MemoryDelay, MultiplierImpl, SignedMultiply}
 
 /**
  * The multiply-based end of the residual architecture, three steps:
@@ -14,7 +14,7 @@ import reducerload.pipeline.{MemoryDelay, SignedMultiply}
  * register; the state waits for the products in a [[MemoryDelay]] (block RAM), the valid bit in
  * registers.
  */
-class ResidualRotation(p: CordicParams) extends Module {
+class ResidualRotation(p: CordicParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
   require(p.residual, "ResidualRotation: CordicParams.architecture must be residual")
   override def desiredName = s"ResidualRotation_${p.tag}"
   private val zWidth = p.zFormat(p.iterations).width

@@ -3,7 +3,7 @@ package reducerload.monitor
 import chisel3._
 import chisel3.util.{Cat, Log2, Valid}
 import reducerload.fixedpoint.FixedHw
-import reducerload.pipeline.PipelinedMultiplier
+import reducerload.pipeline.{MultiplierImpl, PipelinedMultiplier}
 
 /**
  * One joint of [[ReducerMonitor]]: the per-sample pipeline, the live state and its shadow.
@@ -17,7 +17,7 @@ import reducerload.pipeline.PipelinedMultiplier
  * exactly as [[MonitorModel.step]] does. Data registers carry no reset; the valid and command
  * bits and the state do.
  */
-class JointMonitor(p: MonitorParams, j: Int) extends Module {
+class JointMonitor(p: MonitorParams, j: Int)(implicit multiplierImpl: MultiplierImpl) extends Module {
   override def desiredName = s"JointMonitor_${p.jointNames(j)}"
   val io = IO(new Bundle {
     val in = Flipped(Valid(new MonitorJointSample(p, j)))

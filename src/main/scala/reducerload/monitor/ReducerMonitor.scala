@@ -2,6 +2,7 @@ package reducerload.monitor
 
 import chisel3._
 import chisel3.util.Valid
+import reducerload.pipeline.MultiplierImpl
 
 /**
  * Reducer life and limit monitor for `p.joints` joints, beside any torque datapath: takes a
@@ -15,7 +16,7 @@ import chisel3.util.Valid
  * of cycles before t, none from t on; a clear pulsed in cycle t makes the sample of cycle t the
  * first of the new period. Both together: read-and-reset with no sample lost or counted twice.
  */
-class ReducerMonitor(val p: MonitorParams) extends Module {
+class ReducerMonitor(val p: MonitorParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
   override def desiredName = s"ReducerMonitor_${p.joints}j"
   val io = IO(new Bundle {
     val in = Flipped(Valid(new MonitorSample(p)))

@@ -10,7 +10,7 @@ import reducerload.fixedpoint.FixedHw
  * partial products are summed by a registered adder tree, one level per clock. The result is the
  * exact full-width product.
  */
-class PipelinedMultiplier(aWidth: Int, bWidth: Int) extends Module {
+class PipelinedMultiplier(aWidth: Int, bWidth: Int)(implicit multiplierImpl: MultiplierImpl) extends Module {
   require(aWidth >= 2 && bWidth >= 2, s"PipelinedMultiplier: operands of $aWidth and $bWidth bits")
   override def desiredName = s"PipelinedMultiplier_${aWidth}x$bWidth"
   val io = IO(new Bundle {
@@ -62,7 +62,7 @@ object PipelinedMultiplier {
   /** Number of 18x18 blocks. */
   def blocks(aWidth: Int, bWidth: Int): Int = chunkCount(aWidth) * chunkCount(bWidth)
 
-  def apply(a: SInt, b: SInt): SInt = {
+  def apply(a: SInt, b: SInt)(implicit multiplierImpl: MultiplierImpl): SInt = {
     val m = Module(new PipelinedMultiplier(a.getWidth, b.getWidth))
     m.io.a := a
     m.io.b := b

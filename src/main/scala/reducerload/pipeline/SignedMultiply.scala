@@ -19,7 +19,8 @@ import chisel3.util.{HasBlackBoxInline, ShiftRegister}
  *    itself never sits in a fabric register-to-register path.
  *
  * One parameterized Verilog module serves every width. The JVM simulator (treadle) cannot run
- * Verilog: tests on it elaborate [[SignedMultiplyTwin]], the same registers and product in Chisel.
+ * Verilog: a design built with [[MultiplierImpl.ChiselTwin]] (a constructor parameter of every module
+ * that multiplies) has [[SignedMultiplyTwin]], the same registers and product in Chisel, instead.
  */
 class SignedMultiply(val aWidth: Int, val bWidth: Int)
     extends BlackBox(Map("A_WIDTH" -> IntParam(aWidth), "B_WIDTH" -> IntParam(bWidth)))
@@ -33,6 +34,18 @@ class SignedMultiply(val aWidth: Int, val bWidth: Int)
   })
   override def desiredName = SignedMultiply.moduleName
   setInline(s"${SignedMultiply.moduleName}.sv", SignedMultiply.verilog)
+}
+
+/** How a design's signed multiplies are built; a constructor parameter (implicit) of every module that multiplies. */
+sealed trait MultiplierImpl
+object MultiplierImpl {
+  /** The Verilog black box: emission, Verilator, Quartus. The default wherever no other is in scope. */
+  case object VerilogBlackBox extends MultiplierImpl
+
+  /** Its Chisel twin, for the JVM simulator (treadle), which cannot run Verilog. */
+  case object ChiselTwin extends MultiplierImpl
+
+  implicit val default: MultiplierImpl = VerilogBlackBox
 }
 
 object SignedMultiply {
@@ -64,17 +77,9 @@ object SignedMultiply {
        |endmodule
        |""".stripMargin
 
-  private val chiselTwin = new java.util.concurrent.atomic.AtomicBoolean(false)
-
-  /**
-   * From now on (in this JVM) elaborate [[SignedMultiplyTwin]] instead of the black box: for the JVM
-   * simulator only, which cannot run Verilog. Emission never calls it.
-   */
-  def useChiselTwin(): Unit = chiselTwin.set(true)
-
   /** The exact signed product of `a` and `b` (`a.getWidth + b.getWidth` bits), [[latency]] clocks later. */
-  def apply(a: SInt, b: SInt): SInt =
-    if (chiselTwin.get) {
+  def apply(a: SInt, b: SInt)(implicit multiplierImpl: MultiplierImpl): SInt =
+    if (multiplierImpl == MultiplierImpl.ChiselTwin) {
       val m = Module(new SignedMultiplyTwin(a.getWidth, b.getWidth))
       m.io.a := a
       m.io.b := b

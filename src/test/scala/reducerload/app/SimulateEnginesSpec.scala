@@ -13,6 +13,7 @@ import java.nio.file.{Files, Path}
 import scala.collection.mutable.ArrayBuffer
 import scala.sys.process._
 import scala.util.{Random, Try}
+import reducerload.testutil.SimBackend.multiplierImpl // the JVM simulator builds the multipliers' Chisel twin
 
 /**
  * `run simulate` end to end on the golden traces plus rows beyond the declared ranges (--saturate):

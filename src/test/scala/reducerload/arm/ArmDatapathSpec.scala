@@ -9,6 +9,7 @@ import reducerload.testutil.{ArmGolden, Seeds, SimBackend}
 
 import scala.collection.mutable.ArrayBuffer
 import scala.util.Random
+import reducerload.testutil.SimBackend.multiplierImpl // the JVM simulator builds the multipliers' Chisel twin
 
 /**
  * One simulation per design: golden samples back to back (one per clock), then seeded random

@@ -10,6 +10,7 @@ import reducerload.testutil.{ArmGolden, ArmGoldenTrace, Seeds, SimBackend}
 
 import scala.collection.mutable.ArrayBuffer
 import scala.util.Random
+import reducerload.testutil.SimBackend.multiplierImpl // the JVM simulator builds the multipliers' Chisel twin
 
 /** One clock of the test: an arm sample (index into the stream) or none, the host pulses and a read address. */
 final case class ArmMonitorCycle(sample: Option[Int], snapshot: Boolean = false, clear: Boolean = false, readAddress: Option[Int] = None)

@@ -5,6 +5,7 @@ import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.testutil.{Seeds, SimBackend}
 
 import scala.util.Random
+import reducerload.testutil.SimBackend.multiplierImpl // the JVM simulator builds the multipliers' Chisel twin
 
 class CordicSinCosSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "CordicSinCos"

@@ -6,6 +6,7 @@ import reducerload.testutil.{Seeds, SimBackend}
 
 import scala.collection.mutable.ArrayBuffer
 import scala.util.Random
+import reducerload.testutil.SimBackend.multiplierImpl // the JVM simulator builds the multipliers' Chisel twin
 
 /**
  * RTL simulations of ReducerMonitor, two designs (one Verilator build each):

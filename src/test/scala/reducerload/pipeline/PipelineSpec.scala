@@ -6,6 +6,7 @@ import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.testutil.{Seeds, SimBackend}
 
 import scala.util.Random
+import reducerload.testutil.SimBackend.multiplierImpl // the JVM simulator builds the multipliers' Chisel twin
 
 class PipelineSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "PipelinedMultiplier and MemoryDelay"

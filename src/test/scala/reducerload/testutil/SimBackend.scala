@@ -2,6 +2,7 @@ package reducerload.testutil
 
 import chiseltest._
 import firrtl2.AnnotationSeq
+import reducerload.pipeline.MultiplierImpl
 
 import scala.sys.process._
 import scala.util.Try
@@ -30,8 +31,11 @@ object SimBackend {
     if (isVerilator) Seq(VerilatorBackendAnnotation, chiseltest.simulator.VerilatorFlags(Seq("--x-assign", "fast", "--x-initial", "fast")))
     else Seq(TreadleBackendAnnotation)
 
-  // The JVM simulator cannot run the Verilog black box: designs elaborate its Chisel twin instead.
-  if (!isVerilator) reducerload.pipeline.SignedMultiply.useChiselTwin()
+  /**
+   * How the designs under test build their multiplies (import it where a test elaborates one): the
+   * Verilog black box on Verilator; its Chisel twin on the JVM simulator, which cannot run Verilog.
+   */
+  implicit val multiplierImpl: MultiplierImpl = if (isVerilator) MultiplierImpl.VerilogBlackBox else MultiplierImpl.ChiselTwin
 
   /** The JVM simulator is ~100x slower: tests scale long streams down with this factor. */
   def scale(n: Int): Int = if (isVerilator) n else (n / 20).max(64)
