@@ -205,8 +205,11 @@ def absorb_bram_output_registers(path, top):
         for port, conn in ram["connections"].items():
             if not port.startswith(("DOA", "DOB")) or not bits_of(conn):
                 continue
-            # Each read port has its own clock: DOA* is read on CLKA, DOB* on CLKB (yosys reads wide ROMs on port A).
-            clock = ram["connections"].get("CLKA" if port.startswith("DOA") else "CLKB")
+            # DOA*/DOB* are read on CLKA/CLKB, except where one port is unclocked (a constant): in the
+            # 36-bit mode DOA* and DOB* are both port B's data, and yosys reads deep ROMs on port A alone.
+            clocks = {p: ram["connections"].get(p) for p in ("CLKA", "CLKB")}
+            clocked = [p for p, c in clocks.items() if c and bits_of(c)]
+            clock = clocks["CLKA" if port.startswith("DOA") else "CLKB"] if len(clocked) != 1 else clocks[clocked[0]]
             users = readers.get(bits_of(conn)[0], [])
             if not users:
                 continue  # unused output bit
