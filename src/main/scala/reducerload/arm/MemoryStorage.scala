@@ -88,10 +88,10 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
 
   private def opsOn(kind: UnitKind, unit: Int) = b.ops.filter(o => o.kind == kind && o.unit == unit)
 
-  /** A multiplier unit: sources at the issue, each product's dropped bits the cycle before it is ready. */
+  /** A multiplier unit: sources the cycle before the issue (operands registered), each product's dropped bits the cycle before it is ready. */
   private final class MultiplierPlan(u: Int) {
     private val ops = opsOn(UnitKind.Multiplier, u)
-    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => residue(o.issue) -> o.operands(port))))
+    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => residue(o.issue - 1) -> o.operands(port))))
     private def drop(o: PlacedOp) = { val Mul(x, y) = graph(o.node): @unchecked; analysis.productRounding(fmt(x).fracBits, fmt(y).fracBits).drop }
     val drops: IndexedSeq[Int] = ops.map(drop).distinct.sorted.toIndexedSeq
     val dropSelect: Field = Field(log2Ceil(math.max(drops.size, 2)), ops.map(o => residue(b.ready(o.node).get - 1) -> BigInt(drops.indexOf(drop(o)))).toMap)
@@ -113,7 +113,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   }
   private val adders = (0 until b.adderUnits).map(new AdderPlan(_))
 
-  /** Input stage: which signal goes to the inputs' bank, the cycle before it is ready. */
+  /** Input stage: which signal goes to the inputs' bank, [[BankedSchedule.inputLatency]] cycles before it is ready. */
   private val inputSelect = Field(log2Ceil(math.max(b.signals.size, 2)), b.signals.indices.map(k => residue(p.schedule.inputCycle + k) -> BigInt(k)).toMap)
 
   // ---- Hardware. ----
@@ -128,16 +128,30 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   private val out: IndexedSeq[SInt] = next.map(FixedHw.delay(_, 1))
 
   /**
-   * Each bank's two read ports: the word `readLatency` cycles after its address (block RAM with its
-   * address and output registers, then one more register: synthesis may fold a register after the
-   * read into the RAM's address side, and a RAM output must not feed logic directly).
+   * Each bank's two read ports: the word `readLatency` cycles after its address. The address is
+   * registered, read, and the word registered twice: block RAM with its address register, then its
+   * output register, then one in the fabric (a RAM output must not feed logic directly).
+   *
+   * The word is registered after the read (read-first), not read at a registered address
+   * (write-first): the schedule never reads a word in the cycle it is written (a value is read
+   * after it is ready, and overwritten only after its last read), so either order gives the same
+   * words. Synthesis must still honour whatever order the RTL states for such a collision, and the
+   * RAM blocks serve neither across their ports, so it would add a bypass after the RAM output.
+   * The read is therefore enabled only when it does not collide (a disabled read returns an
+   * undefined word): Yosys recognizes that as "don't care on collision" and maps the bare RAM.
    */
   private val readData: IndexedSeq[IndexedSeq[SInt]] = b.banks.indices.map { bank =>
     val a = addressing(bank)
+    val writeAddress = a.address(word(a.write))
+    val writeEnable = word(a.writeEnable).asBool
     (0 to 1).map { port =>
-      val mem = SyncReadMem(a.depth, UInt(b.bankWidths(bank).W))
-      when(word(a.writeEnable).asBool)(mem.write(a.address(word(a.write)), fit(next(bank), b.bankWidths(bank)).asUInt))
-      FixedHw.delay(mem.read(a.address(word(a.reads(port))), true.B), BankedSchedule.readLatency - 1).asSInt
+      val mem = Mem(a.depth, UInt(b.bankWidths(bank).W))
+      when(writeEnable)(mem.write(writeAddress, fit(next(bank), b.bankWidths(bank)).asUInt))
+      val address = RegNext(a.address(word(a.reads(port))))
+      val data = Wire(UInt(b.bankWidths(bank).W))
+      data := DontCare
+      when(!(writeEnable && writeAddress === address))(data := mem.read(address))
+      FixedHw.delay(data, BankedSchedule.readLatency - 1).asSInt
     }
   }
 
@@ -152,13 +166,16 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   if (b.signals.nonEmpty) {
     val values = b.signals.map(signals)
     val width = b.unitWidths(bankIndex(Bank.Inputs))
-    next(bankIndex(Bank.Inputs)) := VecInit(values.map(_.pad(width)))(word(inputSelect))
+    // Registered: the selection's fan-in from the table would otherwise run on into the bank's write port.
+    next(bankIndex(Bank.Inputs)) := FixedHw.delay(VecInit(values.map(_.pad(width)))(word(inputSelect)), BankedSchedule.inputLatency - 1)
   }
 
   // Multiplier units.
   multipliers.zipWithIndex.foreach { case (plan, u) =>
     val shape = p.schedule.unitShape(u)
-    val product = FixedHw.delay(PipelinedMultiplier(operand(plan.ports(0), shape.wide), operand(plan.ports(1), shape.narrow)), p.multiplierLatency - 1)
+    // Operands registered in the fabric: the selection's long routes to the multiplier blocks get a clock of their own.
+    val operands = Seq(operand(plan.ports(0), shape.wide), operand(plan.ports(1), shape.narrow)).map(FixedHw.delay(_, 1))
+    val product = FixedHw.delay(PipelinedMultiplier(operands(0), operands(1)), p.multiplierLatency - 1)
     val width = b.unitWidths(bankIndex(Bank.Products(u)))
     val rounded = plan.drops.map(d => fit(FixedHw.shiftRound(product, d, p.productRounding), width))
     next(bankIndex(Bank.Products(u))) := (if (rounded.size == 1) rounded.head else VecInit(rounded)(word(plan.dropSelect)))

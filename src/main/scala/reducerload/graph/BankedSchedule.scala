@@ -84,10 +84,13 @@ private final case class BankedState(ready: Vector[Option[Int]], bank: Vector[Op
  *  - a value ready in cycle R was written into its bank in cycle R - 1, straight from its unit's
  *    result; a read's address may be presented from cycle R on, and its word is in a register
  *    `readLatency` cycles after the address;
- *  - a multiply reads its operands (address) `mulLead` cycles before its issue; its product is
- *    ready `base.mulLatency` cycles after the issue (the rounding shift and a capture register included);
+ *  - a multiply reads its operands (address) `mulLead` cycles before its issue (one more than the
+ *    read: the selected operands are registered before the multiplier); its product is ready
+ *    `base.mulLatency` cycles after the issue (the rounding shift and a capture register included);
  *  - an addition reads `addLead` cycles before its issue (one more: its aligned operands are
- *    registered first) and is ready one cycle after.
+ *    registered first) and is ready one cycle after;
+ *  - either takes a value off its unit's output register (no read) `forwardLead` cycles after it is
+ *    ready, when that is its issue: the value is selected in the cycle it is there, then registered.
  * Each unit takes one operation and each read port one address per residue modulo II (two reads of
  * the same value in the same cycle share the port). A bank keeps `copies(b)` words per value, one
  * per sample in flight, picked by the sample's slot counter: a value is read before the sample
@@ -100,14 +103,22 @@ final class BankedSchedule(val base: Schedule) {
   val clocksPerSample: Int = base.clocksPerSample
   private val ii = clocksPerSample
 
-  /** Cycles from a read's address to the issue of the multiply (its word at the multiplier) or addition (one more: aligned operands registered) that reads it. */
-  val mulLead: Int = BankedSchedule.readLatency
+  /**
+   * Cycles from a read's address to the issue of the multiply or addition that reads it: the word is
+   * selected among the unit port's sources, then registered (a multiplier's operands in the fabric,
+   * ahead of the multiplier's own input registers, so the selection's routing to the multiplier
+   * blocks gets a clock of its own; an addition's after the alignment shift).
+   */
+  val mulLead: Int = BankedSchedule.readLatency + 1
   val addLead: Int = BankedSchedule.readLatency + 1
+
+  /** Cycles from a value's ready cycle to an issue that takes it from its unit's output register (selected, then registered). */
+  val forwardLead: Int = 1
 
   private def isConst(x: NodeId) = graph(x).isInstanceOf[Const]
   private def ceilDiv(a: Int, b: Int) = (a + b - 1) / b
 
-  /** The per-sample inputs, in the order the input stage writes them (one per clock from `base.inputCycle`). */
+  /** The per-sample inputs, in the order the input stage selects them (one per clock from `base.inputCycle`). */
   val signals: IndexedSeq[Signal] = graph.signals.toIndexedSeq
 
   require(ii >= 2, "schedule.storage = memory shares units between clocks: it needs schedule.clocks-per-sample >= 2 (at 1, use registers)")
@@ -148,8 +159,8 @@ final class BankedSchedule(val base: Schedule) {
 
   /** What an operation runs on: its unit kind, units, read lead, result latency and bank per unit. */
   private def kindOf(id: NodeId): Option[Kind] = graph(id) match {
-    case _: Mul => Some(Kind(UnitKind.Multiplier, base.unitsOf(id), mulLead, 0, u => Some(base.unitShape(u)), base.mulLatency(id), Bank.Products))
-    case _: Add | _: Sub | _: Neg => Some(Kind(UnitKind.Adder, 0 until adderUnits, addLead, 1, _ => None, 1, Bank.Sums))
+    case _: Mul => Some(Kind(UnitKind.Multiplier, base.unitsOf(id), mulLead, forwardLead, u => Some(base.unitShape(u)), base.mulLatency(id), Bank.Products))
+    case _: Add | _: Sub | _: Neg => Some(Kind(UnitKind.Adder, 0 until adderUnits, addLead, forwardLead, _ => None, 1, Bank.Sums))
     case _ => None
   }
   private val kinds: IndexedSeq[Option[Kind]] = graph.ids.map(kindOf)
@@ -157,7 +168,7 @@ final class BankedSchedule(val base: Schedule) {
   /** Values whose producer is fixed before scheduling: inputs (one per clock) and sin/cos (the CORDIC placements of `base`). */
   private val fixed: Map[Int, (Int, Bank)] = graph.ids.flatMap { id =>
     graph(id) match {
-      case Input(signal) => Some(id.index -> ((base.inputCycle + 1 + signals.indexOf(signal), Bank.Inputs)))
+      case Input(signal) => Some(id.index -> ((base.inputCycle + BankedSchedule.inputLatency + signals.indexOf(signal), Bank.Inputs)))
       case Trig(fn, angle) =>
         val slot = base.angleSlot(angle)
         Some(id.index -> ((slot.issue + base.trigLatency, Bank.Trig(slot.unit.get, fn))))
@@ -316,6 +327,9 @@ object BankedSchedule {
 
   /** Cycles from a bank read's address to its word in a register: the block RAM's address and output registers and one more. */
   val readLatency: Int = 3
+
+  /** Cycles from the input stage's selection of a signal to its ready cycle: the selection is registered, then written. */
+  val inputLatency: Int = 2
 
   /** The least power of 2 at or above `n` (at least 1). */
   def pow2(n: Int): Int = if (n <= 1) 1 else Integer.highestOneBit(n - 1) << 1

@@ -32,7 +32,8 @@ class BankedScheduleSpec extends AnyFlatSpec {
         case Op.Input(_) | Op.Trig(_, _) => assert(!placed.contains(id))
         case op =>
           val o = placed.getOrElse(id, fail(s"node ${id.index} ($op) is on no unit"))
-          val (lead, forwardLead) = if (o.kind == UnitKind.Multiplier) (b.mulLead, 0) else (b.addLead, 1)
+          val lead = if (o.kind == UnitKind.Multiplier) b.mulLead else b.addLead
+          val forwardLead = b.forwardLead
           // The operation computes its node: the graph's operands, in an order the unit's arithmetic allows.
           o.operands.foreach {
             case Operand.Constant(n) => assert(g(n).isInstanceOf[Op.Const], s"node ${id.index}: constant operand ${n.index} is no constant")
