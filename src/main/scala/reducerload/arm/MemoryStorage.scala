@@ -99,7 +99,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   }
   private val multipliers = (0 until p.schedule.multiplierUnits).map(new MultiplierPlan(_))
 
-  /** An adder unit: sources and alignment shifts the cycle before the issue, add or subtract at the issue. */
+  /** An adder unit: sources, alignment shifts and add or subtract the cycle before the issue (operands registered). */
   private final class AdderPlan(u: Int) {
     private val ops = opsOn(UnitKind.Adder, u)
     val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => residue(o.issue - 1) -> o.operands(port))))
@@ -108,7 +108,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
     val shifts: IndexedSeq[IndexedSeq[Int]] = (0 to 1).map(port => ops.map(shift(_, port)).distinct.sorted.toIndexedSeq)
     val shiftSelects: IndexedSeq[Field] = (0 to 1).map(port =>
       Field(log2Ceil(math.max(shifts(port).size, 2)), ops.map(o => residue(o.issue - 1) -> BigInt(shifts(port).indexOf(shift(o, port)))).toMap))
-    val subtract: Field = Field.flag(ops.filter(_.subtract).map(o => residue(o.issue)).toSet)
+    val subtract: Field = Field.flag(ops.filter(_.subtract).map(o => residue(o.issue - 1)).toSet)
     def fields: Seq[Field] = ports.flatMap(_.fields) ++ shiftSelects :+ subtract
   }
   private val adders = (0 until b.adderUnits).map(new AdderPlan(_))
@@ -184,12 +184,18 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   // Adder units.
   adders.zipWithIndex.foreach { case (plan, u) =>
     val width = b.adderWidths(u)
+    val subtract = word(plan.subtract).asBool
     val aligned = (0 to 1).map { port =>
       val x = operand(plan.ports(port), width)
-      val options = plan.shifts(port).map(sh => (x << sh)(width - 1, 0).asSInt)
-      FixedHw.delay(if (options.size == 1) options.head else VecInit(options)(word(plan.shiftSelects(port))), 1)
+      val options = plan.shifts(port).map(sh => (x << sh)(width - 1, 0).asUInt)
+      if (options.size == 1) options.head else VecInit(options)(word(plan.shiftSelects(port)))
     }
-    val sum = FixedHw.addSub(aligned(0), aligned(1), word(plan.subtract).asBool)
+    // a - b as a + ~b + 1 (FixedHw.addSub's form), with ~b and the carry in registered beside a:
+    // the table's subtract bit then drives no logic ahead of the carry chain.
+    val a = FixedHw.delay(aligned(0), 1)
+    val bFlipped = FixedHw.delay(aligned(1) ^ Fill(width, subtract), 1)
+    val carryIn = FixedHw.delay(subtract.asUInt, 1)
+    val sum = (Cat(a, 1.U(1.W)) + Cat(bFlipped, carryIn))(width, 1).asSInt
     next(bankIndex(Bank.Sums(u))) := fit(sum, b.unitWidths(bankIndex(Bank.Sums(u))))
   }
 
