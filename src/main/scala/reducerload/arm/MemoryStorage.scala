@@ -91,7 +91,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   /** A multiplier unit: sources the cycle before the issue (operands registered), each product's dropped bits the cycle before it is ready. */
   private final class MultiplierPlan(u: Int) {
     private val ops = opsOn(UnitKind.Multiplier, u)
-    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => residue(o.issue - 1) -> o.operands(port))))
+    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => residue(o.issue - b.mulForwardLead) -> o.operands(port))))
     private def drop(o: PlacedOp) = { val Mul(x, y) = graph(o.node): @unchecked; analysis.productRounding(fmt(x).fracBits, fmt(y).fracBits).drop }
     val drops: IndexedSeq[Int] = ops.map(drop).distinct.sorted.toIndexedSeq
     val dropSelect: Field = Field(log2Ceil(math.max(drops.size, 2)), ops.map(o => residue(b.ready(o.node).get - 1) -> BigInt(drops.indexOf(drop(o)))).toMap)
@@ -99,10 +99,10 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   }
   private val multipliers = (0 until p.schedule.multiplierUnits).map(new MultiplierPlan(_))
 
-  /** An adder unit: sources, alignment shifts and add or subtract the cycle before the issue (operands registered). */
+  /** An adder unit: sources two cycles before the issue, alignment shifts and add or subtract one cycle before (each step registered). */
   private final class AdderPlan(u: Int) {
     private val ops = opsOn(UnitKind.Adder, u)
-    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => residue(o.issue - 1) -> o.operands(port))))
+    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => residue(o.issue - b.addForwardLead) -> o.operands(port))))
     /** Fraction bits an operand gains to reach its sum's (the analysis's rule for exact sums); zero needs none. */
     private def shift(o: PlacedOp, port: Int) = o.operands(port).carried.fold(0)(x => fmt(o.node).fracBits - fmt(x).fracBits)
     val shifts: IndexedSeq[IndexedSeq[Int]] = (0 to 1).map(port => ops.map(shift(_, port)).distinct.sorted.toIndexedSeq)
@@ -113,12 +113,9 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   }
   private val adders = (0 until b.adderUnits).map(new AdderPlan(_))
 
-  /** Input stage: which signal goes to the inputs' bank, [[BankedSchedule.inputLatency]] cycles before it is ready. */
-  private val inputSelect = Field(log2Ceil(math.max(b.signals.size, 2)), b.signals.indices.map(k => residue(p.schedule.inputCycle + k) -> BigInt(k)).toMap)
-
   // ---- Hardware. ----
   private val word = new Microcode(ii, addressing.flatMap(a => Seq(a.write, a.writeEnable) ++ a.reads) ++ multipliers.flatMap(_.fields) ++
-    adders.flatMap(_.fields) :+ inputSelect, phase)
+    adders.flatMap(_.fields), phase)
 
   private def bankIndex(bank: Bank) = b.banks.indexOf(bank)
   private def fit(v: SInt, width: Int): SInt = FixedHw.fitWidth(v, width)
@@ -162,12 +159,19 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
     if (options.size == 1) options.head else VecInit(options)(word(src.select))
   }
 
-  // Inputs.
+  // Inputs: all loaded into a chain of registers in the input cycle, then written one per clock
+  // from its head as the chain shifts ([[BankedSchedule.inputLatency]]): no select from the table
+  // (a wide multiplexer ahead of the bank's write port).
   if (b.signals.nonEmpty) {
-    val values = b.signals.map(signals)
     val width = b.unitWidths(bankIndex(Bank.Inputs))
-    // Registered: the selection's fan-in from the table would otherwise run on into the bank's write port.
-    next(bankIndex(Bank.Inputs)) := FixedHw.delay(VecInit(values.map(_.pad(width)))(word(inputSelect)), BankedSchedule.inputLatency - 1)
+    val values = b.signals.map(signals(_).pad(width))
+    val chain = Reg(Vec(values.size, SInt(width.W)))
+    when(during(p.schedule.inputCycle)) {
+      chain := VecInit(values)
+    }.otherwise {
+      chain.init.zip(chain.tail).foreach { case (r, later) => r := later }
+    }
+    next(bankIndex(Bank.Inputs)) := chain.head
   }
 
   // Multiplier units.
@@ -186,7 +190,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
     val width = b.adderWidths(u)
     val subtract = word(plan.subtract).asBool
     val aligned = (0 to 1).map { port =>
-      val x = operand(plan.ports(port), width)
+      val x = FixedHw.delay(operand(plan.ports(port), width), 1)
       val options = plan.shifts(port).map(sh => (x << sh)(width - 1, 0).asUInt)
       if (options.size == 1) options.head else VecInit(options)(word(plan.shiftSelects(port)))
     }

@@ -87,10 +87,11 @@ private final case class BankedState(ready: Vector[Option[Int]], bank: Vector[Op
  *  - a multiply reads its operands (address) `mulLead` cycles before its issue (one more than the
  *    read: the selected operands are registered before the multiplier); its product is ready
  *    `base.mulLatency` cycles after the issue (the rounding shift and a capture register included);
- *  - an addition reads `addLead` cycles before its issue (one more: its aligned operands are
- *    registered first) and is ready one cycle after;
- *  - either takes a value off its unit's output register (no read) `forwardLead` cycles after it is
- *    ready, when that is its issue: the value is selected in the cycle it is there, then registered.
+ *  - an addition reads `addLead` cycles before its issue (two more: its selected operands are
+ *    registered, then aligned and registered again) and is ready one cycle after;
+ *  - either takes a value off its unit's output register (no read) `mulForwardLead` or
+ *    `addForwardLead` cycles after it is ready, when that is its issue: the value is selected in
+ *    the cycle it is there, then goes the way a read word goes.
  * Each unit takes one operation and each read port one address per residue modulo II (two reads of
  * the same value in the same cycle share the port). A bank keeps `copies(b)` words per value, one
  * per sample in flight, picked by the sample's slot counter: a value is read before the sample
@@ -104,21 +105,23 @@ final class BankedSchedule(val base: Schedule) {
   private val ii = clocksPerSample
 
   /**
-   * Cycles from a read's address to the issue of the multiply or addition that reads it: the word is
-   * selected among the unit port's sources, then registered (a multiplier's operands in the fabric,
-   * ahead of the multiplier's own input registers, so the selection's routing to the multiplier
-   * blocks gets a clock of its own; an addition's after the alignment shift).
+   * Cycles from a value's selection among a unit port's sources to the issue: a multiplier's operand
+   * is registered in the fabric, ahead of the multiplier's own input registers, so the selection's
+   * routing to the multiplier blocks gets a clock of its own; an addition's operand is registered,
+   * then aligned (and inverted for a subtraction) and registered again, so neither step shares a
+   * clock with the other or with the carry chain.
    */
-  val mulLead: Int = BankedSchedule.readLatency + 1
-  val addLead: Int = BankedSchedule.readLatency + 1
+  val mulForwardLead: Int = 1
+  val addForwardLead: Int = 2
 
-  /** Cycles from a value's ready cycle to an issue that takes it from its unit's output register (selected, then registered). */
-  val forwardLead: Int = 1
+  /** Cycles from a read's address to the issue of the multiply or addition that reads it: the read, then as a forwarded value. */
+  val mulLead: Int = BankedSchedule.readLatency + mulForwardLead
+  val addLead: Int = BankedSchedule.readLatency + addForwardLead
 
   private def isConst(x: NodeId) = graph(x).isInstanceOf[Const]
   private def ceilDiv(a: Int, b: Int) = (a + b - 1) / b
 
-  /** The per-sample inputs, in the order the input stage selects them (one per clock from `base.inputCycle`). */
+  /** The per-sample inputs, in the order the input stage writes them into their bank (one per clock). */
   val signals: IndexedSeq[Signal] = graph.signals.toIndexedSeq
 
   require(ii >= 2, "schedule.storage = memory shares units between clocks: it needs schedule.clocks-per-sample >= 2 (at 1, use registers)")
@@ -159,8 +162,8 @@ final class BankedSchedule(val base: Schedule) {
 
   /** What an operation runs on: its unit kind, units, read lead, result latency and bank per unit. */
   private def kindOf(id: NodeId): Option[Kind] = graph(id) match {
-    case _: Mul => Some(Kind(UnitKind.Multiplier, base.unitsOf(id), mulLead, forwardLead, u => Some(base.unitShape(u)), base.mulLatency(id), Bank.Products))
-    case _: Add | _: Sub | _: Neg => Some(Kind(UnitKind.Adder, 0 until adderUnits, addLead, forwardLead, _ => None, 1, Bank.Sums))
+    case _: Mul => Some(Kind(UnitKind.Multiplier, base.unitsOf(id), mulLead, mulForwardLead, u => Some(base.unitShape(u)), base.mulLatency(id), Bank.Products))
+    case _: Add | _: Sub | _: Neg => Some(Kind(UnitKind.Adder, 0 until adderUnits, addLead, addForwardLead, _ => None, 1, Bank.Sums))
     case _ => None
   }
   private val kinds: IndexedSeq[Option[Kind]] = graph.ids.map(kindOf)
@@ -328,7 +331,10 @@ object BankedSchedule {
   /** Cycles from a bank read's address to its word in a register: the block RAM's address and output registers and one more. */
   val readLatency: Int = 3
 
-  /** Cycles from the input stage's selection of a signal to its ready cycle: the selection is registered, then written. */
+  /**
+   * Signal k of the input stage is ready in cycle `inputCycle + inputLatency + k`: all are loaded
+   * into a chain of registers in the input cycle, and the chain's head is written one per clock.
+   */
   val inputLatency: Int = 2
 
   /** The least power of 2 at or above `n` (at least 1). */

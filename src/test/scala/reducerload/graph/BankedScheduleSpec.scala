@@ -32,8 +32,7 @@ class BankedScheduleSpec extends AnyFlatSpec {
         case Op.Input(_) | Op.Trig(_, _) => assert(!placed.contains(id))
         case op =>
           val o = placed.getOrElse(id, fail(s"node ${id.index} ($op) is on no unit"))
-          val lead = if (o.kind == UnitKind.Multiplier) b.mulLead else b.addLead
-          val forwardLead = b.forwardLead
+          val (lead, forwardLead) = if (o.kind == UnitKind.Multiplier) (b.mulLead, b.mulForwardLead) else (b.addLead, b.addForwardLead)
           // The operation computes its node: the graph's operands, in an order the unit's arithmetic allows.
           o.operands.foreach {
             case Operand.Constant(n) => assert(g(n).isInstanceOf[Op.Const], s"node ${id.index}: constant operand ${n.index} is no constant")
