@@ -26,7 +26,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   private val analysis = p.analysis
   private val graph = p.graph
   private val ii = b.clocksPerSample
-  private def residue(cycle: Int) = cycle % ii
+  private def residue(cycle: Int) = Math.floorMod(cycle, ii)
   private def fmt(x: NodeId) = analysis(x).format
 
   // ---- The table: every control field, by residue, as plain integers first. ----
@@ -63,7 +63,14 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   }
   private val addressing = b.banks.indices.map(new BankAddressing(_))
 
-  /** A unit port's sources (`operands` by the residue of the cycle they are selected): the banks it reads, then a constant (or zero) if any. */
+  /**
+   * A unit port's sources (`operands` by the residue of the cycle their selection starts): the banks
+   * it reads, then a constant (or zero) if any. The selection takes `b.selectStages` clocks (two,
+   * or one at a tight interval): in the first, each group of [[MemoryStorage.selectGroup]] options
+   * picks by the low bits of the option's index (the same bits for every group) and is registered;
+   * in the second, the high bits pick the group. A port with 30 options then has an 8-way and a 4-way multiplexer in
+   * two clocks instead of a 32-way one in one, and the table is no wider.
+   */
   private final class PortSources(operands: Seq[(Int, Operand)]) {
     /** Sources: a bank's read port (Left: bank, port) or a unit's output register (Right: bank). */
     private def sourceOf(o: Operand): Option[Either[(Int, Int), Int]] = o match {
@@ -77,13 +84,21 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
       case (r, Operand.Zero)        => r -> (BigInt(0), 1)
     }.toMap
     private val constantWidth = constants.values.map(_._2).maxOption.getOrElse(1)
-    val select: Field = Field(log2Ceil(math.max(sources.size + 1, 2)), operands.map { case (r, o) =>
-      r -> BigInt(sourceOf(o).fold(sources.size)(sources.indexOf))
-    }.toMap)
+    private val index: Seq[(Int, Int)] = operands.map { case (r, o) => r -> sourceOf(o).fold(sources.size)(sources.indexOf) }
+    /** Options: the sources, then the constant field if any. */
+    private val options: Int = sources.size + (if (constants.isEmpty) 0 else 1)
+    private val group = MemoryStorage.selectGroup
+    private val groups: Int = (options + group - 1) / group
+    /** The index within its group, in the first stage's cycle (None: one option). */
+    val selectLow: Option[Field] =
+      if (options <= 1) None else Some(Field(log2Ceil(math.min(options, group)), index.map { case (r, i) => r -> BigInt(i % group) }.toMap))
+    /** The group, in the last stage's cycle (None: one group). */
+    val selectHigh: Option[Field] =
+      if (groups <= 1) None else Some(Field(log2Ceil(groups), index.map { case (r, i) => residue(r + b.selectStages - 1) -> BigInt(i / group) }.toMap))
     /** Two's complement codes of the constants, in the constant field's width. */
     val constant: Option[Field] =
       if (constants.isEmpty) None else Some(Field(constantWidth, constants.map { case (r, (c, _)) => r -> (c & ((BigInt(1) << constantWidth) - 1)) }))
-    def fields: Seq[Field] = select +: constant.toSeq
+    def fields: Seq[Field] = selectLow.toSeq ++ selectHigh.toSeq ++ constant.toSeq
   }
 
   private def opsOn(kind: UnitKind, unit: Int) = b.ops.filter(o => o.kind == kind && o.unit == unit)
@@ -152,11 +167,18 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
     }
   }
 
-  /** A unit port's operand in the cycle its select is in the table, sign-extended or cut to `width` (values fit their formats). */
+  /**
+   * A unit port's operand, selected from the options of the cycle its selection starts and out of the
+   * multiplexer `b.selectStages` - 1 cycles later (to be registered by the unit),
+   * sign-extended or cut to `width` (values fit their formats).
+   */
   private def operand(src: PortSources, width: Int): SInt = {
     val options = src.sources.map(s => fit(s.fold({ case (bank, bankPort) => readData(bank)(bankPort) }, bank => out(bank)), width)) ++
       src.constant.map(c => fit(word(c).asSInt, width))
-    if (options.size == 1) options.head else VecInit(options)(word(src.select))
+    val groups = options.grouped(MemoryStorage.selectGroup).map { g =>
+      FixedHw.delay(if (g.size == 1) g.head else VecInit(g)(word(src.selectLow.get)(log2Ceil(g.size) - 1, 0)), b.selectStages - 1)
+    }.toSeq
+    if (groups.size == 1) groups.head else VecInit(groups)(word(src.selectHigh.get))
   }
 
   // Inputs: all loaded into a chain of registers in the input cycle, then written one per clock
@@ -255,6 +277,12 @@ final class Microcode(ii: Int, fields: Seq[Field], phase: UInt) {
 
   /** A field's bits in the current cycle. */
   def apply(f: Field): UInt = bits(offsets(f) + f.width - 1, offsets(f))
+}
+
+object MemoryStorage {
+
+  /** Options a unit port selects among in the first select stage, per group: a 4-way multiplexer is one LUT level on ECP5 (two LUTs and a PFUMX). */
+  val selectGroup: Int = 4
 }
 
 object Microcode {

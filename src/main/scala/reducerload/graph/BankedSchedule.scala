@@ -105,18 +105,14 @@ final class BankedSchedule(val base: Schedule) {
   private val ii = clocksPerSample
 
   /**
-   * Cycles from a value's selection among a unit port's sources to the issue: a multiplier's operand
-   * is registered in the fabric, ahead of the multiplier's own input registers, so the selection's
-   * routing to the multiplier blocks gets a clock of its own; an addition's operand is registered,
-   * then aligned (and inverted for a subtraction) and registered again, so neither step shares a
-   * clock with the other or with the carry chain.
+   * Cycles from the start of a value's selection among a unit port's sources (`stages` clocks) to
+   * the issue: a multiplier's operand is then registered in the fabric, ahead of the multiplier's
+   * own input registers, so the selection's routing to the multiplier blocks gets a clock of its
+   * own; an addition's operand is registered, then aligned (and inverted for a subtraction) and
+   * registered again, so neither step shares a clock with the other or with the carry chain.
    */
-  val mulForwardLead: Int = 1
-  val addForwardLead: Int = 2
-
-  /** Cycles from a read's address to the issue of the multiply or addition that reads it: the read, then as a forwarded value. */
-  val mulLead: Int = BankedSchedule.readLatency + mulForwardLead
-  val addLead: Int = BankedSchedule.readLatency + addForwardLead
+  private def mulForwardLeadOf(stages: Int): Int = stages
+  private def addForwardLeadOf(stages: Int): Int = stages + 1
 
   private def isConst(x: NodeId) = graph(x).isInstanceOf[Const]
   private def ceilDiv(a: Int, b: Int) = (a + b - 1) / b
@@ -160,13 +156,16 @@ final class BankedSchedule(val base: Schedule) {
     }
   }
 
-  /** What an operation runs on: its unit kind, units, read lead, result latency and bank per unit. */
-  private def kindOf(id: NodeId): Option[Kind] = graph(id) match {
-    case _: Mul => Some(Kind(UnitKind.Multiplier, base.unitsOf(id), mulLead, mulForwardLead, u => Some(base.unitShape(u)), base.mulLatency(id), Bank.Products))
-    case _: Add | _: Sub | _: Neg => Some(Kind(UnitKind.Adder, 0 until adderUnits, addLead, addForwardLead, _ => None, 1, Bank.Sums))
-    case _ => None
+  /** What an operation runs on with `stages` select stages: its unit kind, units, read lead, result latency and bank per unit. */
+  private def kindOf(id: NodeId, stages: Int): Option[Kind] = {
+    val (mulForward, addForward) = (mulForwardLeadOf(stages), addForwardLeadOf(stages))
+    graph(id) match {
+      case _: Mul => Some(Kind(UnitKind.Multiplier, base.unitsOf(id), BankedSchedule.readLatency + mulForward, mulForward, u => Some(base.unitShape(u)),
+        base.mulLatency(id), Bank.Products))
+      case _: Add | _: Sub | _: Neg => Some(Kind(UnitKind.Adder, 0 until adderUnits, BankedSchedule.readLatency + addForward, addForward, _ => None, 1, Bank.Sums))
+      case _ => None
+    }
   }
-  private val kinds: IndexedSeq[Option[Kind]] = graph.ids.map(kindOf)
 
   /** Values whose producer is fixed before scheduling: inputs (one per clock) and sin/cos (the CORDIC placements of `base`). */
   private val fixed: Map[Int, (Int, Bank)] = graph.ids.flatMap { id =>
@@ -180,7 +179,7 @@ final class BankedSchedule(val base: Schedule) {
   }.toMap
 
   /** Priority: the longest chain of leads and latencies from an operation to an output (the critical path first). */
-  private val height: IndexedSeq[Int] = {
+  private def heightOf(kinds: IndexedSeq[Option[Kind]]): IndexedSeq[Int] = {
     val users = graph.ids.flatMap(id => graph(id).operands.map(_.index -> id.index)).groupMap(_._1)(_._2)
     graph.ids.reverse.foldLeft(Map.empty[Int, Int]) { (h, id) =>
       val own = kinds(id.index).fold(0)(k => k.forwardLead + k.latency)
@@ -188,20 +187,14 @@ final class BankedSchedule(val base: Schedule) {
     }.toSeq.sortBy(_._1).map(_._2).toIndexedSeq
   }
 
-  /** The latency dependences alone would allow (unlimited units and ports), for reports. */
-  val dependenceBound: Int = graph.ids.map { id =>
-    (graph(id) match {
-      case Input(_) | Trig(_, _) => fixed(id.index)._1
-      case _                     => 0
-    }) + height(id.index)
-  }.max + 1
-
   /**
    * Cycle-driven list scheduling: in each cycle, the operations whose operands can be read by then,
    * highest first, each on the first unit free at the cycle's residue with an operand order whose
    * bank read ports are free at the residue of its read.
    */
-  private val state: BankedState = {
+  private def scheduleWith(stages: Int): BankedState = {
+    val kinds = graph.ids.map(kindOf(_, stages))
+    val height = heightOf(kinds)
     val start = BankedState(
       ready = graph.ids.map(id => fixed.get(id.index).map(_._1)).toVector,
       bank = graph.ids.map(id => fixed.get(id.index).map(f => bankIndex(f._2))).toVector,
@@ -264,6 +257,35 @@ final class BankedSchedule(val base: Schedule) {
       }
     cycle(0, start, pending, 0)
   }
+
+  /**
+   * Clocks a unit port's operand takes to be selected among its sources: [[BankedSchedule.selectStages]],
+   * or one where the list scheduler then finds no free unit and read ports for some operation (a
+   * tight interval: the longer leads move the residues the reads need).
+   */
+  private val chosen: (Int, BankedState) =
+    scala.util.Try(BankedSchedule.selectStages -> scheduleWith(BankedSchedule.selectStages)).getOrElse(1 -> scheduleWith(1))
+  val selectStages: Int = chosen._1
+  private val state: BankedState = chosen._2
+
+  /** Cycles from the start of a value's selection to the issue of the multiply or addition that takes it off its unit's output register. */
+  val mulForwardLead: Int = mulForwardLeadOf(selectStages)
+  val addForwardLead: Int = addForwardLeadOf(selectStages)
+
+  /** Cycles from a read's address to the issue of the multiply or addition that reads it: the read, then as a forwarded value. */
+  val mulLead: Int = BankedSchedule.readLatency + mulForwardLead
+  val addLead: Int = BankedSchedule.readLatency + addForwardLead
+
+  private val height: IndexedSeq[Int] = heightOf(graph.ids.map(kindOf(_, selectStages)))
+
+  /** The latency dependences alone would allow (unlimited units and ports), for reports. */
+  val dependenceBound: Int = graph.ids.map { id =>
+    (graph(id) match {
+      case Input(_) | Trig(_, _) => fixed(id.index)._1
+      case _                     => 0
+    }) + height(id.index)
+  }.max + 1
+
 
   /** Cycle in which each node's value is in its unit's output register and written into its bank (None: a constant). */
   def ready(id: NodeId): Option[Int] = state.ready(id.index)
@@ -330,6 +352,9 @@ object BankedSchedule {
 
   /** Cycles from a bank read's address to its word in a register: the block RAM's address and output registers and one more. */
   val readLatency: Int = 3
+
+  /** Clocks a unit port's operand takes to be selected among its sources, where the schedule allows (a unit may have 30 sources a port). */
+  val selectStages: Int = 2
 
   /**
    * Signal k of the input stage is ready in cycle `inputCycle + inputLatency + k`: all are loaded

@@ -7,7 +7,7 @@ import reducerload.testutil.ArmGolden
 
 /**
  * The memory-storage schedule's promises, checked from the graph and the hardware's timing rules
- * (block RAM: write in the cycle before a value is ready, word two cycles after its address), not
+ * (block RAM: write in the cycle before a value is ready, word `readLatency` cycles after its address), not
  * from the schedule's bookkeeping: every operation computes its graph node from the right operands,
  * each operand is in its bank (or on its unit's output) when taken, no unit, read port or write port
  * serves two values in one residue, no later sample overwrites a word before its last read; and
