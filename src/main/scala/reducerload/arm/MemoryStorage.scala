@@ -26,7 +26,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   private val analysis = p.analysis
   private val graph = p.graph
   private val ii = b.clocksPerSample
-  private def residue(cycle: Int) = cycle % ii
+  private def residue(cycle: Int) = Math.floorMod(cycle, ii)
   private def fmt(x: NodeId) = analysis(x).format
 
   // ---- The table: every control field, by residue, as plain integers first. ----
@@ -63,7 +63,14 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   }
   private val addressing = b.banks.indices.map(new BankAddressing(_))
 
-  /** A unit port's sources (`operands` by the residue of the cycle they are selected): the banks it reads, then a constant (or zero) if any. */
+  /**
+   * A unit port's sources (`operands` by the residue of the cycle their selection starts): the banks
+   * it reads, then a constant (or zero) if any. The selection takes `b.selectStages` clocks (two,
+   * or one at a tight interval): in the first, each group of [[MemoryStorage.selectGroup]] options
+   * picks by the low bits of the option's index (the same bits for every group) and is registered;
+   * in the second, the high bits pick the group. A port with 30 options then has an 8-way and a 4-way multiplexer in
+   * two clocks instead of a 32-way one in one, and the table is no wider.
+   */
   private final class PortSources(operands: Seq[(Int, Operand)]) {
     /** Sources: a bank's read port (Left: bank, port) or a unit's output register (Right: bank). */
     private def sourceOf(o: Operand): Option[Either[(Int, Int), Int]] = o match {
@@ -77,21 +84,29 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
       case (r, Operand.Zero)        => r -> (BigInt(0), 1)
     }.toMap
     private val constantWidth = constants.values.map(_._2).maxOption.getOrElse(1)
-    val select: Field = Field(log2Ceil(math.max(sources.size + 1, 2)), operands.map { case (r, o) =>
-      r -> BigInt(sourceOf(o).fold(sources.size)(sources.indexOf))
-    }.toMap)
+    private val index: Seq[(Int, Int)] = operands.map { case (r, o) => r -> sourceOf(o).fold(sources.size)(sources.indexOf) }
+    /** Options: the sources, then the constant field if any. */
+    private val options: Int = sources.size + (if (constants.isEmpty) 0 else 1)
+    private val group = MemoryStorage.selectGroup
+    private val groups: Int = (options + group - 1) / group
+    /** The index within its group, in the first stage's cycle (None: one option). */
+    val selectLow: Option[Field] =
+      if (options <= 1) None else Some(Field(log2Ceil(math.min(options, group)), index.map { case (r, i) => r -> BigInt(i % group) }.toMap))
+    /** The group, in the last stage's cycle (None: one group). */
+    val selectHigh: Option[Field] =
+      if (groups <= 1) None else Some(Field(log2Ceil(groups), index.map { case (r, i) => residue(r + b.selectStages - 1) -> BigInt(i / group) }.toMap))
     /** Two's complement codes of the constants, in the constant field's width. */
     val constant: Option[Field] =
       if (constants.isEmpty) None else Some(Field(constantWidth, constants.map { case (r, (c, _)) => r -> (c & ((BigInt(1) << constantWidth) - 1)) }))
-    def fields: Seq[Field] = select +: constant.toSeq
+    def fields: Seq[Field] = selectLow.toSeq ++ selectHigh.toSeq ++ constant.toSeq
   }
 
   private def opsOn(kind: UnitKind, unit: Int) = b.ops.filter(o => o.kind == kind && o.unit == unit)
 
-  /** A multiplier unit: sources at the issue, each product's dropped bits the cycle before it is ready. */
+  /** A multiplier unit: sources the cycle before the issue (operands registered), each product's dropped bits the cycle before it is ready. */
   private final class MultiplierPlan(u: Int) {
     private val ops = opsOn(UnitKind.Multiplier, u)
-    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => residue(o.issue) -> o.operands(port))))
+    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => residue(o.issue - b.mulForwardLead) -> o.operands(port))))
     private def drop(o: PlacedOp) = { val Mul(x, y) = graph(o.node): @unchecked; analysis.productRounding(fmt(x).fracBits, fmt(y).fracBits).drop }
     val drops: IndexedSeq[Int] = ops.map(drop).distinct.sorted.toIndexedSeq
     val dropSelect: Field = Field(log2Ceil(math.max(drops.size, 2)), ops.map(o => residue(b.ready(o.node).get - 1) -> BigInt(drops.indexOf(drop(o)))).toMap)
@@ -99,26 +114,23 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   }
   private val multipliers = (0 until p.schedule.multiplierUnits).map(new MultiplierPlan(_))
 
-  /** An adder unit: sources and alignment shifts the cycle before the issue, add or subtract at the issue. */
+  /** An adder unit: sources two cycles before the issue, alignment shifts and add or subtract one cycle before (each step registered). */
   private final class AdderPlan(u: Int) {
     private val ops = opsOn(UnitKind.Adder, u)
-    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => residue(o.issue - 1) -> o.operands(port))))
+    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => residue(o.issue - b.addForwardLead) -> o.operands(port))))
     /** Fraction bits an operand gains to reach its sum's (the analysis's rule for exact sums); zero needs none. */
     private def shift(o: PlacedOp, port: Int) = o.operands(port).carried.fold(0)(x => fmt(o.node).fracBits - fmt(x).fracBits)
     val shifts: IndexedSeq[IndexedSeq[Int]] = (0 to 1).map(port => ops.map(shift(_, port)).distinct.sorted.toIndexedSeq)
     val shiftSelects: IndexedSeq[Field] = (0 to 1).map(port =>
       Field(log2Ceil(math.max(shifts(port).size, 2)), ops.map(o => residue(o.issue - 1) -> BigInt(shifts(port).indexOf(shift(o, port)))).toMap))
-    val subtract: Field = Field.flag(ops.filter(_.subtract).map(o => residue(o.issue)).toSet)
+    val subtract: Field = Field.flag(ops.filter(_.subtract).map(o => residue(o.issue - 1)).toSet)
     def fields: Seq[Field] = ports.flatMap(_.fields) ++ shiftSelects :+ subtract
   }
   private val adders = (0 until b.adderUnits).map(new AdderPlan(_))
 
-  /** Input stage: which signal goes to the inputs' bank, the cycle before it is ready. */
-  private val inputSelect = Field(log2Ceil(math.max(b.signals.size, 2)), b.signals.indices.map(k => residue(p.schedule.inputCycle + k) -> BigInt(k)).toMap)
-
   // ---- Hardware. ----
   private val word = new Microcode(ii, addressing.flatMap(a => Seq(a.write, a.writeEnable) ++ a.reads) ++ multipliers.flatMap(_.fields) ++
-    adders.flatMap(_.fields) :+ inputSelect, phase)
+    adders.flatMap(_.fields), phase)
 
   private def bankIndex(bank: Bank) = b.banks.indexOf(bank)
   private def fit(v: SInt, width: Int): SInt = FixedHw.fitWidth(v, width)
@@ -128,37 +140,68 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   private val out: IndexedSeq[SInt] = next.map(FixedHw.delay(_, 1))
 
   /**
-   * Each bank's two read ports: the word `readLatency` cycles after its address (block RAM with its
-   * address and output registers, then one more register: synthesis may fold a register after the
-   * read into the RAM's address side, and a RAM output must not feed logic directly).
+   * Each bank's two read ports: the word `readLatency` cycles after its address. The address is
+   * registered, read, and the word registered twice: block RAM with its address register, then its
+   * output register, then one in the fabric (a RAM output must not feed logic directly).
+   *
+   * The word is registered after the read (read-first), not read at a registered address
+   * (write-first): the schedule never reads a word in the cycle it is written (a value is read
+   * after it is ready, and overwritten only after its last read), so either order gives the same
+   * words. Synthesis must still honour whatever order the RTL states for such a collision, and the
+   * RAM blocks serve neither across their ports, so it would add a bypass after the RAM output.
+   * The read is therefore enabled only when it does not collide (a disabled read returns an
+   * undefined word): Yosys recognizes that as "don't care on collision" and maps the bare RAM.
    */
   private val readData: IndexedSeq[IndexedSeq[SInt]] = b.banks.indices.map { bank =>
     val a = addressing(bank)
+    val writeAddress = a.address(word(a.write))
+    val writeEnable = word(a.writeEnable).asBool
     (0 to 1).map { port =>
-      val mem = SyncReadMem(a.depth, UInt(b.bankWidths(bank).W))
-      when(word(a.writeEnable).asBool)(mem.write(a.address(word(a.write)), fit(next(bank), b.bankWidths(bank)).asUInt))
-      FixedHw.delay(mem.read(a.address(word(a.reads(port))), true.B), BankedSchedule.readLatency - 1).asSInt
+      val mem = Mem(a.depth, UInt(b.bankWidths(bank).W))
+      when(writeEnable)(mem.write(writeAddress, fit(next(bank), b.bankWidths(bank)).asUInt))
+      val address = RegNext(a.address(word(a.reads(port))))
+      val data = Wire(UInt(b.bankWidths(bank).W))
+      data := DontCare
+      when(!(writeEnable && writeAddress === address))(data := mem.read(address))
+      FixedHw.delay(data, BankedSchedule.readLatency - 1).asSInt
     }
   }
 
-  /** A unit port's operand in the cycle its select is in the table, sign-extended or cut to `width` (values fit their formats). */
+  /**
+   * A unit port's operand, selected from the options of the cycle its selection starts and out of the
+   * multiplexer `b.selectStages` - 1 cycles later (to be registered by the unit),
+   * sign-extended or cut to `width` (values fit their formats).
+   */
   private def operand(src: PortSources, width: Int): SInt = {
     val options = src.sources.map(s => fit(s.fold({ case (bank, bankPort) => readData(bank)(bankPort) }, bank => out(bank)), width)) ++
       src.constant.map(c => fit(word(c).asSInt, width))
-    if (options.size == 1) options.head else VecInit(options)(word(src.select))
+    val groups = options.grouped(MemoryStorage.selectGroup).map { g =>
+      FixedHw.delay(if (g.size == 1) g.head else VecInit(g)(word(src.selectLow.get)(log2Ceil(g.size) - 1, 0)), b.selectStages - 1)
+    }.toSeq
+    if (groups.size == 1) groups.head else VecInit(groups)(word(src.selectHigh.get))
   }
 
-  // Inputs.
+  // Inputs: all loaded into a chain of registers in the input cycle, then written one per clock
+  // from its head as the chain shifts ([[BankedSchedule.inputLatency]]): no select from the table
+  // (a wide multiplexer ahead of the bank's write port).
   if (b.signals.nonEmpty) {
-    val values = b.signals.map(signals)
     val width = b.unitWidths(bankIndex(Bank.Inputs))
-    next(bankIndex(Bank.Inputs)) := VecInit(values.map(_.pad(width)))(word(inputSelect))
+    val values = b.signals.map(signals(_).pad(width))
+    val chain = Reg(Vec(values.size, SInt(width.W)))
+    when(during(p.schedule.inputCycle)) {
+      chain := VecInit(values)
+    }.otherwise {
+      chain.init.zip(chain.tail).foreach { case (r, later) => r := later }
+    }
+    next(bankIndex(Bank.Inputs)) := chain.head
   }
 
   // Multiplier units.
   multipliers.zipWithIndex.foreach { case (plan, u) =>
     val shape = p.schedule.unitShape(u)
-    val product = FixedHw.delay(PipelinedMultiplier(operand(plan.ports(0), shape.wide), operand(plan.ports(1), shape.narrow)), p.multiplierLatency - 1)
+    // Operands registered in the fabric: the selection's long routes to the multiplier blocks get a clock of their own.
+    val operands = Seq(operand(plan.ports(0), shape.wide), operand(plan.ports(1), shape.narrow)).map(FixedHw.delay(_, 1))
+    val product = FixedHw.delay(PipelinedMultiplier(operands(0), operands(1)), p.multiplierLatency - 1)
     val width = b.unitWidths(bankIndex(Bank.Products(u)))
     val rounded = plan.drops.map(d => fit(FixedHw.shiftRound(product, d, p.productRounding), width))
     next(bankIndex(Bank.Products(u))) := (if (rounded.size == 1) rounded.head else VecInit(rounded)(word(plan.dropSelect)))
@@ -167,12 +210,18 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   // Adder units.
   adders.zipWithIndex.foreach { case (plan, u) =>
     val width = b.adderWidths(u)
+    val subtract = word(plan.subtract).asBool
     val aligned = (0 to 1).map { port =>
-      val x = operand(plan.ports(port), width)
-      val options = plan.shifts(port).map(sh => (x << sh)(width - 1, 0).asSInt)
-      FixedHw.delay(if (options.size == 1) options.head else VecInit(options)(word(plan.shiftSelects(port))), 1)
+      val x = FixedHw.delay(operand(plan.ports(port), width), 1)
+      val options = plan.shifts(port).map(sh => (x << sh)(width - 1, 0).asUInt)
+      if (options.size == 1) options.head else VecInit(options)(word(plan.shiftSelects(port)))
     }
-    val sum = FixedHw.addSub(aligned(0), aligned(1), word(plan.subtract).asBool)
+    // a - b as a + ~b + 1 (FixedHw.addSub's form), with ~b and the carry in registered beside a:
+    // the table's subtract bit then drives no logic ahead of the carry chain.
+    val a = FixedHw.delay(aligned(0), 1)
+    val bFlipped = FixedHw.delay(aligned(1) ^ Fill(width, subtract), 1)
+    val carryIn = FixedHw.delay(subtract.asUInt, 1)
+    val sum = (Cat(a, 1.U(1.W)) + Cat(bFlipped, carryIn))(width, 1).asSInt
     next(bankIndex(Bank.Sums(u))) := fit(sum, b.unitWidths(bankIndex(Bank.Sums(u))))
   }
 
@@ -228,6 +277,12 @@ final class Microcode(ii: Int, fields: Seq[Field], phase: UInt) {
 
   /** A field's bits in the current cycle. */
   def apply(f: Field): UInt = bits(offsets(f) + f.width - 1, offsets(f))
+}
+
+object MemoryStorage {
+
+  /** Options a unit port selects among in the first select stage, per group: a 4-way multiplexer is one LUT level on ECP5 (two LUTs and a PFUMX). */
+  val selectGroup: Int = 4
 }
 
 object Microcode {

@@ -84,10 +84,14 @@ private final case class BankedState(ready: Vector[Option[Int]], bank: Vector[Op
  *  - a value ready in cycle R was written into its bank in cycle R - 1, straight from its unit's
  *    result; a read's address may be presented from cycle R on, and its word is in a register
  *    `readLatency` cycles after the address;
- *  - a multiply reads its operands (address) `mulLead` cycles before its issue; its product is
- *    ready `base.mulLatency` cycles after the issue (the rounding shift and a capture register included);
- *  - an addition reads `addLead` cycles before its issue (one more: its aligned operands are
- *    registered first) and is ready one cycle after.
+ *  - a multiply reads its operands (address) `mulLead` cycles before its issue (one more than the
+ *    read: the selected operands are registered before the multiplier); its product is ready
+ *    `base.mulLatency` cycles after the issue (the rounding shift and a capture register included);
+ *  - an addition reads `addLead` cycles before its issue (two more: its selected operands are
+ *    registered, then aligned and registered again) and is ready one cycle after;
+ *  - either takes a value off its unit's output register (no read) `mulForwardLead` or
+ *    `addForwardLead` cycles after it is ready, when that is its issue: the value is selected in
+ *    the cycle it is there, then goes the way a read word goes.
  * Each unit takes one operation and each read port one address per residue modulo II (two reads of
  * the same value in the same cycle share the port). A bank keeps `copies(b)` words per value, one
  * per sample in flight, picked by the sample's slot counter: a value is read before the sample
@@ -100,14 +104,20 @@ final class BankedSchedule(val base: Schedule) {
   val clocksPerSample: Int = base.clocksPerSample
   private val ii = clocksPerSample
 
-  /** Cycles from a read's address to the issue of the multiply (its word at the multiplier) or addition (one more: aligned operands registered) that reads it. */
-  val mulLead: Int = BankedSchedule.readLatency
-  val addLead: Int = BankedSchedule.readLatency + 1
+  /**
+   * Cycles from the start of a value's selection among a unit port's sources (`stages` clocks) to
+   * the issue: a multiplier's operand is then registered in the fabric, ahead of the multiplier's
+   * own input registers, so the selection's routing to the multiplier blocks gets a clock of its
+   * own; an addition's operand is registered, then aligned (and inverted for a subtraction) and
+   * registered again, so neither step shares a clock with the other or with the carry chain.
+   */
+  private def mulForwardLeadOf(stages: Int): Int = stages
+  private def addForwardLeadOf(stages: Int): Int = stages + 1
 
   private def isConst(x: NodeId) = graph(x).isInstanceOf[Const]
   private def ceilDiv(a: Int, b: Int) = (a + b - 1) / b
 
-  /** The per-sample inputs, in the order the input stage writes them (one per clock from `base.inputCycle`). */
+  /** The per-sample inputs, in the order the input stage writes them into their bank (one per clock). */
   val signals: IndexedSeq[Signal] = graph.signals.toIndexedSeq
 
   require(ii >= 2, "schedule.storage = memory shares units between clocks: it needs schedule.clocks-per-sample >= 2 (at 1, use registers)")
@@ -146,18 +156,21 @@ final class BankedSchedule(val base: Schedule) {
     }
   }
 
-  /** What an operation runs on: its unit kind, units, read lead, result latency and bank per unit. */
-  private def kindOf(id: NodeId): Option[Kind] = graph(id) match {
-    case _: Mul => Some(Kind(UnitKind.Multiplier, base.unitsOf(id), mulLead, 0, u => Some(base.unitShape(u)), base.mulLatency(id), Bank.Products))
-    case _: Add | _: Sub | _: Neg => Some(Kind(UnitKind.Adder, 0 until adderUnits, addLead, 1, _ => None, 1, Bank.Sums))
-    case _ => None
+  /** What an operation runs on with `stages` select stages: its unit kind, units, read lead, result latency and bank per unit. */
+  private def kindOf(id: NodeId, stages: Int): Option[Kind] = {
+    val (mulForward, addForward) = (mulForwardLeadOf(stages), addForwardLeadOf(stages))
+    graph(id) match {
+      case _: Mul => Some(Kind(UnitKind.Multiplier, base.unitsOf(id), BankedSchedule.readLatency + mulForward, mulForward, u => Some(base.unitShape(u)),
+        base.mulLatency(id), Bank.Products))
+      case _: Add | _: Sub | _: Neg => Some(Kind(UnitKind.Adder, 0 until adderUnits, BankedSchedule.readLatency + addForward, addForward, _ => None, 1, Bank.Sums))
+      case _ => None
+    }
   }
-  private val kinds: IndexedSeq[Option[Kind]] = graph.ids.map(kindOf)
 
   /** Values whose producer is fixed before scheduling: inputs (one per clock) and sin/cos (the CORDIC placements of `base`). */
   private val fixed: Map[Int, (Int, Bank)] = graph.ids.flatMap { id =>
     graph(id) match {
-      case Input(signal) => Some(id.index -> ((base.inputCycle + 1 + signals.indexOf(signal), Bank.Inputs)))
+      case Input(signal) => Some(id.index -> ((base.inputCycle + BankedSchedule.inputLatency + signals.indexOf(signal), Bank.Inputs)))
       case Trig(fn, angle) =>
         val slot = base.angleSlot(angle)
         Some(id.index -> ((slot.issue + base.trigLatency, Bank.Trig(slot.unit.get, fn))))
@@ -166,7 +179,7 @@ final class BankedSchedule(val base: Schedule) {
   }.toMap
 
   /** Priority: the longest chain of leads and latencies from an operation to an output (the critical path first). */
-  private val height: IndexedSeq[Int] = {
+  private def heightOf(kinds: IndexedSeq[Option[Kind]]): IndexedSeq[Int] = {
     val users = graph.ids.flatMap(id => graph(id).operands.map(_.index -> id.index)).groupMap(_._1)(_._2)
     graph.ids.reverse.foldLeft(Map.empty[Int, Int]) { (h, id) =>
       val own = kinds(id.index).fold(0)(k => k.forwardLead + k.latency)
@@ -174,20 +187,14 @@ final class BankedSchedule(val base: Schedule) {
     }.toSeq.sortBy(_._1).map(_._2).toIndexedSeq
   }
 
-  /** The latency dependences alone would allow (unlimited units and ports), for reports. */
-  val dependenceBound: Int = graph.ids.map { id =>
-    (graph(id) match {
-      case Input(_) | Trig(_, _) => fixed(id.index)._1
-      case _                     => 0
-    }) + height(id.index)
-  }.max + 1
-
   /**
    * Cycle-driven list scheduling: in each cycle, the operations whose operands can be read by then,
    * highest first, each on the first unit free at the cycle's residue with an operand order whose
    * bank read ports are free at the residue of its read.
    */
-  private val state: BankedState = {
+  private def scheduleWith(stages: Int): BankedState = {
+    val kinds = graph.ids.map(kindOf(_, stages))
+    val height = heightOf(kinds)
     val start = BankedState(
       ready = graph.ids.map(id => fixed.get(id.index).map(_._1)).toVector,
       bank = graph.ids.map(id => fixed.get(id.index).map(f => bankIndex(f._2))).toVector,
@@ -250,6 +257,35 @@ final class BankedSchedule(val base: Schedule) {
       }
     cycle(0, start, pending, 0)
   }
+
+  /**
+   * Clocks a unit port's operand takes to be selected among its sources: [[BankedSchedule.selectStages]],
+   * or one where the list scheduler then finds no free unit and read ports for some operation (a
+   * tight interval: the longer leads move the residues the reads need).
+   */
+  private val chosen: (Int, BankedState) =
+    scala.util.Try(BankedSchedule.selectStages -> scheduleWith(BankedSchedule.selectStages)).getOrElse(1 -> scheduleWith(1))
+  val selectStages: Int = chosen._1
+  private val state: BankedState = chosen._2
+
+  /** Cycles from the start of a value's selection to the issue of the multiply or addition that takes it off its unit's output register. */
+  val mulForwardLead: Int = mulForwardLeadOf(selectStages)
+  val addForwardLead: Int = addForwardLeadOf(selectStages)
+
+  /** Cycles from a read's address to the issue of the multiply or addition that reads it: the read, then as a forwarded value. */
+  val mulLead: Int = BankedSchedule.readLatency + mulForwardLead
+  val addLead: Int = BankedSchedule.readLatency + addForwardLead
+
+  private val height: IndexedSeq[Int] = heightOf(graph.ids.map(kindOf(_, selectStages)))
+
+  /** The latency dependences alone would allow (unlimited units and ports), for reports. */
+  val dependenceBound: Int = graph.ids.map { id =>
+    (graph(id) match {
+      case Input(_) | Trig(_, _) => fixed(id.index)._1
+      case _                     => 0
+    }) + height(id.index)
+  }.max + 1
+
 
   /** Cycle in which each node's value is in its unit's output register and written into its bank (None: a constant). */
   def ready(id: NodeId): Option[Int] = state.ready(id.index)
@@ -316,6 +352,15 @@ object BankedSchedule {
 
   /** Cycles from a bank read's address to its word in a register: the block RAM's address and output registers and one more. */
   val readLatency: Int = 3
+
+  /** Clocks a unit port's operand takes to be selected among its sources, where the schedule allows (a unit may have 30 sources a port). */
+  val selectStages: Int = 2
+
+  /**
+   * Signal k of the input stage is ready in cycle `inputCycle + inputLatency + k`: all are loaded
+   * into a chain of registers in the input cycle, and the chain's head is written one per clock.
+   */
+  val inputLatency: Int = 2
 
   /** The least power of 2 at or above `n` (at least 1). */
   def pow2(n: Int): Int = if (n <= 1) 1 else Integer.highestOneBit(n - 1) << 1

@@ -7,7 +7,7 @@ import reducerload.testutil.ArmGolden
 
 /**
  * The memory-storage schedule's promises, checked from the graph and the hardware's timing rules
- * (block RAM: write in the cycle before a value is ready, word two cycles after its address), not
+ * (block RAM: write in the cycle before a value is ready, word `readLatency` cycles after its address), not
  * from the schedule's bookkeeping: every operation computes its graph node from the right operands,
  * each operand is in its bank (or on its unit's output) when taken, no unit, read port or write port
  * serves two values in one residue, no later sample overwrites a word before its last read; and
@@ -32,7 +32,7 @@ class BankedScheduleSpec extends AnyFlatSpec {
         case Op.Input(_) | Op.Trig(_, _) => assert(!placed.contains(id))
         case op =>
           val o = placed.getOrElse(id, fail(s"node ${id.index} ($op) is on no unit"))
-          val (lead, forwardLead) = if (o.kind == UnitKind.Multiplier) (b.mulLead, 0) else (b.addLead, 1)
+          val (lead, forwardLead) = if (o.kind == UnitKind.Multiplier) (b.mulLead, b.mulForwardLead) else (b.addLead, b.addForwardLead)
           // The operation computes its node: the graph's operands, in an order the unit's arithmetic allows.
           o.operands.foreach {
             case Operand.Constant(n) => assert(g(n).isInstanceOf[Op.Const], s"node ${id.index}: constant operand ${n.index} is no constant")
