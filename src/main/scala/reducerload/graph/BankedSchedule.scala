@@ -84,14 +84,16 @@ private final case class BankedState(ready: Vector[Option[Int]], bank: Vector[Op
  *  - a value ready in cycle R was written into its bank in cycle R - 1, straight from its unit's
  *    result; a read's address may be presented from cycle R on, and its word is in a register
  *    `readLatency` cycles after the address;
- *  - a multiply reads its operands (address) `mulLead` cycles before its issue (one more than the
- *    read: the selected operands are registered before the multiplier); its product is ready
+ *  - a multiply reads its operands (address) `mulLead` cycles before its issue: the read, then
+ *    `mulForwardLead` clocks (the operand selected among its sources in `selectStages` registered
+ *    stages, the last one in the fabric ahead of the multiplier); its product is ready
  *    `base.mulLatency` cycles after the issue (the rounding shift and a capture register included);
- *  - an addition reads `addLead` cycles before its issue (two more: its selected operands are
- *    registered, then aligned and registered again) and is ready one cycle after;
+ *  - an addition reads `addLead` cycles before its issue (`addForwardLead` after the read: one more
+ *    than a multiply, its selected operands are aligned and registered again) and is ready one
+ *    cycle after;
  *  - either takes a value off its unit's output register (no read) `mulForwardLead` or
- *    `addForwardLead` cycles after it is ready, when that is its issue: the value is selected in
- *    the cycle it is there, then goes the way a read word goes.
+ *    `addForwardLead` cycles after it is ready, when that is its issue: the value's selection
+ *    starts in the cycle it is there, then it goes the way a read word goes.
  * Each unit takes one operation and each read port one address per residue modulo II (two reads of
  * the same value in the same cycle share the port). A bank keeps `copies(b)` words per value, one
  * per sample in flight, picked by the sample's slot counter: a value is read before the sample
@@ -264,7 +266,8 @@ final class BankedSchedule(val base: Schedule) {
    * tight interval: the longer leads move the residues the reads need).
    */
   private val chosen: (Int, BankedState) =
-    scala.util.Try(BankedSchedule.selectStages -> scheduleWith(BankedSchedule.selectStages)).getOrElse(1 -> scheduleWith(1))
+    try BankedSchedule.selectStages -> scheduleWith(BankedSchedule.selectStages)
+    catch { case _: IllegalArgumentException => 1 -> scheduleWith(1) }
   val selectStages: Int = chosen._1
   private val state: BankedState = chosen._2
 
