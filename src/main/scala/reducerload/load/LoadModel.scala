@@ -6,7 +6,7 @@ sealed abstract class LoadModel(val name: String, val description: String) {
   /** Weight of dd2 in the cos(t3) term: (dd1 + k dd2), for the joint-3 closed forms. */
   def dd2Weight: Int
 
-  /** A closed form of the planar arm's joint-3 load (one output of [[reducerload.arm.ArmDatapath]]), or every joint of any arm ([[reducerload.arm.ArmDatapath]]). */
+  /** A closed form of the planar arm's joint-3 load (one output), or every joint torque of any arm (rnea); both run on [[reducerload.arm.ArmDatapath]]. */
   def closedForm: Boolean = true
 
   override def toString: String = name

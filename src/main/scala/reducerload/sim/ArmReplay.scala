@@ -21,7 +21,7 @@ class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCod
     (0 until joints).map(j => (joints + j, p.numerics.velocityLimits(j))) ++
       (0 until joints).map(j => (2 * joints + j, p.numerics.accelerationLimits(j)))
 
-  protected def sample(row: IndexedSeq[Double]) = ArmSample(row.slice(0, joints), row.slice(joints, 2 * joints), row.slice(2 * joints, 3 * joints))
+  protected def sample(row: IndexedSeq[Double]): ArmSample = ArmSample.fromRow(row)
 
   /** `model.encode` of the row's sample, in fast exact arithmetic (tested equal). */
   def encode(row: IndexedSeq[Double]): SampleCodes = {
