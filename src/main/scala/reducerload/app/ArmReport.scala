@@ -67,7 +67,8 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
           s"(two read ports each, ${b.memoryBits} bits), latency bound from dependences ${b.dependenceBound} cycles"),
     f"Derived worst-case error bound: ${p.errorBound}%.3e N·m (largest over the torques; vs the double-precision dynamics at the unquantized inputs)",
     s"Fraction bits: velocity ${p.velocityFracBits}, acceleration ${p.accelerationFracBits}, constants ${p.constantFracBits}, " +
-      s"products and sums ${p.internalFracBits}, output ${p.outputFracBits} (numeric.target-error, when set, chose them)",
+      s"products and sums ${p.internalFracBits}, output ${p.outputFracBits} (numeric.target-error, when set, chose them" +
+      (if (p.fracBitLimits.isEmpty) ")" else s"; ${p.fracBitLimits.byNode.size} constants and products have fewer, see every node's format)"),
     s"Output format: ${p.analysis.outputPortFormat}; widest internal node: ${p.analysis.widest._2.format}"
   ) ++ p.cordic.report.linesIterator.toSeq ++ monitorLines
 
@@ -137,6 +138,7 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
       "error_bound_nm" -> p.errorBound,
       "frac_bits" -> Map("velocity" -> p.velocityFracBits, "acceleration" -> p.accelerationFracBits, "constant" -> p.constantFracBits,
         "internal" -> p.internalFracBits, "output" -> p.outputFracBits).asJava,
+      "frac_bit_capped_nodes" -> p.fracBitLimits.byNode.size,
       "angle_bits" -> n.angleBits,
       "velocity_format" -> fmt(n.velocityPortFormat),
       "acceleration_format" -> fmt(n.accelerationPortFormat),

@@ -166,8 +166,8 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
         case Add(a, b) => kept(register(aligned(a, issue) + aligned(b, issue), issue))
         case Sub(a, b) => kept(register(aligned(a, issue) - aligned(b, issue), issue))
         case Neg(a)    => kept(register(-aligned(a, issue), issue))
-        case Mul(a, b) =>
-          val rule = analysis.productRounding(analysis(a).format.fracBits, analysis(b).format.fracBits)
+        case Mul(_, _) =>
+          val rule = analysis.productRounding(id)
           val rounded = fit(FixedHw.shiftRound(products(schedule.slot(id).get.unit.get), rule.drop, rule.rounding))
           val captured = !schedule.dedicated || rule.rounding != Rounding.Truncate
           if (schedule.forwarded(id)) Map(ready.get - 1 -> rounded) // its one reader takes it off the unit's output

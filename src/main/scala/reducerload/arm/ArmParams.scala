@@ -27,6 +27,7 @@ object Dynamics {
  *
  * @param maxVelocity     declared max |qd_j| per joint, rad/s
  * @param maxAcceleration declared max |qdd_j| per joint, rad/s^2
+ * @param fracBitLimits   per-node caps below the kinds' fraction bits (chosen by [[ArmConfig.fitted]])
  */
 final case class ArmParams(
   chain: SerialChain,
@@ -42,7 +43,8 @@ final case class ArmParams(
   multiplierLatency: Int = 1,
   memoryDelayMinCycles: Int = 4,
   scheduleRequest: ScheduleRequest = ScheduleRequest(),
-  dynamics: Dynamics = Dynamics.Rnea) {
+  dynamics: Dynamics = Dynamics.Rnea,
+  fracBitLimits: FracBitLimits = FracBitLimits.none) {
 
   require(maxVelocity.size == chain.size,
     s"robot ${chain.name} has ${chain.size} joints but max-velocity gives ${maxVelocity.size} value(s)")
@@ -64,7 +66,7 @@ final case class ArmParams(
   }
   lazy val graph: Graph = built._1
   lazy val rangeHints: RangeHints = built._2
-  lazy val analysis: Analysis = new Analysis(graph, numerics, rangeHints)
+  lazy val analysis: Analysis = new Analysis(graph, numerics, rangeHints, fracBitLimits)
   private def scheduleFor(request: ScheduleRequest) = new Schedule(analysis, request, cordic, multiplierLatency, ArmDatapath.inputCycle)
 
   /**
@@ -196,26 +198,60 @@ object ArmConfig {
    * `p`'s fraction bits fitted to per-output targets: first every setting moved by the same number
    * of bits, the fewest for which each output's derived bound meets its target; then each kind of
    * value on its own, one bit at a time, while every bound still meets (kinds whose errors weigh
-   * little, often the constants' or the output's, end up narrower than the rest). Fewer bits:
-   * narrower operands, adders and registers, fewer multiplier blocks once an operand drops below a
-   * 17-bit chunk boundary. The graph does not change, only its analysis, so each try costs one analysis.
+   * little, often the constants' or the output's, end up narrower than the rest); then each
+   * constant and product on its own (see [[narrowedNodes]]), kept only if the design costs no more
+   * (see [[cost]]: mixed widths can split a shared multiplier class in two). Fewer bits: narrower
+   * operands, adders and registers, fewer multiplier blocks once an operand drops below a 17-bit
+   * chunk boundary. The graph does not change, only its analysis, so each try costs one analysis.
    */
   def fitted(p: ArmParams, targets: Seq[Double]): ArmParams = {
     def shifted(d: Int) = scala.util.Try(p.copy(velocityFracBits = p.velocityFracBits + d, accelerationFracBits = p.accelerationFracBits + d,
       constantFracBits = p.constantFracBits + d, internalFracBits = p.internalFracBits + d, outputFracBits = p.outputFracBits + d)).toOption
-    def bounds(q: ArmParams) = scala.util.Try(new Analysis(p.graph, q.numerics, p.rangeHints).outputs.map(_.errorBound)).toOption
-    def meets(q: ArmParams) = bounds(q).exists(_.zip(targets).forall { case (b, t) => b <= t })
+    def analysed(q: ArmParams, limits: FracBitLimits) = scala.util.Try(new Analysis(p.graph, q.numerics, p.rangeHints, limits)).toOption
+    def bounds(q: ArmParams) = analysed(q, FracBitLimits.none).map(_.outputs.map(_.errorBound))
+    def meets(a: Analysis) = a.outputs.map(_.errorBound).zip(targets).forall { case (b, t) => b <= t }
     @scala.annotation.tailrec def narrowed(q: ArmParams): ArmParams =
-      fracBitKinds.iterator.flatMap(kind => scala.util.Try(kind(q, -1)).toOption).find(meets) match {
+      fracBitKinds.iterator.flatMap(kind => scala.util.Try(kind(q, -1)).toOption).find(q => analysed(q, FracBitLimits.none).exists(meets)) match {
         case Some(fewer) => narrowed(fewer)
         case None        => q
       }
-    fracBitShifts.iterator.flatMap(shifted).find(meets).map(narrowed).getOrElse {
+    def perNode(q: ArmParams) = q.copy(fracBitLimits = narrowedNodes(analysed(q, FracBitLimits.none).get, limits => analysed(q, limits).filter(meets)))
+    def cheaper(byKind: ArmParams) = Seq(perNode(byKind), byKind).minBy(cost)
+    fracBitShifts.iterator.flatMap(shifted).find(q => analysed(q, FracBitLimits.none).exists(meets)).map(q => cheaper(narrowed(q))).getOrElse {
       val best = fracBitShifts.reverseIterator.flatMap(shifted).flatMap(bounds).next()
       val (worst, j) = best.zip(targets).map { case (b, t) => b / t }.zipWithIndex.maxBy(_._1)
       throw new IllegalArgumentException(f"numeric.target-error ${targets(j)}%.3g N·m for ${p.graph.outputs(j).name} cannot be met: with the most fraction bits (up to 40) " +
         f"its bound is ${best(j)}%.3g N·m, dominated by the sin/cos unit (raise cordic.output-bits)")
     }
+  }
+
+  /**
+   * What the target-error fit minimises, in order: the schedule's 18x18 blocks, its multiplier units
+   * (each with its operand multiplexers and adder tree), then the bits of every node's format (the
+   * adders, registers and memory words they take).
+   */
+  def cost(p: ArmParams): (Int, Int, Int) =
+    (p.schedule.multiplierBlocks, p.schedule.multiplierUnits, p.graph.ids.map(id => p.analysis(id).format.width).sum)
+
+  /**
+   * Per-node caps from an analysis that meets its targets: each constant and product in turn loses
+   * one fraction bit while `meeting` (the analysis under the caps, if every bound still meets) says
+   * yes, pass after pass until none can. Turn by turn, so early nodes do not take the whole error
+   * budget; a constant is not rounded to zero (its multiply would vanish from the graph).
+   */
+  def narrowedNodes(start: Analysis, meeting: FracBitLimits => Option[Analysis]): FracBitLimits = {
+    val graph = start.graph
+    val candidates = graph.ids.filter(id => graph(id) match { case Op.Const(_) | Op.Mul(_, _) => true; case _ => false })
+    def keepsConstants(a: Analysis) = candidates.forall(id => a(id).raw.forall(_ != 0))
+    @scala.annotation.tailrec def passes(limits: FracBitLimits, at: Analysis): FracBitLimits = {
+      val (next, nextAt) = candidates.foldLeft((limits, at)) { case ((l, a), id) =>
+        val bits = a(id).format.fracBits
+        if (bits == 0) (l, a)
+        else { val tried = l.capped(id, bits - 1); meeting(tried).filter(keepsConstants).fold((l, a))(t => (tried, t)) }
+      }
+      if (next == limits) limits else passes(next, nextAt)
+    }
+    passes(start.limits, start)
   }
 
   private def configured(p: LoadParams): ArmParams = {

@@ -107,7 +107,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   private final class MultiplierPlan(u: Int) {
     private val ops = opsOn(UnitKind.Multiplier, u)
     val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => residue(o.issue - b.mulForwardLead) -> o.operands(port))))
-    private def drop(o: PlacedOp) = { val Mul(x, y) = graph(o.node): @unchecked; analysis.productRounding(fmt(x).fracBits, fmt(y).fracBits).drop }
+    private def drop(o: PlacedOp) = analysis.productRounding(o.node).drop
     val drops: IndexedSeq[Int] = ops.map(drop).distinct.sorted.toIndexedSeq
     val dropSelect: Field = Field(log2Ceil(math.max(drops.size, 2)), ops.map(o => residue(b.ready(o.node).get - 1) -> BigInt(drops.indexOf(drop(o)))).toMap)
     def fields: Seq[Field] = ports.flatMap(_.fields) :+ dropSelect

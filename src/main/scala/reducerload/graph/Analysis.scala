@@ -29,10 +29,12 @@ final case class OutputNumerics(name: String, range: Interval, errorBound: Doubl
  *  - constants: `constantFracBits`, rounded to nearest; inputs: their own; sin/cos: the CORDIC output's;
  *  - add, subtract, negate: the larger of the operands' (exact, no rounding);
  *  - multiply: the operands' sum, capped at `internalFracBits` by `productRounding`;
+ *  - a constant or product with a cap in `limits` (chosen by the target-error fit) at most that;
  *  - outputs: `outputFracBits`, rounded half up.
  * Integer bits follow from range + error, so no node can overflow; the model checks every value.
  */
-final class Analysis(val graph: Graph, val numerics: Numerics, val hints: RangeHints = RangeHints.none) {
+final class Analysis(val graph: Graph, val numerics: Numerics, val hints: RangeHints = RangeHints.none,
+    val limits: FracBitLimits = FracBitLimits.none) {
   import Op._
   private val n = numerics
 
@@ -41,16 +43,25 @@ final class Analysis(val graph: Graph, val numerics: Numerics, val hints: RangeH
 
   /**
    * The product rule, in one place for the analysis, the model, the schedule and the hardware: a
-   * multiply keeps the operands' fraction bits up to `internalFracBits` and drops the rest with
-   * `productRounding`; when it drops nothing it is exact (no rounding, no rounding register).
+   * multiply keeps the operands' fraction bits up to `internalFracBits` (or its own cap in `limits`)
+   * and drops the rest with `productRounding`; when it drops nothing it is exact (no rounding, no
+   * rounding register).
    */
-  def productRounding(fa: Int, fb: Int): ProductRounding = {
-    val keep = math.min(fa + fb, n.internalFracBits)
+  def productRounding(id: NodeId): ProductRounding = {
+    val Mul(a, b) = graph(id): @unchecked
+    rule(id, apply(a).format.fracBits, apply(b).format.fracBits)
+  }
+
+  private def rule(id: NodeId, fa: Int, fb: Int): ProductRounding = {
+    val keep = Seq(fa + fb, n.internalFracBits, limits(id).getOrElse(Int.MaxValue)).min
     ProductRounding(keep, fa + fb - keep, if (fa + fb > keep) n.productRounding else Rounding.Truncate)
   }
 
+  /** Fraction bits of constant `id`: the kind's, or its cap. */
+  private def constantFracBits(id: NodeId): Int = math.min(n.constantFracBits, limits(id).getOrElse(Int.MaxValue))
+
   val nodes: IndexedSeq[NodeNumerics] = graph.ids.foldLeft(Vector.empty[NodeNumerics]) { (done, id) =>
-    done :+ hinted(id, plain(graph(id), x => done(x.index)))
+    done :+ hinted(id, plain(id, x => done(x.index)))
   }
 
   /** A node's interval intersected with its hint (both sound), its format recomputed for the tighter range. */
@@ -61,12 +72,12 @@ final class Analysis(val graph: Graph, val numerics: Numerics, val hints: RangeH
     case _ => n
   }
 
-  private def plain(op: Op, at: NodeId => NodeNumerics): NodeNumerics =
-    op match {
+  private def plain(id: NodeId, at: NodeId => NodeNumerics): NodeNumerics =
+    graph(id) match {
       case Const(v) =>
-        val raw = FixedFormat(62, n.constantFracBits).quantize(v, Rounding.HalfUp)
-        NodeNumerics(Interval.point(v), math.abs(v - FixedFormat.scaleDown(raw, n.constantFracBits)),
-          FixedFormat.forRawRange(raw.abs, n.constantFracBits), Some(raw))
+        val frac = constantFracBits(id)
+        val raw = FixedFormat(62, frac).quantize(v, Rounding.HalfUp)
+        NodeNumerics(Interval.point(v), math.abs(v - FixedFormat.scaleDown(raw, frac)), FixedFormat.forRawRange(raw.abs, frac), Some(raw))
       case Input(s) if s.joint >= n.joints =>
         throw new IllegalArgumentException(s"graph input $s names a joint beyond the ${n.joints} declared")
       case Input(Signal.Velocity(j)) =>
@@ -80,9 +91,9 @@ final class Analysis(val graph: Graph, val numerics: Numerics, val hints: RangeH
       case Mul(a, b) =>
         val (x, y) = (at(a), at(b))
         val range = if (a == b) x.range.squared else x.range * y.range
-        val rule = productRounding(x.format.fracBits, y.format.fracBits)
-        val error = x.range.maxAbs * y.error + x.error * y.range.maxAbs + x.error * y.error + rule.errorBound
-        NodeNumerics(range, error, FixedFormat.forRange(range.maxAbs + error, rule.keep))
+        val dropped = rule(id, x.format.fracBits, y.format.fracBits)
+        val error = x.range.maxAbs * y.error + x.error * y.range.maxAbs + x.error * y.error + dropped.errorBound
+        NodeNumerics(range, error, FixedFormat.forRange(range.maxAbs + error, dropped.keep))
     }
 
   /**
@@ -106,7 +117,7 @@ final class Analysis(val graph: Graph, val numerics: Numerics, val hints: RangeH
         val (nu, nw) = (at(u), at(w))
         def roundingOf(m: NodeId) = {
           val Mul(x, y) = graph(m): @unchecked
-          productRounding(at(x).format.fracBits, at(y).format.fracBits).errorBound
+          rule(m, at(x).format.fracBits, at(y).format.fracBits).errorBound
         }
         val bound = math.hypot(nu.range.maxAbs, nw.range.maxAbs)
         val error = math.hypot(nu.error, nw.error) + trigError(angle) * (nu.computedMaxAbs + nw.computedMaxAbs) + roundingOf(a) + roundingOf(b)

@@ -42,7 +42,7 @@ final class GraphModel(val analysis: Analysis) {
         case Sub(a, b)                     => align(done(a.index), fr(a), f.fracBits) - align(done(b.index), fr(b), f.fracBits)
         case Neg(a)                        => -done(a.index)
         case Mul(a, b) =>
-          val rule = analysis.productRounding(fr(a), fr(b))
+          val rule = analysis.productRounding(id)
           FixedFormat.shiftRound(done(a.index) * done(b.index), rule.drop, rule.rounding)
       }
       require(f.contains(v), s"GraphModel: node ${id.index} (${graph(id)}) = $v outside its proven format $f")

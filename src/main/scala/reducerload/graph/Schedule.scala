@@ -174,8 +174,7 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
 
   /** Clocks from a multiply's issue to its value in a register. */
   def mulLatency(id: NodeId): Int = {
-    val Mul(a, b) = graph(id): @unchecked
-    val rounds = analysis.productRounding(analysis(a).format.fracBits, analysis(b).format.fracBits).rounding != Rounding.Truncate
+    val rounds = analysis.productRounding(id).rounding != Rounding.Truncate
     val shape = if (dedicated) shapeOf(id) else classes(classOf(id)).shape
     PipelinedMultiplier.latency(shape.wide, shape.narrow) + multiplierLatency - 1 +
       (if (!dedicated || rounds) 1 else 0)

@@ -2,7 +2,7 @@ package reducerload.sim
 
 import reducerload.arm.{ArmOutputCodes, ArmParams}
 import reducerload.fixedpoint.{FixedFormat, Rounding}
-import reducerload.graph.{Op, SampleCodes, Signal, TrigFn}
+import reducerload.graph.{NodeId, Op, SampleCodes, Signal, TrigFn}
 
 import scala.collection.immutable.ArraySeq
 
@@ -50,7 +50,7 @@ final class FastArmModel(p: ArmParams) {
       case Op.Sub(a, b) => kind(i) = Sub; left(i) = a.index; right(i) = b.index; leftShift(i) = f - fr(a.index); rightShift(i) = f - fr(b.index)
       case Op.Neg(a)    => kind(i) = Neg; left(i) = a.index
       case Op.Mul(a, b) =>
-        val rule = analysis.productRounding(fr(a.index), fr(b.index))
+        val rule = analysis.productRounding(NodeId(i))
         kind(i) = Mul; left(i) = a.index; right(i) = b.index; drop(i) = rule.drop; rounding(i) = rule.rounding
     }
   }

@@ -45,7 +45,7 @@ class ScheduleSpec extends AnyFlatSpec {
               val own = MulShape.of(p.analysis(a).format.width, p.analysis(b).format.width)
               val shape = s.unitShape(s.slot(id).get.unit.get)
               assert(shape.wide >= own.wide && shape.narrow >= own.narrow, s"node ${id.index}: a $own multiply on a $shape unit")
-              val rounds = p.analysis.productRounding(p.analysis(a).format.fracBits, p.analysis(b).format.fracBits).drop > 0 &&
+              val rounds = p.analysis.productRounding(id).drop > 0 &&
                 p.productRounding != reducerload.fixedpoint.Rounding.Truncate
               PipelinedMultiplier.latency(shape.wide, shape.narrow) + p.multiplierLatency - 1 + (if (ii > 1 || rounds) 1 else 0)
             case Op.Trig(_, _) => 1 + p.cordic.latency + (if (ii > 1 || s.cordicUnits < g.angles.size) 1 else 0)
@@ -151,10 +151,12 @@ class TargetErrorSpec extends AnyFlatSpec {
         "constant" -> (q => q.copy(constantFracBits = q.constantFracBits - 1)),
         "internal" -> (q => q.copy(internalFracBits = q.internalFracBits - 1)),
         "output" -> (q => q.copy(outputFracBits = q.outputFracBits - 1)))
-      kinds.foreach { case (kind, less) =>
+      // (With per-node caps chosen, the constants' and products' minimality is each node's, checked below.)
+      kinds.filter { case (kind, _) => p.fracBitLimits.isEmpty || !Set("constant", "internal")(kind) }.foreach { case (kind, less) =>
         scala.util.Try(less(p)).flatMap(q => scala.util.Try(q.errorBounds)).foreach(bounds =>
           assert(bounds.exists(_ > target), s"target $target: one $kind fraction bit fewer also meets it"))
       }
+      TargetErrorSpec.checkNodes(p, Seq.fill(p.chain.size)(target), s"ur5 target $target")
       assert(fewer.internalFracBits <= p.internalFracBits)
       println(f"[target] ur5 target $target%.0e N·m: internal frac bits ${p.internalFracBits}, worst bound ${p.errorBound}%.3e, " +
         s"widest node ${p.analysis.widest._2.format}, ${p.copy(scheduleRequest = ScheduleRequest(None, Some(66))).schedule.unitSummary}")
@@ -163,10 +165,47 @@ class TargetErrorSpec extends AnyFlatSpec {
     assert(perJoint.errorBounds.zip(Seq(1e-3, 1e-3, 1e-3, 1e-4, 1e-4, 1e-5)).forall { case (b, t) => b <= t })
   }
 
+  it should "cap single constants and products where that makes the design cheaper, and keep the per-kind fit where not" in {
+    val shared = reducerload.load.LoadParams.shared
+    val joint3 = shared.arm
+    assert(!joint3.fracBitLimits.isEmpty, "the shared preset's fit caps no node")
+    TargetErrorSpec.checkNodes(joint3, shared.targetError, "preset shared")
+    // Capped nodes mix widths; in the UR5's 64-clock memory schedule that splits a multiplier class, so the fit keeps the kinds' bits.
+    val memory = ArmConfig(ur5.copy(targetError = Seq(1e-3), schedule = ScheduleRequest(Some(64), storage = Storage.Memory)))
+    TargetErrorSpec.checkNodes(memory, Seq.fill(memory.chain.size)(1e-3), "ur5 memory ii64")
+  }
+
   it should "refuse a target the sin/cos unit cannot reach, and a wrong number of targets" in {
     val e = intercept[IllegalArgumentException](ArmConfig(ur5.copy(targetError = Seq(1e-12))))
     assert(e.getMessage.contains("numeric.target-error") && e.getMessage.contains("cordic.output-bits"), e.getMessage)
     val n = intercept[IllegalArgumentException](ArmConfig(ur5.copy(targetError = Seq(1e-3, 1e-3))))
     assert(n.getMessage.contains("numeric.target-error gives 2 values"), n.getMessage)
+  }
+}
+
+object TargetErrorSpec {
+  /**
+   * `p` meets its targets and costs no more than the other fit: with per-node caps, no capped-able
+   * node (constant or product) can lose one more bit, and the kinds' fit alone is not cheaper; without,
+   * the per-node caps would not be cheaper.
+   */
+  def checkNodes(p: ArmParams, targets: Seq[Double], label: String): Unit = {
+    def under(limits: FracBitLimits) = scala.util.Try(new Analysis(p.graph, p.numerics, p.rangeHints, limits)).toOption
+    def meets(a: Analysis) = a.outputs.map(_.errorBound).zip(targets).forall { case (b, t) => b <= t }
+    assert(meets(p.analysis), s"$label: bounds ${p.errorBounds} miss $targets")
+    val alternative =
+      if (p.fracBitLimits.isEmpty) p.copy(fracBitLimits = ArmConfig.narrowedNodes(p.analysis, l => under(l).filter(meets)))
+      else p.copy(fracBitLimits = FracBitLimits.none)
+    assert(Ordering[(Int, Int, Int)].lteq(ArmConfig.cost(p), ArmConfig.cost(alternative)),
+      s"$label: the fit chose cost ${ArmConfig.cost(p)} over ${ArmConfig.cost(alternative)}")
+    if (!p.fracBitLimits.isEmpty) p.graph.ids.foreach { id =>
+      val bits = p.analysis(id).format.fracBits
+      val cappable = p.graph(id) match { case Op.Const(_) | Op.Mul(_, _) => bits > 0; case _ => false }
+      if (cappable) under(p.fracBitLimits.capped(id, bits - 1)).foreach { a =>
+        assert(!meets(a) || a(id).raw.contains(BigInt(0)), s"$label: ${p.graph.describe(id)} can lose a fraction bit and still meet the target")
+      }
+    }
+    println(s"[target] $label: ${p.fracBitLimits.byNode.size} node(s) capped below their kind; cost (blocks, units, bits) ${ArmConfig.cost(p)}, " +
+      s"the other fit ${ArmConfig.cost(alternative)}")
   }
 }
