@@ -18,8 +18,9 @@ import reducerload.pipeline.{MemoryDelay, MultiplierImpl, PipelinedMultiplier}
  * cycle it is computed in. A value read k cycles after it is ready passes through floor(k / II) more
  * registers written at the same phase (at II = 1: a delay line, long ones in block RAM).
  *
- * Cycle 1 registers the input; cycle 2 clamps each velocity and acceleration to its joint's declared
- * range (flagging the joint). Data registers have no reset; the valid chain and the phase do.
+ * In cycle 1 the angles are in the input register, and each velocity and acceleration, clamped to its
+ * joint's declared range (flagging the joint), in its own. Data registers have no reset; the valid
+ * chain and the phase do.
  */
 class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
   private val schedule = p.schedule
@@ -90,24 +91,26 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
   io.in.ready := during(0)
   private val accept = io.in.valid && io.in.ready
-  private val in = RegEnable(io.in.bits, during(0))
+  private val angles = RegEnable(io.in.bits.q, during(0))
 
-  // Cycle 1: clamp to the declared ranges, in each joint's own format; registered for cycle 2.
+  // Cycle 0: velocities and accelerations clamped to the declared ranges straight from the port, in
+  // each joint's own format, into their registers for cycle 1 (a register before the clamp would
+  // hold every one twice).
   private def clamp(x: SInt, limit: BigInt, width: Int): (SInt, Bool) = {
     val (value, outside) = FixedHw.clamp(x, -limit, limit, width)
-    (RegEnable(value, during(1)), RegEnable(outside, during(1)))
+    (RegEnable(value, during(0)), RegEnable(outside, during(0)))
   }
-  private val velocities = (0 until joints).map(j => clamp(in.qd(j), numerics.velocityLimitRaw(j), numerics.velocityFormats(j).width))
-  private val accelerations = (0 until joints).map(j => clamp(in.qdd(j), numerics.accelerationLimitRaw(j), numerics.accelerationFormats(j).width))
-  require(schedule.inputCycle == ArmDatapath.inputCycle, "the input stage above is two registers deep")
-  // Cycle 2: one flag per joint (the two compares were registered apart: they were the critical path).
+  private val velocities = (0 until joints).map(j => clamp(io.in.bits.qd(j), numerics.velocityLimitRaw(j), numerics.velocityFormats(j).width))
+  private val accelerations = (0 until joints).map(j => clamp(io.in.bits.qdd(j), numerics.accelerationLimitRaw(j), numerics.accelerationFormats(j).width))
+  require(schedule.inputCycle == ArmDatapath.inputCycle, "the input stage above is one register deep")
+  // Cycle 1: one flag per joint (the two compares were registered apart: they were the critical path).
   private val jointFlags = (0 until joints).map { j =>
     val flag = RegEnable(velocities(j)._2 || accelerations(j)._2, during(ArmDatapath.inputCycle))
     held(flag, ArmDatapath.flagCycle, Seq(p.outputsReady))(p.outputsReady)
   }
 
   // Angles: each joint's code from the input register, at the cycles its sums are issued.
-  private val angleTaps = (0 until joints).map(j => held(in.q(j), 1, schedule.angleReads(j)))
+  private val angleTaps = (0 until joints).map(j => held(angles(j), 1, schedule.angleReads(j)))
   private def angleSum(angle: AngleSum, cycle: Int): UInt =
     angle.terms.foldLeft(0.U(numerics.angleBits.W)) { case (acc, (j, k)) =>
       // binary angles wrap modulo one turn, as angles do
@@ -212,7 +215,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 object ArmDatapath {
 
   /** Cycle at which the clamped velocities and accelerations are in registers. */
-  val inputCycle: Int = 2
+  val inputCycle: Int = 1
 
   /** Cycle at which each joint's out-of-range flag is in its register. */
   val flagCycle: Int = inputCycle + 1

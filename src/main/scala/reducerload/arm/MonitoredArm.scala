@@ -37,13 +37,12 @@ class MonitoredArm(val p: ArmParams, val monitor: MonitorParams)(implicit multip
   datapath.io.in <> io.in
   io.out := datapath.io.out
 
-  // The datapath's own input stage, for the velocities only: register (cycle 1), clamp and register
-  // (cycle 2), then delay to the cycle the torques leave (long delays in block RAM, as in the datapath).
-  private val qdIn = RegNext(io.in.bits.qd)
+  // The datapath's own input stage, for the velocities only: clamp and register (cycle 1), then delay
+  // to the cycle the torques leave (long delays in block RAM, as in the datapath).
   private val velocities = (0 until joints).map { j =>
     val limit = numerics.velocityLimitRaw(j)
-    val (clamped, _) = FixedHw.clamp(qdIn(j), -limit, limit, numerics.velocityFormats(j).width)
-    MemoryDelay.balanced(FixedHw.delay(clamped, 1), p.latency - ArmDatapath.inputCycle, p.memoryDelayMinCycles)
+    val (clamped, _) = FixedHw.clamp(io.in.bits.qd(j), -limit, limit, numerics.velocityFormats(j).width)
+    MemoryDelay.balanced(FixedHw.delay(clamped, ArmDatapath.inputCycle), p.latency - ArmDatapath.inputCycle, p.memoryDelayMinCycles)
   }
 
   private val sampleOutOfRange = datapath.io.out.bits.outOfRange.asUInt.orR
