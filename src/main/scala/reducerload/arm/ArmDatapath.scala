@@ -5,7 +5,7 @@ import chisel3.util._
 import reducerload.cordic.CordicSinCos
 import reducerload.fixedpoint.{FixedHw, Rounding}
 import reducerload.graph._
-import reducerload.pipeline.{MemoryDelay, MultiplierImpl, PipelinedMultiplier}
+import reducerload.pipeline.{MemoryDelay, MultiplierImpl, PipelinedMultiplier, ShiftAddMultiplier}
 
 /**
  * Every joint torque of a serial arm: the hardware interpretation of the graph in `p.graph` at the
@@ -171,7 +171,12 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
         case Neg(a)    => kept(register(-aligned(a, issue), issue))
         case Mul(_, _) =>
           val rule = analysis.productRounding(id)
-          val rounded = fit(FixedHw.shiftRound(products(schedule.slot(id).get.unit.get), rule.drop, rule.rounding))
+          val product =
+            if (schedule.shiftAdded(id)) {
+              val (x, constant) = schedule.shiftAddOperands(id)
+              ShiftAddMultiplier(tap(x, issue), constant)
+            } else products(schedule.slot(id).get.unit.get)
+          val rounded = fit(FixedHw.shiftRound(product, rule.drop, rule.rounding))
           val captured = !schedule.dedicated || rule.rounding != Rounding.Truncate
           if (schedule.forwarded(id)) Map(ready.get - 1 -> rounded) // its one reader takes it off the unit's output
           else kept(if (captured) RegEnable(rounded, during(ready.get - 1)) else rounded)

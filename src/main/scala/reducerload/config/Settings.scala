@@ -173,6 +173,9 @@ object Settings {
     new Choice("schedule.storage", "", "clocks-per-sample >= 2: registers (every value its own registers, operands multiplexed) or memory " +
       "(values in block-RAM banks read by address, adders shared too: far fewer logic elements)", Nil,
       reducerload.graph.Storage.all.map(_.name), _.schedule.storage.name),
+    new Choice("schedule.constant-multiplies", "", "multiplies by a folded robot constant: blocks (on the 18x18 multiplier units) or shift-add " +
+      "(the constant's signed digits summed in logic elements: no multiplier block, more logic; storage registers only)", Nil,
+      reducerload.graph.ConstantMultiplies.all.map(_.name), _.schedule.constantMultiplies.name),
     new PerJoint("numeric.target-error", "N·m", "derived error bound to meet per torque; the datapath's fraction bits become the fewest that meet it " +
       "(none: as set above)", Seq("target-error"), _.targetError, keyword = Some("none")),
     new Switch("monitor.enabled", "", "build the reducer life and limit monitor beside the arm datapath (model rnea; docs/monitor.md)", Nil,
@@ -274,7 +277,8 @@ object Settings {
         memoryDelayMinCycles = int("datapath.memory-delay-min-cycles"),
         targetError = joints("numeric.target-error"),
         schedule = reducerload.graph.ScheduleRequest(count("schedule.clocks-per-sample"), count("schedule.max-multipliers"), count("schedule.cordic-units"),
-          reducerload.graph.Storage.all.find(_.name == str("schedule.storage")).get),
+          reducerload.graph.Storage.all.find(_.name == str("schedule.storage")).get,
+          reducerload.graph.ConstantMultiplies.all.find(_.name == str("schedule.constant-multiplies")).get),
         monitor = MonitorSettings(
           enabled = bool("monitor.enabled"),
           exponent = joints("monitor.exponent"),

@@ -2,7 +2,17 @@ package reducerload.graph
 
 import reducerload.cordic.CordicParams
 import reducerload.fixedpoint.Rounding
-import reducerload.pipeline.PipelinedMultiplier
+import reducerload.pipeline.{PipelinedMultiplier, ShiftAddMultiplier}
+
+/** How a multiply by a folded robot constant is built (`schedule.constant-multiplies`). */
+sealed abstract class ConstantMultiplies(val name: String) { override def toString: String = name }
+object ConstantMultiplies {
+  /** On the 18x18 multiplier units, shared like every other multiply. */
+  case object Blocks extends ConstantMultiplies("blocks")
+  /** Each its own adder tree of the constant's signed digits, in logic elements ([[ShiftAddMultiplier]]). */
+  case object ShiftAdd extends ConstantMultiplies("shift-add")
+  val all: Seq[ConstantMultiplies] = Seq(Blocks, ShiftAdd)
+}
 
 /**
  * What a user asks of the schedule; `None` means derive it.
@@ -11,9 +21,12 @@ import reducerload.pipeline.PipelinedMultiplier
  * @param maxMultipliers  18x18 multiplier blocks the datapath may use (None: no budget)
  * @param cordicUnits     sin/cos units (None: the fewest that do not lengthen the interval)
  * @param storage         where values wait between operations ([[Storage]])
+ * @param constantMultiplies how a multiply by a robot constant is built ([[ConstantMultiplies]])
  */
 final case class ScheduleRequest(clocksPerSample: Option[Int] = Some(1), maxMultipliers: Option[Int] = None, cordicUnits: Option[Int] = None,
-  storage: Storage = Storage.Registers) {
+  storage: Storage = Storage.Registers, constantMultiplies: ConstantMultiplies = ConstantMultiplies.Blocks) {
+  require(constantMultiplies == ConstantMultiplies.Blocks || storage == Storage.Registers,
+    "schedule.constant-multiplies = shift-add needs schedule.storage = registers (block-RAM banks feed shared units only)")
   require(clocksPerSample.forall(c => c >= 1 && c <= 4096), s"schedule.clocks-per-sample must be auto or in 1..4096, got ${clocksPerSample.get}")
   require(maxMultipliers.forall(m => m >= 1 && m <= 100000), s"schedule.max-multipliers must be none or in 1..100000, got ${maxMultipliers.get}")
   require(cordicUnits.forall(c => c >= 1 && c <= 4096), s"schedule.cordic-units must be auto or in 1..4096, got ${cordicUnits.get}")
@@ -70,7 +83,22 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
   import Op._
   private val graph = analysis.graph
   private val ids = graph.ids
-  private val muls: IndexedSeq[NodeId] = ids.filter(graph(_).isInstanceOf[Mul])
+  private def isConst(x: NodeId) = graph(x).isInstanceOf[Const]
+
+  /** Multiplies by a constant built as shift-and-add logic (`schedule.constant-multiplies = shift-add`): no unit, no block. */
+  val shiftAdded: Set[NodeId] =
+    if (request.constantMultiplies != ConstantMultiplies.ShiftAdd) Set.empty
+    else ids.filter(id => graph(id) match { case Mul(a, b) => isConst(a) || isConst(b); case _ => false }).toSet
+
+  /** The variable operand and the constant's code of a shift-add multiply. */
+  def shiftAddOperands(id: NodeId): (NodeId, BigInt) = {
+    val Mul(a, b) = graph(id): @unchecked
+    val (c, x) = if (isConst(a)) (a, b) else (b, a)
+    (x, analysis(c).raw.get)
+  }
+
+  /** Multiplies on the multiplier units. */
+  private val muls: IndexedSeq[NodeId] = ids.filter(id => graph(id).isInstanceOf[Mul] && !shiftAdded(id))
   private val angles = graph.angles.toIndexedSeq
 
   /** Operand shape of a multiply. */
@@ -175,9 +203,12 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
   /** Clocks from a multiply's issue to its value in a register. */
   def mulLatency(id: NodeId): Int = {
     val rounds = analysis.productRounding(id).rounding != Rounding.Truncate
-    val shape = if (dedicated) shapeOf(id) else classes(classOf(id)).shape
-    PipelinedMultiplier.latency(shape.wide, shape.narrow) + multiplierLatency - 1 +
-      (if (!dedicated || rounds) 1 else 0)
+    val capture = if (!dedicated || rounds) 1 else 0
+    if (shiftAdded(id)) ShiftAddMultiplier.latency(shiftAddOperands(id)._2) + capture
+    else {
+      val shape = if (dedicated) shapeOf(id) else classes(classOf(id)).shape
+      PipelinedMultiplier.latency(shape.wide, shape.narrow) + multiplierLatency - 1 + capture
+    }
   }
 
   /** Clocks from an angle's issue (its sum read from the input register) to sin/cos in registers. */
@@ -209,6 +240,9 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
             s.copy(ready = s.ready :+ Some(slot.issue + trigLatency), slots = s.slots :+ Some(slot),
               taken = s.taken + ((false, slot.unit.get, slot.issue % ii)), angleSlots = s.angleSlots + (angle -> slot))
         }
+      case Mul(a, b) if shiftAdded(id) =>
+        val issue = math.max(at(a), at(b)) // its own adder tree: no unit to wait for
+        plain(Some(issue + mulLatency(id)), Some(Slot(None, issue)))
       case Mul(a, b) =>
         val earliest = math.max(at(a), at(b))
         val slot = place(s.taken, isMul = true, classUnits(classOf(id)), earliest)

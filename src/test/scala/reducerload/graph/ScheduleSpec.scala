@@ -127,6 +127,8 @@ class ScheduleSpec extends AnyFlatSpec {
     val cordic = refusal(ScheduleRequest(Some(1), None, Some(1)))
     assert(cordic.contains("schedule.cordic-units = 1"), cordic)
     assert(intercept[IllegalArgumentException](ScheduleRequest(Some(0))).getMessage.contains("schedule.clocks-per-sample"))
+    val shiftAddInBanks = intercept[IllegalArgumentException](ScheduleRequest(Some(8), storage = Storage.Memory, constantMultiplies = ConstantMultiplies.ShiftAdd))
+    assert(shiftAddInBanks.getMessage.contains("schedule.constant-multiplies = shift-add needs schedule.storage = registers"), shiftAddInBanks.getMessage)
   }
 }
 

@@ -50,4 +50,15 @@ class LoadDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
   it should "compute the exact load within 1e-4 N·m with one CORDIC unit and shared multipliers, fraction bits from the target (shared preset)" in {
     runDesign("shared", LoadParams.shared, 1e-4, 24L)
   }
+
+  it should "compute the same loads with its constant multiplies as shift-and-add logic, one sample per clock and shared (schedule.constant-multiplies)" in {
+    import reducerload.graph.ConstantMultiplies
+    Seq(("default-shift-add", LoadParams.default, 1e-4, 25L), ("compact-shift-add", LoadParams.compact, 1e-3, 26L)).foreach { case (label, preset, target, seed) =>
+      val p = preset.copy(schedule = preset.schedule.copy(constantMultiplies = ConstantMultiplies.ShiftAdd))
+      val (blocks, shiftAdd) = (preset.arm.schedule, p.arm.schedule)
+      assert(shiftAdd.shiftAdded.size == p.arm.graph.counts.constantMultiplications && shiftAdd.multiplierBlocks < blocks.multiplierBlocks,
+        s"$label: ${shiftAdd.multiplierBlocks} blocks with ${shiftAdd.shiftAdded.size} shift-add multiplies, ${blocks.multiplierBlocks} without")
+      runDesign(label, p, target, seed)
+    }
+  }
 }
