@@ -9,12 +9,19 @@ import reducerload.fixedpoint.{FixedFormat, Rounding}
  * takes the reference.
  */
 object FastFixed {
-  /** |x·2^f| below this: a double's decimal rendering (what BigDecimal(x) takes) is within 2^-13 of it. */
-  private val exactLimit = math.pow(2, 40)
-  /** Fractions closer than this to a tie take the reference path, whose decimal rendering may fall either side. */
-  private val tieMargin = math.pow(2, -10)
+  /**
+   * |x·2^f| below this: a double's decimal rendering (what BigDecimal(x) takes; it reads back as x, so
+   * it is within half an ulp of x) is within 2^-14 of it once scaled (an ulp below 2^40 is at most 2^-13).
+   */
+  private final val exactLimit = 1099511627776.0 // 2^40
+  /**
+   * Fractions closer than this to a tie take the reference path, whose decimal rendering may fall
+   * either side; four times the rendering's distance (it was 2^-10: one sample in 60 of a joint-3
+   * trajectory took the BigDecimal path).
+   */
+  private final val tieMargin = 1.0 / 4096 // 2^-12
   /** "No fast answer": never a result of the fast path, whose results are below 2^41 in magnitude. */
-  private val noFastAnswer = Long.MinValue
+  private final val noFastAnswer = Long.MinValue
 
   private def fastHalfUp(x: Double, fracBits: Int): Long = {
     val scaled = math.scalb(x, fracBits) // exact: a power-of-two scaling
