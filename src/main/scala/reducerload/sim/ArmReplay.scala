@@ -57,7 +57,7 @@ class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCod
     outOfRange
   }
 
-  /** The reference as a tape (bit-identical to [[result]]'s, see DoubleTapeSpec). */
+  /** The reference as a tape (bit-identical to [[result]]'s, see ReplayArraysSpec). */
   protected def referenceTape(): ReferenceTape = ReferenceTape.rnea(p.chain)
 
   override lazy val arrays: Option[ArrayReplay] = fast.map { model =>

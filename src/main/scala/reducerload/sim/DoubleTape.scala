@@ -9,7 +9,7 @@ import scala.collection.mutable.ArrayBuffer
  * `Joint3Load.torque`), recorded once as a list of operations on numbered slots and then evaluated
  * per sample without allocation. The same IEEE operations on the same operands in the same order as
  * the formula on `Num.doubleNum` (which folds nothing), so every result is bit-identical
- * (DoubleTapeSpec). The caller fills in input `k` at slot `inputSlots(k)` before each [[run]].
+ * (ReplayArraysSpec). The caller fills in input `k` at slot `inputSlots(k)` before each [[run]].
  */
 final class DoubleTape private (val inputSlots: Array[Int], slots: Int, constSlot: Array[Int], constValue: Array[Double],
   kind: Array[Int], dst: Array[Int], left: Array[Int], right: Array[Int], val outputSlots: Array[Int]) {

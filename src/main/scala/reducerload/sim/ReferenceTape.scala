@@ -10,7 +10,7 @@ import scala.collection.mutable
 /**
  * A replay's double-precision reference ([[Rnea.reference]], or the joint-3 closed form of
  * `LoadReference.torque`) as a [[DoubleTape]], with its inputs read from a trajectory row (n angles,
- * n velocities, n accelerations): bit-identical to the reference (DoubleTapeSpec), without its
+ * n velocities, n accelerations): bit-identical to the reference (ReplayArraysSpec), without its
  * per-sample collections.
  */
 final class ReferenceTape private (val tape: DoubleTape, joints: Int, source: Array[Int], joint: Array[Int],
