@@ -2,14 +2,15 @@ package reducerload.sim
 
 import reducerload.dynamics.Num
 
+import scala.collection.mutable
 import scala.collection.mutable.ArrayBuffer
 
 /**
  * A double-precision formula written over [[Num]] (the references: `Rnea.torques`,
  * `Joint3Load.torque`), recorded once as a list of operations on numbered slots and then evaluated
  * per sample without allocation. The same IEEE operations on the same operands in the same order as
- * the formula on `Num.doubleNum` (which folds nothing), so every result is bit-identical
- * (ReplayArraysSpec). The caller fills in input `k` at slot `inputSlots(k)` before each [[run]].
+ * the formula on `Num.doubleNum`, which folds nothing (the tape folds only what IEEE arithmetic makes
+ * exact: operations on constants, x * 1 and x * -1), so every result is bit-identical (ReplayArraysSpec). The caller fills in input `k` at slot `inputSlots(k)` before each [[run]].
  */
 final class DoubleTape private (val inputSlots: Array[Int], slots: Int, constSlot: Array[Int], constValue: Array[Double],
   kind: Array[Int], dst: Array[Int], left: Array[Int], right: Array[Int], val outputSlots: Array[Int]) {
@@ -65,12 +66,26 @@ object DoubleTape {
       slots += 1
       slots - 1
     }
-    val num = new Num[Int] {
-      def const(x: Double): Int = { constSlot += slots; constValue += x; slots += 1; slots - 1 }
-      def plus(a: Int, b: Int): Int = op(Plus, a, b)
-      def minus(a: Int, b: Int): Int = op(Minus, a, b)
-      def times(a: Int, b: Int): Int = op(Times, a, b)
-      def negate(a: Int): Int = op(Negate, a, a)
+    // Folded only where IEEE arithmetic is exact whatever the operand: an operation on two constants
+    // (computed once, the same operation), x * 1 = x and x * -1 = -x.
+    val constants = mutable.HashMap.empty[Int, Double]
+    def constOf(a: Int): Option[Double] = constants.get(a)
+    def isBits(a: Int, x: Double) = constOf(a).exists(c => java.lang.Double.doubleToRawLongBits(c) == java.lang.Double.doubleToRawLongBits(x))
+    val num: Num[Int] = new Num[Int] {
+      def const(x: Double): Int = { constSlot += slots; constValue += x; constants(slots) = x; slots += 1; slots - 1 }
+      private def both(a: Int, b: Int, f: (Double, Double) => Double)(otherwise: => Int): Int =
+        (constOf(a), constOf(b)) match {
+          case (Some(x), Some(y)) => const(f(x, y))
+          case _                  => otherwise
+        }
+      def plus(a: Int, b: Int): Int = both(a, b, _ + _)(op(Plus, a, b))
+      def minus(a: Int, b: Int): Int = both(a, b, _ - _)(op(Minus, a, b))
+      def times(a: Int, b: Int): Int = both(a, b, _ * _) {
+        if (isBits(a, 1.0)) b else if (isBits(b, 1.0)) a
+        else if (isBits(a, -1.0)) op(Negate, b, b) else if (isBits(b, -1.0)) op(Negate, a, a)
+        else op(Times, a, b)
+      }
+      def negate(a: Int): Int = constOf(a).fold(op(Negate, a, a))(x => const(-x))
     }
     val input = () => { inputSlots += slots; slots += 1; slots - 1 }
     val outputs = formula(num, input).toArray
