@@ -68,6 +68,7 @@ done
 
 echo
 echo "$(nproc) processors; load average now $(cut -d' ' -f1-3 /proc/loadavg); seed $seed; logs in $work"
+echo "$(java -version 2>&1 | head -1); $(verilator --version 2>/dev/null || echo 'no verilator'); commit $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
 echo "| design | engine | samples | wall clock s (end to end) | samples/s end to end | CSV read s | replay samples/s (wall) | replay samples per JVM CPU s | harness clocks/s per process (wall) | harness clocks per CPU s | CPU s (user+sys, sbt, JVM and harness processes) | load at start |"
 echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
 printf '%s\n' "${rows[@]}"

@@ -6,7 +6,7 @@ import reducerload.monitor.{MonitorConfig, MonitorParams, MonitorSummary}
 import reducerload.sim._
 import reducerload.trace.{InputError, TraceCsv}
 
-import java.io.{BufferedWriter, OutputStreamWriter, Writer}
+import java.io.{BufferedOutputStream, BufferedWriter, OutputStream, OutputStreamWriter, Writer}
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path, StandardCopyOption}
 import scala.collection.immutable.ArraySeq
@@ -137,7 +137,7 @@ object Simulate {
     val d = request.design
     val engine = if (request.engine == "rtl") ReplayEngine.Rtl(harness(request, elaborated)) else ReplayEngine.Model
     val progress = ProgressLine.onTerminal(request.rows.size.toLong, s"simulate (${request.engine})")
-    val summary = writeAtomically(request.output)(out => Replay.run(d, engine, request.rows, request.jobs, out, progress))
+    val summary = writeBytesAtomically(request.output)(out => Replay.run(d, engine, request.rows, request.jobs, out, progress))
     println(s"wrote ${request.output}: ${summary.samples} samples, ${d.description}, engine ${request.engine}, ${request.jobs} job(s)")
     val worst = d.errorLabels.indices.map { j =>
       println(f"  max |error| over in-range samples, ${d.errorLabels(j)}%-24s ${summary.maxErrors(j)}%.3e N·m (derived bound ${d.errorBounds(j)}%.3e N·m)")
@@ -157,14 +157,22 @@ object Simulate {
   }
 
   /** Write through `body` to a temporary file beside `path`, then move it in: all or nothing. */
-  def writeAtomically[T](path: Path)(body: Writer => T): T = {
+  def writeAtomically[T](path: Path)(body: Writer => T): T = writeBytesAtomically(path) { out =>
+    val writer = new BufferedWriter(new OutputStreamWriter(out, StandardCharsets.UTF_8), 1 << 16)
+    val result = body(writer)
+    writer.flush()
+    result
+  }
+
+  /** [[writeAtomically]] of bytes. */
+  def writeBytesAtomically[T](path: Path)(body: OutputStream => T): T = {
     val abs = path.toAbsolutePath.normalize
     val parent = abs.getParent
     if (parent != null && !Files.isDirectory(parent)) throw new InputError(s"$path: directory $parent does not exist")
     val tmp = Files.createTempFile(parent, ".partial-", ".csv")
     try {
-      val writer = new BufferedWriter(new OutputStreamWriter(Files.newOutputStream(tmp), StandardCharsets.UTF_8), 1 << 20)
-      val result = try body(writer) finally writer.close()
+      val out = new BufferedOutputStream(Files.newOutputStream(tmp), 1 << 20)
+      val result = try body(out) finally out.close()
       Files.move(tmp, abs, StandardCopyOption.REPLACE_EXISTING, StandardCopyOption.ATOMIC_MOVE)
       result
     } finally Files.deleteIfExists(tmp)

@@ -57,6 +57,61 @@ class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCod
     outOfRange
   }
 
+  /** The reference as a tape (bit-identical to [[result]]'s, see ReplayArraysSpec). */
+  protected def referenceTape(): ReferenceTape = ReferenceTape.rnea(p.chain)
+
+  override lazy val arrays: Option[ArrayReplay] = fast.map { model =>
+    val reference = referenceTape()
+    require(reference.outputs == model.torques, s"ArmReplay: ${reference.outputs} reference torques for ${model.torques} outputs")
+    new ArrayReplay {
+      def inputCount: Int = model.inputCount
+      def outputCount: Int = model.outputCount
+      def worker(): ArrayReplay.Worker = new ArmWorker(model, reference)
+    }
+  }
+
+  private final class ArmWorker(model: FastArmModel, reference: ReferenceTape) extends ArrayReplay.Worker {
+    private val runner = model.runner()
+    private val v = reference.tape.scratch()
+    private val n = joints
+    private val torques = model.torques
+    private val outFrac = p.analysis.outputPortFormat.fracBits
+    private val (velocity, acceleration) = (p.numerics.velocityPortFormat, p.numerics.accelerationPortFormat)
+    private val (vMin, vMax) = (FastFixed.minOf(velocity), FastFixed.maxOf(velocity))
+    private val (aMin, aMax) = (FastFixed.minOf(acceleration), FastFixed.maxOf(acceleration))
+
+    def encode(row: Array[Double], codes: Array[Long], at: Int): Unit = {
+      var j = 0
+      while (j < n) {
+        codes(at + j) = FastFixed.angleCodeLong(row(j), angleFormat)
+        codes(at + n + j) = FastFixed.codeHalfUpLong(row(n + j), velocity, vMin, vMax)
+        codes(at + 2 * n + j) = FastFixed.codeHalfUpLong(row(2 * n + j), acceleration, aMin, aMax)
+        j += 1
+      }
+    }
+
+    def evaluate(codes: Array[Long], at: Int, out: Array[Long], outAt: Int): Unit = runner.evaluate(codes, at, out, outAt)
+
+    def result(index: Long, row: Array[Double], out: Array[Long], outAt: Int, text: java.lang.StringBuilder, errors: Array[Double]): Boolean = {
+      val v = this.v
+      reference.evaluate(row, v)
+      text.append(index)
+      var k = 0
+      while (k < torques) {
+        val hw = FastFixed.longToDouble(out(outAt + k), outFrac)
+        val ref = reference.tape.output(v, k)
+        text.append(',').append(hw).append(',').append(ref).append(',').append(hw - ref)
+        errors(k) = math.abs(hw - ref)
+        k += 1
+      }
+      var flagged = false
+      var j = 0
+      while (j < n) { if (out(outAt + torques + j) != 0) flagged = true; j += 1 }
+      text.append(',').append(if (flagged) '1' else '0')
+      flagged
+    }
+  }
+
   def errorLabels: IndexedSeq[String] = p.jointNames
   def errorBounds: IndexedSeq[Double] = p.errorBounds
   def description: String = s"robot ${p.chain.name} ($joints joints), every joint by RNEA"

@@ -35,10 +35,72 @@ final class CompiledHarness(val executable: Path, val ports: HarnessPorts, val f
     require(samplePeriod >= 1, s"harness: samplePeriod must be >= 1, got $samplePeriod")
     require(drainCycles >= 0, s"harness: drainCycles must be >= 0, got $drainCycles")
     require(maxStallCycles >= 0, s"harness: maxStallCycles must be >= 0, got $maxStallCycles")
+    runProcess(samplePeriod, drainCycles, maxStallCycles)(writeInputs(_, inputs)) { (out, accepted) =>
+      val outputs = readRecords(out, outRecord) { b =>
+        val cycle = b.getLong()
+        val values = new Array[BigInt](outputPorts.length)
+        var i = 0
+        while (i < values.length) { values(i) = decode(outputPorts(i), b.getLong()); i += 1 }
+        onOutput(cycle, ArraySeq.unsafeWrapArray(values))
+      }
+      (outputs, readRecords(accepted, 8)(b => onAccepted(b.getLong())))
+    }
+  }
+
+  /**
+   * [[stream]] of the `count` samples in `inputs` (`ports.inputs.size` values each, in port order),
+   * every output to `outputs` (`ports.outputs.size` values each; ports of at most 63 bits); there must
+   * be one output per sample. No allocation per sample.
+   */
+  def streamLongs(inputs: Array[Long], count: Int, samplePeriod: Int, drainCycles: Int, maxStallCycles: Long = 1000000L)(
+    outputs: Array[Long]): HarnessStats = {
+    require(samplePeriod >= 1, s"harness: samplePeriod must be >= 1, got $samplePeriod")
+    require(drainCycles >= 0, s"harness: drainCycles must be >= 0, got $drainCycles")
+    require(maxStallCycles >= 0, s"harness: maxStallCycles must be >= 0, got $maxStallCycles")
+    require(outputPorts.forall(p => p.width <= 63 || p.signed), "harness: streamLongs needs output ports of at most 63 bits (or signed)")
+    val width = inputPorts.length
+    val outWidth = outputPorts.length
+    require(inputs.length >= count * width && outputs.length >= count * outWidth, s"harness: arrays too short for $count samples")
+    runProcess(samplePeriod, drainCycles, maxStallCycles) { path =>
+      val channel = FileChannel.open(path, StandardOpenOption.CREATE_NEW, StandardOpenOption.WRITE)
+      try {
+        val buffer = ByteBuffer.allocate(inRecord * 8192).order(ByteOrder.LITTLE_ENDIAN)
+        val (min, max) = (inputMin, inputMax)
+        var k = 0
+        while (k < count) {
+          if (buffer.remaining < inRecord) { buffer.flip(); while (buffer.hasRemaining) channel.write(buffer); buffer.clear() }
+          var i = 0
+          while (i < width) {
+            val v = inputs(k * width + i)
+            buffer.putLong(if (v >= min(i) && v <= max(i)) v else encodeSlowly(inputPorts(i), BigInt(v), k))
+            i += 1
+          }
+          k += 1
+        }
+        buffer.flip()
+        while (buffer.hasRemaining) channel.write(buffer)
+        count.toLong
+      } finally channel.close()
+    } { (out, accepted) =>
+      var k = 0
+      val results = readRecords(out, outRecord) { b =>
+        b.getLong() // the cycle
+        if (k >= count) throw new IllegalStateException(s"the RTL returned more than $count results for $count samples")
+        var i = 0
+        while (i < outWidth) { outputs(k * outWidth + i) = b.getLong(); i += 1 }
+        k += 1
+      }
+      if (results != count) throw new IllegalStateException(s"the RTL returned $results results for $count samples")
+      (results, readRecords(accepted, 8)(b => { b.getLong(); () }))
+    }
+  }
+
+  /** Write the inputs with `write` (returns the sample count), run the harness, read its files with `read` (outputs, accepted). */
+  private def runProcess(samplePeriod: Int, drainCycles: Int, maxStallCycles: Long)(write: Path => Long)(read: (Path, Path) => (Long, Long)): HarnessStats = {
     val dir = Files.createTempDirectory("reducer-load-harness-run-")
     try {
       val (in, out, accepted) = (dir.resolve("inputs.bin"), dir.resolve("outputs.bin"), dir.resolve("accepted.bin"))
-      val written = writeInputs(in, inputs)
+      val written = write(in)
       val log = new StringBuilder
       val start = System.nanoTime()
       val status = Seq(executable.toString, in.toString, out.toString, accepted.toString, samplePeriod.toString,
@@ -49,14 +111,7 @@ final class CompiledHarness(val executable: Path, val ports: HarnessPorts, val f
         .getOrElse(throw new IllegalStateException(s"harness $executable printed no $what: ${log.toString.trim}"))
       val cycles = printed("cycles=(\\d+)", "cycle count").toLong
       val cpuSeconds = printed("cpu_seconds=([0-9.]+)", "CPU time").toDouble
-      val outputs = readRecords(out, outRecord) { b =>
-        val cycle = b.getLong()
-        val values = new Array[BigInt](outputPorts.length)
-        var i = 0
-        while (i < values.length) { values(i) = decode(outputPorts(i), b.getLong()); i += 1 }
-        onOutput(cycle, ArraySeq.unsafeWrapArray(values))
-      }
-      val taken = readRecords(accepted, 8)(b => onAccepted(b.getLong()))
+      val (outputs, taken) = read(out, accepted)
       if (taken != written)
         throw new IllegalStateException(s"harness took $taken of $written samples (drain or stall limit reached?)")
       HarnessStats(taken, outputs, cycles, seconds, cpuSeconds)

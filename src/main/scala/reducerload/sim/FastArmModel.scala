@@ -62,49 +62,106 @@ final class FastArmModel(p: ArmParams) {
   }.toArray
   private val joints = velocityLimit.length
 
+  /** Torque codes per sample (the graph's outputs); then come [[joints]] out-of-range flags. */
+  val torques: Int = outputs.length
+  /** Codes per sample in and values out of [[Runner.evaluate]], in the harness ports' order. */
+  val inputCount: Int = 3 * joints
+  val outputCount: Int = torques + joints
+
   def evaluate(in: SampleCodes): ArmOutputCodes = {
-    val flags = new Array[Boolean](joints)
-    def clamp(x: BigInt, limit: Long, j: Int): Long = {
-      require(x.isValidLong, s"input code $x does not fit 64 bits")
-      val v = x.toLong
-      if (v > limit) { flags(j) = true; limit } else if (v < -limit) { flags(j) = true; -limit } else v
-    }
-    val qd = Array.tabulate(joints)(j => clamp(in.velocities(j), velocityLimit(j), j))
-    val qdd = Array.tabulate(joints)(j => clamp(in.accelerations(j), accelerationLimit(j), j))
-    val trig = new Array[Long](2 * angles.size)
-    var a = 0
-    while (a < angles.size) {
-      val js = angleJoints(a)
-      var code = 0L
-      var t = 0
-      while (t < js.length) { code += angleMultiples(a)(t) * in.angles(js(t)).toLong; t += 1 }
-      cordic.sinCosRaw(code & turnMask, trig, 2 * a) // binary angles wrap modulo one turn
-      a += 1
-    }
-    val v = new Array[Long](size)
-    var i = 0
-    while (i < size) {
-      val x = kind(i) match {
-        case Constant     => constant(i)
-        case Velocity     => qd(left(i))
-        case Acceleration => qdd(left(i))
-        case Trig         => trig(left(i))
-        case Add          => (v(left(i)) << leftShift(i)) + (v(right(i)) << rightShift(i))
-        case Sub          => (v(left(i)) << leftShift(i)) - (v(right(i)) << rightShift(i))
-        case Neg          => -v(left(i))
-        case _            => FastFixed.mulShiftRound(v(left(i)), v(right(i)), drop(i), rounding(i))
+    def long(x: BigInt): Long = { require(x.isValidLong, s"input code $x does not fit 64 bits"); x.toLong }
+    val codes = (in.angles ++ in.velocities ++ in.accelerations).map(long).toArray
+    require(codes.length == inputCount, s"FastArmModel: ${codes.length} input codes for $joints joints")
+    val out = new Array[Long](outputCount)
+    runner().evaluate(codes, 0, out, 0)
+    ArmOutputCodes(ArraySeq.unsafeWrapArray(out.take(torques).map(BigInt(_))), ArraySeq.unsafeWrapArray(out.drop(torques).map(_ != 0)))
+  }
+
+  /** Work arrays for [[Runner.evaluate]]; one per thread. */
+  def runner(): Runner = new Runner
+
+  final class Runner private[FastArmModel] () {
+    private val qd = new Array[Long](joints)
+    private val qdd = new Array[Long](joints)
+    private val flags = new Array[Boolean](joints)
+    private val trig = new Array[Long](2 * angles.size)
+    private val v = new Array[Long](size)
+    private val (kind, left, right, leftShift, rightShift, drop) = (FastArmModel.this.kind, FastArmModel.this.left,
+      FastArmModel.this.right, FastArmModel.this.leftShift, FastArmModel.this.rightShift, FastArmModel.this.drop)
+    private val halfUp = rounding.map(_ == Rounding.HalfUp)
+    private val (constant, lo, hi) = (FastArmModel.this.constant, FastArmModel.this.lo, FastArmModel.this.hi)
+    private val (angleJoints, angleMultiples, turnMask) = (FastArmModel.this.angleJoints, FastArmModel.this.angleMultiples, FastArmModel.this.turnMask)
+    private val (velocityLimit, accelerationLimit) = (FastArmModel.this.velocityLimit, FastArmModel.this.accelerationLimit)
+    private val outNode = outputs.map(_._1)
+    private val outDrop = outputs.map(_._2)
+    private val outMin = outputs.map(_._3)
+    private val outMax = outputs.map(_._4)
+
+    /**
+     * One sample: `codes(at ..)` holds the angle, velocity and acceleration codes (one per joint
+     * each); writes the torque codes and then each joint's out-of-range flag (0 or 1) to `out(outAt ..)`.
+     */
+    def evaluate(codes: Array[Long], at: Int, out: Array[Long], outAt: Int): Unit = {
+      // Locals: scalac's -Xcheckinit guards every field read.
+      val qd = this.qd; val qdd = this.qdd; val flags = this.flags; val trig = this.trig
+      val kind = this.kind; val left = this.left; val right = this.right; val leftShift = this.leftShift
+      val rightShift = this.rightShift; val drop = this.drop; val halfUp = this.halfUp; val constant = this.constant
+      val lo = this.lo; val hi = this.hi; val velocityLimit = this.velocityLimit; val accelerationLimit = this.accelerationLimit
+      val angleJoints = this.angleJoints; val angleMultiples = this.angleMultiples; val turnMask = this.turnMask
+      val outNode = this.outNode; val outDrop = this.outDrop; val outMin = this.outMin; val outMax = this.outMax
+      val n = qd.length
+      var j = 0
+      while (j < n) {
+        val x = codes(at + n + j)
+        val l = velocityLimit(j)
+        flags(j) = x > l || x < -l
+        qd(j) = if (x > l) l else if (x < -l) -l else x
+        val y = codes(at + 2 * n + j)
+        val m = accelerationLimit(j)
+        if (y > m || y < -m) flags(j) = true
+        qdd(j) = if (y > m) m else if (y < -m) -m else y
+        j += 1
       }
-      if (x < lo(i) || x > hi(i))
-        throw new IllegalArgumentException(s"GraphModel: node $i (${graph.ops(i)}) = $x outside its proven format ${analysis.nodes(i).format}")
-      v(i) = x
-      i += 1
+      var a = 0
+      while (a < angleJoints.length) {
+        val js = angleJoints(a)
+        val ks = angleMultiples(a)
+        var code = 0L
+        var t = 0
+        while (t < js.length) { code += ks(t) * codes(at + js(t)); t += 1 }
+        cordic.sinCosRaw(code & turnMask, trig, 2 * a) // binary angles wrap modulo one turn
+        a += 1
+      }
+      val v = this.v
+      var i = 0
+      while (i < v.length) {
+        val x = (kind(i): @annotation.switch) match {
+          case Constant     => constant(i)
+          case Velocity     => qd(left(i))
+          case Acceleration => qdd(left(i))
+          case Trig         => trig(left(i))
+          case Add          => (v(left(i)) << leftShift(i)) + (v(right(i)) << rightShift(i))
+          case Sub          => (v(left(i)) << leftShift(i)) - (v(right(i)) << rightShift(i))
+          case Neg          => -v(left(i))
+          case _            => FastFixed.mulShiftRound(v(left(i)), v(right(i)), drop(i), if (halfUp(i)) Rounding.HalfUp else Rounding.Truncate)
+        }
+        if (x < lo(i) || x > hi(i))
+          throw new IllegalArgumentException(s"GraphModel: node $i (${graph.ops(i)}) = $x outside its proven format ${analysis.nodes(i).format}")
+        v(i) = x
+        i += 1
+      }
+      var saturated = false
+      var k = 0
+      while (k < outNode.length) {
+        val d = outDrop(k)
+        val r = if (d >= 0) FastFixed.shiftRound(v(outNode(k)), d, Rounding.HalfUp) else v(outNode(k)) << -d
+        if (r < outMin(k) || r > outMax(k)) saturated = true
+        out(outAt + k) = if (r < outMin(k)) outMin(k) else if (r > outMax(k)) outMax(k) else r
+        k += 1
+      }
+      j = 0
+      while (j < n) { out(outAt + outNode.length + j) = if (flags(j) || saturated) 1L else 0L; j += 1 }
     }
-    val codes = outputs.map { case (node, outDrop, min, max) =>
-      val r = if (outDrop >= 0) FastFixed.shiftRound(v(node), outDrop, Rounding.HalfUp) else v(node) << -outDrop
-      (r.max(min).min(max), r < min || r > max)
-    }
-    val saturated = codes.exists(_._2)
-    ArmOutputCodes(ArraySeq.unsafeWrapArray(codes.map(c => BigInt(c._1))), ArraySeq.unsafeWrapArray(flags.map(_ || saturated)))
   }
 }
 

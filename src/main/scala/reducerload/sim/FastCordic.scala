@@ -41,40 +41,64 @@ final class FastCordic(p: CordicParams) {
     v
   }
 
+  // The parameters as plain values, read into locals of the loop below (-Xcheckinit guards every field read).
+  private val angleBits = p.angleBits
+  private val residualBits = p.residualBits
+  private val angleGuardBits = p.angleGuardBits
+  private val firstIteration = p.firstIteration
+  private val iterations = p.iterations
+  private val residual = p.residual
+  private val residualOperandFracBits = p.residualOperandFracBits
+  private val guardBits = p.guardBits
+  private val outputHalfUp = p.outputRounding == Rounding.HalfUp
+  private val outputRounding = p.outputRounding
+
   /** Raw (cos, sin) of `angle` into `out(at)`, `out(at + 1)`. */
   def sinCosRaw(angle: Long, out: Array[Long], at: Int): Unit = {
-    require(angle >= 0 && angle < (1L << p.angleBits), s"CordicModel: angle code $angle is not a ${p.angleBits}-bit code")
-    val quadrant = (angle >> p.residualBits).toInt
+    val firstIteration = this.firstIteration; val iterations = this.iterations
+    val atan = this.atan; val zMin = this.zMin; val zMax = this.zMax; val xyMin = this.xyMin; val xyMax = this.xyMax
+    require(angle >= 0 && angle < (1L << angleBits), s"CordicModel: angle code $angle is not a $angleBits-bit code")
+    val quadrant = (angle >> residualBits).toInt
     val segment = ((angle >> lowBits) & segmentMask).toInt
     var x = startX(segment)
     var y = startY(segment)
-    var z = check(((angle & lowMask) - centre) << p.angleGuardBits, zMin(0), zMax(0), "z at the first iteration")
-    var i = p.firstIteration
-    while (i < p.iterations) {
+    var z = check(((angle & lowMask) - centre) << angleGuardBits, zMin(0), zMax(0), "z at the first iteration")
+    var i = firstIteration
+    while (i < iterations) {
       val dx = y >> i
       val dy = x >> i
       if (z >= 0) { x -= dx; y += dy; z -= atan(i) } else { x += dx; y -= dy; z += atan(i) }
-      check(z, zMin(i + 1 - p.firstIteration), zMax(i + 1 - p.firstIteration), "z", i)
-      check(x, xyMin, xyMax, "x", i)
-      check(y, xyMin, xyMax, "y", i)
+      if (z < zMin(i + 1 - firstIteration) || z > zMax(i + 1 - firstIteration)) check(z, zMin(i + 1 - firstIteration), zMax(i + 1 - firstIteration), "z", i)
+      if (x < xyMin || x > xyMax) check(x, xyMin, xyMax, "x", i)
+      if (y < xyMin || y > xyMax) check(y, xyMin, xyMax, "y", i)
       i += 1
     }
-    if (p.residual) {
+    if (residual) {
       val zr = check(Math.multiplyExact(z, twoPi) >> zrShift, zrMin, zrMax, "zr")
-      val (xt, yt) = (x >> operandDrop, y >> operandDrop)
-      val nx = x - (Math.multiplyExact(yt, zr) >> p.residualOperandFracBits)
-      val ny = y + (Math.multiplyExact(xt, zr) >> p.residualOperandFracBits)
+      val xt = x >> operandDrop
+      val yt = y >> operandDrop
+      val nx = x - (Math.multiplyExact(yt, zr) >> residualOperandFracBits)
+      val ny = y + (Math.multiplyExact(xt, zr) >> residualOperandFracBits)
       x = check(nx, xyMin, xyMax, "x after the residual rotation")
       y = check(ny, xyMin, xyMax, "y after the residual rotation")
     }
-    val (c, s) = quadrant match {
-      case 0 => (x, y)
-      case 1 => (-y, x)
-      case 2 => (-x, -y)
-      case _ => (y, -x)
+    var c = x
+    var s = y
+    quadrant match {
+      case 0 =>
+      case 1 => c = -y; s = x
+      case 2 => c = -x; s = -y
+      case _ => c = y; s = -x
     }
-    out(at) = check(FastFixed.shiftRound(c, p.guardBits, p.outputRounding), outMin, outMax, "output")
-    out(at + 1) = check(FastFixed.shiftRound(s, p.guardBits, p.outputRounding), outMin, outMax, "output")
+    if (outputHalfUp && guardBits > 0) {
+      c = Math.addExact(c, 1L << (guardBits - 1)) >> guardBits
+      s = Math.addExact(s, 1L << (guardBits - 1)) >> guardBits
+    } else {
+      c = FastFixed.shiftRound(c, guardBits, outputRounding)
+      s = FastFixed.shiftRound(s, guardBits, outputRounding)
+    }
+    out(at) = check(c, outMin, outMax, "output")
+    out(at + 1) = check(s, outMin, outMax, "output")
   }
 }
 

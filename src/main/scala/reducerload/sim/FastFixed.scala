@@ -9,12 +9,19 @@ import reducerload.fixedpoint.{FixedFormat, Rounding}
  * takes the reference.
  */
 object FastFixed {
-  /** |x·2^f| below this: a double's decimal rendering (what BigDecimal(x) takes) is within 2^-13 of it. */
-  private val exactLimit = math.pow(2, 40)
-  /** Fractions closer than this to a tie take the reference path, whose decimal rendering may fall either side. */
-  private val tieMargin = math.pow(2, -10)
+  /**
+   * |x·2^f| below this: a double's decimal rendering (what BigDecimal(x) takes; it reads back as x, so
+   * it is within half an ulp of x) is within 2^-14 of it once scaled (an ulp below 2^40 is at most 2^-13).
+   */
+  private final val exactLimit = 1099511627776.0 // 2^40
+  /**
+   * Fractions closer than this to a tie take the reference path, whose decimal rendering may fall
+   * either side; four times the rendering's distance (it was 2^-10: one sample in 60 of a joint-3
+   * trajectory took the BigDecimal path).
+   */
+  private final val tieMargin = 1.0 / 4096 // 2^-12
   /** "No fast answer": never a result of the fast path, whose results are below 2^41 in magnitude. */
-  private val noFastAnswer = Long.MinValue
+  private final val noFastAnswer = Long.MinValue
 
   private def fastHalfUp(x: Double, fracBits: Int): Long = {
     val scaled = math.scalb(x, fracBits) // exact: a power-of-two scaling
@@ -37,6 +44,13 @@ object FastFixed {
     else FixedFormat.saturate(quantizeHalfUp(x, f), f)._1
   }
 
+  /** [[codeHalfUp]] as a long, for a format of at most 63 bits whose limits are `min` and `max` ([[minOf]], [[maxOf]]). */
+  def codeHalfUpLong(x: Double, f: FixedFormat, min: Long, max: Long): Long = {
+    val v = fastHalfUp(x, f.fracBits)
+    if (v != noFastAnswer) (if (v < min) min else if (v > max) max else v)
+    else FixedFormat.saturate(quantizeHalfUp(x, f), f)._1.toLong
+  }
+
   /** `FixedFormat.scaleDown(raw, fracBits)`: exact in doubles when the code has at most 53 bits. */
   def toDouble(raw: BigInt, fracBits: Int): Double =
     if (raw.bitLength <= 53) math.scalb(raw.toLong.toDouble, -fracBits) else FixedFormat.scaleDown(raw, fracBits)
@@ -56,6 +70,19 @@ object FastFixed {
     // Two's complement: the low bits are the non-negative residue modulo the turn.
     if (v != noFastAnswer) BigInt(v & ((1L << f.fracBits) - 1)) else f.quantize(fraction, Rounding.HalfUp).mod(BigInt(1) << f.fracBits)
   }
+
+  /** [[angleCode]] as a long. */
+  def angleCodeLong(rad: Double, f: FixedFormat): Long = {
+    require(!rad.isNaN && !rad.isInfinite, s"angle $rad is not a finite number")
+    val turns = rad / (2 * math.Pi)
+    val fraction = turns - math.floor(turns)
+    val v = fastHalfUp(fraction, f.fracBits)
+    if (v != noFastAnswer) v & ((1L << f.fracBits) - 1) else f.quantize(fraction, Rounding.HalfUp).mod(BigInt(1) << f.fracBits).toLong
+  }
+
+  /** [[toDouble]] of a long code. */
+  def longToDouble(raw: Long, fracBits: Int): Double =
+    if (raw >= -(1L << 53) && raw < (1L << 53)) math.scalb(raw.toDouble, -fracBits) else FixedFormat.scaleDown(BigInt(raw), fracBits)
 
   // ---- long arithmetic of the models (FastLoadModel), for formats of at most 62 bits ----
 
@@ -88,10 +115,10 @@ object FastFixed {
         lo = sum
       } else hi += 1L << (drop - 1 - 64)
     }
-    val (result, rest) =
-      if (drop == 0) (lo, hi)
-      else if (drop < 64) ((lo >>> drop) | (hi << (64 - drop)), hi >> drop)
-      else (hi >> (drop - 64), hi >> 63)
+    var result = lo
+    var rest = hi
+    if (drop >= 64) { result = hi >> (drop - 64); rest = hi >> 63 }
+    else if (drop > 0) { result = (lo >>> drop) | (hi << (64 - drop)); rest = hi >> drop }
     if (rest != (result >> 63)) throw new ArithmeticException(s"mulShiftRound: $a * $b >> $drop does not fit a long")
     result
   }

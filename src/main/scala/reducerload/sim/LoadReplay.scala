@@ -25,6 +25,8 @@ final class LoadReplay(settings: LoadParams) extends ArmReplay(settings.arm) {
     outOfRange
   }
 
+  override protected def referenceTape(): ReferenceTape = ReferenceTape.joint3(settings.robot, settings.model)
+
   override def errorLabels: IndexedSeq[String] = IndexedSeq("joint 3 load")
   override def description: String = s"model ${settings.model.name}"
 }

@@ -1,6 +1,8 @@
 package reducerload.sim
 
-import java.io.Writer
+import java.io.OutputStream
+import java.nio.charset.StandardCharsets
+import scala.collection.immutable.ArraySeq
 import scala.collection.mutable.ArrayBuffer
 
 /**
@@ -44,11 +46,11 @@ object Replay {
    * Texts of numbered chunks to `out` in chunk order, as soon as each one and every one before it is
    * there: writing overlaps the work on later chunks, and at most the chunks done out of order wait.
    */
-  private final class InOrderWriter(out: Writer, count: Int) {
-    private val waiting = new Array[String](count)
+  private final class InOrderWriter(out: OutputStream, count: Int) {
+    private val waiting = new Array[Array[Byte]](count)
     private var next = 0 // guarded by this
 
-    def put(k: Int, text: String): Unit = synchronized {
+    def put(k: Int, text: Array[Byte]): Unit = synchronized {
       waiting(k) = text
       while (next < count && waiting(next) != null) {
         out.write(waiting(next))
@@ -58,14 +60,26 @@ object Replay {
     }
   }
 
+  /** The text of a chunk's lines (ASCII: numbers, commas, line ends) as bytes. */
+  private def bytes(text: java.lang.StringBuilder): Array[Byte] = text.toString.getBytes(StandardCharsets.ISO_8859_1)
+
+  /** A row's values as an array (the reader's rows already are one). */
+  private def rowArray(row: IndexedSeq[Double]): Array[Double] = row match {
+    case a: ArraySeq.ofDouble => a.unsafeArray
+    case other                => other.toArray
+  }
+
   /** Run every row, write the header and one line per sample to `out`. */
   def run[In, Out](design: ReplayDesign[In, Out], engine: ReplayEngine, rows: IndexedSeq[IndexedSeq[Double]], jobs: Int,
-    out: Writer, progress: ProgressLine): ReplaySummary = {
+    out: OutputStream, progress: ProgressLine): ReplaySummary = {
     val start = System.nanoTime()
     val labels = design.errorLabels.size
+    out.write((design.outputHeader + "\n").getBytes(StandardCharsets.UTF_8))
+    design.arrays match {
+      case Some(fast) => return runArrays(design, fast, engine, rows, jobs, out, progress, start)
+      case None       =>
+    }
     val size = chunkSize(engine, rows.size, jobs)
-    out.write(design.outputHeader)
-    out.write('\n')
     val writer = new InOrderWriter(out, (rows.size + size - 1) / size)
     val chunks = ChunkedRun(rows.size, size, jobs, n => progress.advance(n.toLong)) { range =>
       val cpuStart = threads.getCurrentThreadCpuTime
@@ -80,8 +94,59 @@ object Replay {
         outOfRange
       }
       val cpuSeconds = (threads.getCurrentThreadCpuTime - cpuStart) / 1e9
-      writer.put(range.start / size, text.toString)
+      writer.put(range.start / size, bytes(text))
       ChunkResult(maxErrors, flagged.toLong, harnessStats, cpuSeconds)
+    }
+    progress.finish()
+    ReplaySummary(rows.size.toLong,
+      (0 until labels).map(j => chunks.map(_.maxErrors(j)).maxOption.getOrElse(0.0)),
+      chunks.map(_.outOfRange).sum, (System.nanoTime() - start) / 1e9, chunks.map(_.cpuSeconds).sum, chunks.flatMap(_.harness))
+  }
+
+  /** [[run]] on the design's [[ArrayReplay]]: the same lines, from codes and outputs in long arrays. */
+  private def runArrays(design: ReplayDesign[_, _], fast: ArrayReplay, engine: ReplayEngine, rows: IndexedSeq[IndexedSeq[Double]],
+    jobs: Int, out: OutputStream, progress: ProgressLine, start: Long): ReplaySummary = {
+    val labels = design.errorLabels.size
+    val size = engine match {
+      case ReplayEngine.Model => ((rows.size + jobs - 1) / jobs).min(1 << 14).max(1)
+      case _                  => chunkSize(engine, rows.size, jobs)
+    }
+    val (ins, outs) = (fast.inputCount, fast.outputCount)
+    val workers = ThreadLocal.withInitial[ArrayReplay.Worker](() => fast.worker())
+    val writer = new InOrderWriter(out, (rows.size + size - 1) / size)
+    val chunks = ChunkedRun(rows.size, size, jobs, n => progress.advance(n.toLong)) { range =>
+      val cpuStart = threads.getCurrentThreadCpuTime
+      val worker = workers.get()
+      val n = range.size
+      val first = range.start
+      val codes = new Array[Long](n * ins)
+      var k = 0
+      while (k < n) { worker.encode(rowArray(rows(first + k)), codes, k * ins); k += 1 }
+      val values = new Array[Long](n * outs)
+      val harnessStats = engine match {
+        case ReplayEngine.Model =>
+          k = 0
+          while (k < n) { worker.evaluate(codes, k * ins, values, k * outs); k += 1 }
+          None
+        case ReplayEngine.Rtl(harness) =>
+          Some(harness.streamLongs(codes, n, design.samplePeriod, design.latency + 1)(values))
+      }
+      val text = new java.lang.StringBuilder(n * (24 + 60 * labels))
+      val maxErrors = new Array[Double](labels)
+      val errors = new Array[Double](labels)
+      var flagged = 0L
+      k = 0
+      while (k < n) {
+        val i = first + k
+        if (worker.result(i.toLong, rowArray(rows(i)), values, k * outs, text, errors)) flagged += 1
+        else { var j = 0; while (j < labels) { maxErrors(j) = maxErrors(j).max(errors(j)); j += 1 } }
+        text.append('\n')
+        k += 1
+      }
+      val text8 = bytes(text)
+      val cpuSeconds = (threads.getCurrentThreadCpuTime - cpuStart) / 1e9
+      writer.put(first / size, text8)
+      ChunkResult(maxErrors, flagged, harnessStats, cpuSeconds)
     }
     progress.finish()
     ReplaySummary(rows.size.toLong,

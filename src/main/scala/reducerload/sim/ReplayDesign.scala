@@ -31,6 +31,9 @@ trait ReplayDesign[In, Out] {
    */
   def result(index: Long, row: IndexedSeq[Double], out: Out, text: java.lang.StringBuilder, errors: Array[Double]): Boolean
 
+  /** The same replay in primitive arrays, when the design has one. */
+  def arrays: Option[ArrayReplay] = None
+
   /** What the `errors` of [[result]] are about, and each one's derived bound (N·m). */
   def errorLabels: IndexedSeq[String]
   def errorBounds: IndexedSeq[Double]
