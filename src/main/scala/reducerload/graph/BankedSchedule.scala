@@ -287,7 +287,7 @@ final class BankedSchedule(val base: Schedule) {
       case Input(_) | Trig(_, _) => fixed(id.index)._1
       case _                     => 0
     }) + height(id.index)
-  }.max + 1
+  }.max + Schedule.outputStages
 
 
   /** Cycle in which each node's value is in its unit's output register and written into its bank (None: a constant). */
@@ -306,7 +306,7 @@ final class BankedSchedule(val base: Schedule) {
   val outputsReady: Int = graph.outputs.flatMap(o => ready(o.node)).maxOption.getOrElse(base.inputCycle)
 
   /** Cycles from a sample on the input port to its torques on the output port (output stage included). */
-  val latency: Int = outputsReady + 1
+  val latency: Int = outputsReady + Schedule.outputStages
 
   /** Values of each bank that some operation reads from it, in the order they are ready: a value's slot is its place here. */
   val values: IndexedSeq[IndexedSeq[NodeId]] = {
