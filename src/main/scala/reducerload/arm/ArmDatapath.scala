@@ -203,17 +203,22 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     graph.outputs.map(o => values(o.node.index)(outAt))
   }
 
-  // Output stage: every torque in one cycle, rounded half up to the output format, then registered.
+  // Output stage, two registers deep (Schedule.outputStages): first each torque on its own, rounded
+  // half up to the output format and saturated (the saturation decided beside the rounding adder,
+  // FixedHw.roundSaturate), registered with its flag and its joint's input flag; then every joint's
+  // flag ORs in the saturation of any torque, from registers. Rounding, saturation and that OR across
+  // the joints in one clock were the UR5's critical path.
+  require(p.latency == outAt + ArmDatapath.outputStages, s"ArmDatapath: latency ${p.latency} is not the output stage's ${ArmDatapath.outputStages} cycles after cycle $outAt")
   private val results = graph.outputs.zip(analysis.outputs).zip(outputValues).map { case ((o, info), v) =>
-    val rounded = FixedHw.rescale(v, analysis.outputDrop(o), Rounding.HalfUp)
-    val (code, saturated) = FixedHw.saturate(rounded, info.format)
-    (code.pad(analysis.outputPortFormat.width), saturated)
+    val (code, saturated) = FixedHw.roundSaturate(v, analysis.outputDrop(o), info.format)
+    (RegEnable(code.pad(analysis.outputPortFormat.width), during(outAt)), RegEnable(saturated, during(outAt)))
   }
+  private val flagged = jointFlags.map(RegEnable(_, during(outAt)))
   private val anySaturated = results.map(_._2).reduce(_ || _)
   private val outBits = Wire(new ArmOutput(p))
   outBits.tau := VecInit(results.map(_._1))
-  outBits.outOfRange := VecInit(jointFlags.map(_ || anySaturated))
-  io.out.bits := RegEnable(outBits, during(outAt))
+  outBits.outOfRange := VecInit(flagged.map(_ || anySaturated))
+  io.out.bits := RegEnable(outBits, during(outAt + 1))
   io.out.valid := ShiftRegister(accept, p.latency, false.B, true.B)
 }
 
@@ -224,4 +229,7 @@ object ArmDatapath {
 
   /** Cycle at which each joint's out-of-range flag is in its register. */
   val flagCycle: Int = inputCycle + 1
+
+  /** Registers from the outputs' values to the output port: rounded and saturated per torque, then the flags combined. */
+  val outputStages: Int = reducerload.graph.Schedule.outputStages
 }

@@ -129,6 +129,8 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   private val adders = (0 until b.adderUnits).map(new AdderPlan(_))
 
   // ---- Hardware. ----
+  require(Microcode.ahead <= p.schedule.inputCycle + BankedSchedule.inputLatency - 1,
+    s"MemoryStorage: the table's first word comes ${Microcode.ahead} cycles after reset, after a sample's first write")
   private val word = new Microcode(ii, addressing.flatMap(a => Seq(a.write, a.writeEnable) ++ a.reads) ++ multipliers.flatMap(_.fields) ++
     adders.flatMap(_.fields), phase)
 
@@ -181,14 +183,14 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
     if (groups.size == 1) groups.head else VecInit(groups)(word(src.selectHigh.get))
   }
 
-  // Inputs: all loaded into a chain of registers in the input cycle, then written one per clock
+  // Inputs: all loaded into a chain of registers (after the input cycle), then written one per clock
   // from its head as the chain shifts ([[BankedSchedule.inputLatency]]): no select from the table
   // (a wide multiplexer ahead of the bank's write port).
   if (b.signals.nonEmpty) {
     val width = b.unitWidths(bankIndex(Bank.Inputs))
     val values = b.signals.map(signals(_).pad(width))
     val chain = Reg(Vec(values.size, SInt(width.W)))
-    when(during(p.schedule.inputCycle)) {
+    when(during(p.schedule.inputCycle + BankedSchedule.inputLoadDelay)) {
       chain := VecInit(values)
     }.otherwise {
       chain.init.zip(chain.tail).foreach { case (r, later) => r := later }
@@ -255,7 +257,7 @@ object Field {
   def flag(residues: Set[Int]): Field = Field(1, residues.map(_ -> BigInt(1)).toMap)
 }
 
-/** Control fields packed into one ROM word per residue, read by the phase a cycle ahead. Equal fields share their bits. */
+/** Control fields packed into one ROM word per residue, read by the phase [[Microcode.ahead]] cycles ahead. Equal fields share their bits. */
 final class Microcode(ii: Int, fields: Seq[Field], phase: UInt) {
   private val distinct = fields.distinct
   distinct.foreach(f => require(f.values.keys.forall(r => r >= 0 && r < ii), s"Microcode: a residue outside 0..${ii - 1}"))
@@ -264,10 +266,12 @@ final class Microcode(ii: Int, fields: Seq[Field], phase: UInt) {
   /**
    * The word of the current residue, from registers: the ROM holds each residue's word
    * [[Microcode.ahead]] residues earlier and is read by the phase that many cycles ahead, through
-   * two registers (the block RAM's address and output registers), so every control signal leaves a
-   * flip-flop instead of a table lookup or a block-RAM read. In the first two cycles after reset
-   * the registers hold no word; every action of those cycles belongs to samples taken before the
-   * reset (a sample's first action comes two cycles after it is taken).
+   * three registers (the block RAM's address and output registers, then one in the fabric), so
+   * every control signal leaves a flip-flop the placer can put near its loads, not a block-RAM read
+   * or the block RAM's own output register (the word's bits fan out to every unit from one place:
+   * that route was the UR5's critical path). In the first `ahead` cycles after reset the registers
+   * hold no word; every action of those cycles belongs to samples taken before the reset (a
+   * sample's first action, its input bank's first write, comes `ahead` cycles after it is taken).
    */
   private val bits: UInt = {
     val words = (0 until ii).map(r => distinct.foldLeft(BigInt(0))((acc, f) => acc | (f.values.getOrElse(r, BigInt(0)) << offsets(f))))
@@ -287,6 +291,6 @@ object MemoryStorage {
 
 object Microcode {
 
-  /** Cycles the table is read ahead: block RAM registers its address, then its output. */
-  val ahead: Int = 2
+  /** Cycles the table is read ahead: block RAM registers its address, then its output, then the fabric. */
+  val ahead: Int = 3
 }

@@ -93,6 +93,25 @@ object FixedHw {
     if (x.getWidth <= to.width) (x.pad(to.width), false.B) else clamp(x, to.minRaw, to.maxRaw, to.width)
 
   /**
+   * `saturate(rescale(x, drop, HalfUp), to)`, with the saturation decided on `x` itself, beside the
+   * rounding adder instead of after its carry chain: with d = drop > 0 and h = 2^(d-1), the rounded
+   * value floor((x + h) / 2^d) is above `to.maxRaw` exactly when x > (maxRaw + 1) 2^d - h - 1 and
+   * below `to.minRaw` exactly when x < minRaw 2^d - h. Only the final multiplexer follows the adder.
+   */
+  def roundSaturate(x: SInt, drop: Int, to: FixedFormat): (SInt, Bool) = {
+    val rounded = rescale(x, drop, Rounding.HalfUp)
+    if (drop <= 0 || rounded.getWidth <= to.width) saturate(rounded, to) // no rounding adder, or nothing to clamp
+    else {
+      val half = BigInt(1) << (drop - 1)
+      val high = greaterThan(x, ((to.maxRaw + 1) << drop) - half - 1)
+      val low = lessThan(x, (to.minRaw << drop) - half)
+      val value = Wire(SInt(to.width.W))
+      value := Mux(high, to.maxRaw.S(to.width.W), Mux(low, to.minRaw.S(to.width.W), rounded(to.width - 1, 0).asSInt))
+      (value, high || low)
+    }
+  }
+
+  /**
    * `a + b` when `subtract` is low, `a - b` when high, in one carry chain: `a + (b ^ s) + s`.
    * The carry-in rides in an extra low bit (`{a,1} + {b^s,s}`) so synthesis sees one adder, not
    * an adder plus an incrementer or two adders and a mux. Result has `a`'s width (callers prove

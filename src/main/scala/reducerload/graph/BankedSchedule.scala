@@ -287,7 +287,7 @@ final class BankedSchedule(val base: Schedule) {
       case Input(_) | Trig(_, _) => fixed(id.index)._1
       case _                     => 0
     }) + height(id.index)
-  }.max + 1
+  }.max + Schedule.outputStages
 
 
   /** Cycle in which each node's value is in its unit's output register and written into its bank (None: a constant). */
@@ -306,7 +306,7 @@ final class BankedSchedule(val base: Schedule) {
   val outputsReady: Int = graph.outputs.flatMap(o => ready(o.node)).maxOption.getOrElse(base.inputCycle)
 
   /** Cycles from a sample on the input port to its torques on the output port (output stage included). */
-  val latency: Int = outputsReady + 1
+  val latency: Int = outputsReady + Schedule.outputStages
 
   /** Values of each bank that some operation reads from it, in the order they are ready: a value's slot is its place here. */
   val values: IndexedSeq[IndexedSeq[NodeId]] = {
@@ -360,10 +360,18 @@ object BankedSchedule {
   val selectStages: Int = 2
 
   /**
-   * Signal k of the input stage is ready in cycle `inputCycle + inputLatency + k`: all are loaded
-   * into a chain of registers in the input cycle, and the chain's head is written one per clock.
+   * Cycles after the input cycle at which the inputs are loaded into their chain: the clamped values
+   * stay in their registers for the whole interval, and a sample's first bank write must come after
+   * the microcode table's first word (read [[reducerload.arm.Microcode.ahead]] cycles ahead).
    */
-  val inputLatency: Int = 2
+  val inputLoadDelay: Int = 1
+
+  /**
+   * Signal k of the input stage is ready in cycle `inputCycle + inputLatency + k`: all are loaded
+   * into a chain of registers `inputLoadDelay` cycles after the input cycle, and the chain's head is
+   * written one per clock.
+   */
+  val inputLatency: Int = inputLoadDelay + 2
 
   /** The least power of 2 at or above `n` (at least 1). */
   def pow2(n: Int): Int = if (n <= 1) 1 else Integer.highestOneBit(n - 1) << 1

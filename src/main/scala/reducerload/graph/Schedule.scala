@@ -277,7 +277,7 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
   val outputsReady: Int = graph.outputs.flatMap(o => apply(o.node)).maxOption.getOrElse(inputCycle)
 
   /** Cycles from a sample on the input port to its torques on the output port (output stage included). */
-  val latency: Int = outputsReady + 1
+  val latency: Int = outputsReady + Schedule.outputStages
 
   /** Cycles at which each node is read: by its users at their issue, and by the output stage. */
   val reads: IndexedSeq[Seq[Int]] = {
@@ -313,4 +313,13 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
 
   /** Samples per second at a clock of `hz`. */
   def samplesPerSecond(hz: Double): Double = hz / ii
+}
+
+object Schedule {
+
+  /**
+   * Registers of the output stage, after every output is ready: each torque rounded and saturated
+   * on its own, then every joint's flag combined with every torque's saturation.
+   */
+  val outputStages: Int = 2
 }

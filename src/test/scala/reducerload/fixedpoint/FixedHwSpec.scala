@@ -18,6 +18,20 @@ class ConstCompare(width: Int, val constants: Seq[BigInt]) extends Module {
   }
 }
 
+/** `FixedHw.roundSaturate` of one 8-bit signal for each (drop, output format) case. */
+class RoundSaturate(width: Int, val cases: Seq[(Int, FixedFormat)]) extends Module {
+  val io = IO(new Bundle {
+    val x = Input(SInt(width.W))
+    val code = Output(Vec(cases.size, SInt(cases.map(_._2.width).max.W)))
+    val saturated = Output(Vec(cases.size, Bool()))
+  })
+  cases.zipWithIndex.foreach { case ((drop, to), i) =>
+    val (code, saturated) = FixedHw.roundSaturate(io.x, drop, to)
+    io.code(i) := code.pad(io.code(i).getWidth)
+    io.saturated(i) := saturated
+  }
+}
+
 class FixedHwSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "FixedHw constant comparisons"
 
@@ -34,6 +48,26 @@ class FixedHwSpec extends AnyFlatSpec with ChiselScalatestTester {
       }
       assert(bad.isEmpty, bad.take(10).mkString("\n"))
       println(s"[fixedpoint] constant comparisons: 32 values x ${constants.size} constants, both directions, all equal to integer compare")
+    }
+  }
+
+  behavior of "FixedHw.roundSaturate"
+
+  it should "equal the model's rescale (half up) then saturate for every 8-bit value, narrow and wide formats, every drop" in {
+    val width = 8
+    val formats = Seq(FixedFormat(0, 1), FixedFormat(1, 1), FixedFormat(2, 1), FixedFormat(3, 0), FixedFormat(4, 1), FixedFormat(5, 2), FixedFormat(7, 0))
+    val cases = for (drop <- -1 to 4; f <- formats) yield (drop, f)
+    test(new RoundSaturate(width, cases)).withAnnotations(SimBackend.annotations) { dut =>
+      val bad = (-128 to 127).flatMap { x =>
+        dut.io.x.poke(x.S)
+        cases.zipWithIndex.flatMap { case ((drop, f), i) =>
+          val (want, wantFlag) = FixedFormat.saturate(FixedFormat.rescale(BigInt(x), drop, Rounding.HalfUp), f)
+          val (got, gotFlag) = (dut.io.code(i).peek().litValue, dut.io.saturated(i).peek().litToBoolean)
+          if (got != want || gotFlag != wantFlag) Some(s"x=$x drop=$drop to=$f: got $got/$gotFlag, model $want/$wantFlag") else None
+        }
+      }
+      assert(bad.isEmpty, bad.take(10).mkString("\n"))
+      println(s"[fixedpoint] roundSaturate: 256 values x ${cases.size} (drop, format) cases, all equal to the model")
     }
   }
 }

@@ -61,9 +61,9 @@ class ScheduleSpec extends AnyFlatSpec {
     assert(mulSlots.forall(_.unit.get < s.multiplierUnits))
     val angleSlots = g.angles.map(s.angleSlot)
     assert(angleSlots.map(sl => (sl.unit.get, sl.issue % ii)).distinct.size == angleSlots.size, "two angles share a CORDIC unit in one residue")
-    // Readers: the output stage reads after every output is ready; latency is that plus the output register.
+    // Readers: the output stage reads after every output is ready; latency is that plus its registers.
     g.outputs.foreach(o => assert(s(o.node).get <= s.outputsReady))
-    assert(s.latency == g.outputs.map(o => s(o.node).get).max + 1)
+    assert(s.latency == g.outputs.map(o => s(o.node).get).max + Schedule.outputStages)
     s.request.maxMultipliers.foreach(b => assert(s.multiplierBlocks <= b, s"${s.multiplierBlocks} blocks above the budget $b"))
     assert(s.multiplierUnits.toLong * ii >= mulSlots.size)
     s
