@@ -22,7 +22,7 @@ import scala.util.Try
 object Simulate {
   val options: Seq[Opt] = Seq(
     Opt("input", "FILE", "trajectory CSV: header t1,t2,t3,d1,d2,d3,dd1,dd2,dd3 (joint 3), or q1..qN,qd1..qdN,qdd1..qddN (model rnea); rad, rad/s, rad/s^2"),
-    Opt("output", "FILE", "result CSV: idx,load_hw,load_ref,error,out_of_range, or idx,tauJ_hw,tauJ_ref,tauJ_error...,out_of_range (N·m)"),
+    Opt("output", "FILE", "result CSV: idx,load_hw,load_ref,error,out_of_range, or idx,tauJ_hw,tauJ_ref,tauJ_error...,out_of_range (N·m; _hw: the output codes as exact decimals)"),
     Opt("engine", "rtl|model", "rtl: the emitted Verilog on a compiled Verilator harness; model: the bit-accurate model (same file)", "rtl"),
     Opt("jobs", "N", "chunks of the trajectory run in parallel (harness processes or model threads)", "the number of processors"),
     Opt("summary", "FILE", "model rnea: the reducer monitor's figures per joint (monitor.* settings), from the bit-accurate models, beside the reference's (JSON)")
