@@ -9,7 +9,6 @@ import reducerload.trace.{InputError, TraceCsv}
 import java.io.{BufferedOutputStream, BufferedWriter, OutputStream, OutputStreamWriter, Writer}
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path, StandardCopyOption}
-import scala.collection.immutable.ArraySeq
 import scala.concurrent.duration.Duration
 import scala.concurrent.{Await, ExecutionContext, Future}
 import scala.sys.process._
@@ -23,7 +22,7 @@ import scala.util.Try
 object Simulate {
   val options: Seq[Opt] = Seq(
     Opt("input", "FILE", "trajectory CSV: header t1,t2,t3,d1,d2,d3,dd1,dd2,dd3 (joint 3), or q1..qN,qd1..qdN,qdd1..qddN (model rnea); rad, rad/s, rad/s^2"),
-    Opt("output", "FILE", "result CSV: idx,load_hw,load_ref,error,out_of_range, or idx,tauJ_hw,tauJ_ref,tauJ_error...,out_of_range (N·m)"),
+    Opt("output", "FILE", "result CSV: idx,load_hw,load_ref,error,out_of_range, or idx,tauJ_hw,tauJ_ref,tauJ_error...,out_of_range (N·m; _hw: the output codes as exact decimals)"),
     Opt("engine", "rtl|model", "rtl: the emitted Verilog on a compiled Verilator harness; model: the bit-accurate model (same file)", "rtl"),
     Opt("jobs", "N", "chunks of the trajectory run in parallel (harness processes or model threads)", "the number of processors"),
     Opt("summary", "FILE", "model rnea: the reducer monitor's figures per joint (monitor.* settings), from the bit-accurate models, beside the reference's (JSON)")
@@ -68,20 +67,44 @@ object Simulate {
     val params = cli.params
     val d = design(params)
     val table = TraceCsv.read(input, d.columns)
-    // The rows as they are when the header is exactly the columns (the usual case): no copy.
-    val rows =
-      if (table.header == d.columns) table.rows.map(_._2)
+    // The values as they are when the header is exactly the columns (the usual case): no copy.
+    // Otherwise the design's columns picked out, still flat (no object per row).
+    val width = d.columns.size
+    val values =
+      if (table.header == d.columns) table.values
       else {
         val at = d.columns.map(table.header.indexOf).toArray
-        table.rows.map { case (_, cells) => ArraySeq.unsafeWrapArray(at.map(cells)) }
+        val picked = new Array[Double](table.size * width)
+        var r = 0
+        while (r < table.size) {
+          var c = 0
+          while (c < width) { picked(r * width + c) = table.values(r * table.width + at(c)); c += 1 }
+          r += 1
+        }
+        picked
       }
-    def beyond = Iterator.range(0, rows.size).flatMap(i => d.limits.iterator.collect {
-      case (c, limit) if math.abs(rows(i)(c)) > limit => (i, c, limit)
-    })
-    if (!cli.has("saturate")) beyond.nextOption().foreach { case (i, c, limit) =>
-      val col = d.columns(c)
-      throw new InputError(s"$input:${table.rows(i)._1}: column '$col': ${rows(i)(c)} is beyond the declared range |$col| <= $limit " +
-        s"(${beyond.size} value(s) in all; --saturate clamps and counts them, or widen the range)")
+    val rows = new SampleRows(width, values)
+    if (!cli.has("saturate")) {
+      val (columns, limits) = (d.limits.map(_._1).toArray, d.limits.map(_._2).toArray)
+      def beyond(r: Int, k: Int): Boolean = math.abs(values(r * width + columns(k))) > limits(k)
+      var first = -1 // the first value beyond its range, as row * limits + limit
+      var count = 0L
+      var r = 0
+      while (r < rows.size) {
+        var k = 0
+        while (k < limits.length) {
+          if (beyond(r, k)) { if (first < 0) first = r * limits.length + k; count += 1 }
+          k += 1
+        }
+        r += 1
+      }
+      if (first >= 0) {
+        val (i, k) = (first / limits.length, first % limits.length)
+        val (c, limit) = (columns(k), limits(k))
+        val col = d.columns(c)
+        throw new InputError(s"$input:${table.lines(i)}: column '$col': ${values(i * width + c)} is beyond the declared range |$col| <= $limit " +
+          s"($count value(s) in all; --saturate clamps and counts them, or widen the range)")
+      }
     }
     if (engineName == "rtl" && !VerilatorHarness.available)
       throw new InputError("simulate needs Verilator on the PATH (Debian: apt-get install verilator), or --engine model")
@@ -125,7 +148,10 @@ object Simulate {
    */
   private def writeSummary(path: Path, request: SimulateRequest[_, _], arm: ArmParams, mp: MonitorParams): Unit = {
     val n = arm.chain.size
-    val samples = request.rows.map(r => ArmSample(r.slice(0, n).toIndexedSeq, r.slice(n, 2 * n).toIndexedSeq, r.slice(2 * n, 3 * n).toIndexedSeq))
+    val samples = (0 until request.rows.size).map { i =>
+      val r = request.rows.row(i)
+      ArmSample(r.slice(0, n), r.slice(n, 2 * n), r.slice(2 * n, 3 * n))
+    }
     val summary = MonitorSummary.fromTrajectory(arm, mp, samples, MonitorConfig.rated(arm, request.params.monitor))
     writeAtomically(path)(_.write(summary.json))
     println(s"wrote $path: reducer monitor summary of ${samples.size} samples, ${n} joints (exponent ${mp.lifeExponents.distinct.mkString("/")})")

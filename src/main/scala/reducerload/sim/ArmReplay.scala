@@ -48,9 +48,10 @@ class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCod
     val ref = Rnea.reference(p.chain, s.q, s.qd, s.qdd)
     val outOfRange = out.outOfRange.exists(identity)
     text.append(index)
-    // StringBuilder.append(double) writes Double.toString's text
+    // The hardware's value as its exact decimal (FixedDecimal); StringBuilder.append(double) writes Double.toString's text
     (0 until joints).foreach { j =>
-      text.append(',').append(hw(j)).append(',').append(ref(j)).append(',').append(hw(j) - ref(j))
+      FixedDecimal.append(text.append(','), out.tau(j), p.analysis.outputPortFormat.fracBits)
+      text.append(',').append(ref(j)).append(',').append(hw(j) - ref(j))
       errors(j) = math.abs(hw(j) - ref(j))
     }
     text.append(',').append(if (outOfRange) '1' else '0')
@@ -80,27 +81,29 @@ class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCod
     private val (vMin, vMax) = (FastFixed.minOf(velocity), FastFixed.maxOf(velocity))
     private val (aMin, aMax) = (FastFixed.minOf(acceleration), FastFixed.maxOf(acceleration))
 
-    def encode(row: Array[Double], codes: Array[Long], at: Int): Unit = {
+    def encode(rows: Array[Double], row: Int, codes: Array[Long], at: Int): Unit = {
       var j = 0
       while (j < n) {
-        codes(at + j) = FastFixed.angleCodeLong(row(j), angleFormat)
-        codes(at + n + j) = FastFixed.codeHalfUpLong(row(n + j), velocity, vMin, vMax)
-        codes(at + 2 * n + j) = FastFixed.codeHalfUpLong(row(2 * n + j), acceleration, aMin, aMax)
+        codes(at + j) = FastFixed.angleCodeLong(rows(row + j), angleFormat)
+        codes(at + n + j) = FastFixed.codeHalfUpLong(rows(row + n + j), velocity, vMin, vMax)
+        codes(at + 2 * n + j) = FastFixed.codeHalfUpLong(rows(row + 2 * n + j), acceleration, aMin, aMax)
         j += 1
       }
     }
 
     def evaluate(codes: Array[Long], at: Int, out: Array[Long], outAt: Int): Unit = runner.evaluate(codes, at, out, outAt)
 
-    def result(index: Long, row: Array[Double], out: Array[Long], outAt: Int, text: java.lang.StringBuilder, errors: Array[Double]): Boolean = {
+    def result(index: Long, rows: Array[Double], row: Int, out: Array[Long], outAt: Int, text: java.lang.StringBuilder, errors: Array[Double]): Boolean = {
       val v = this.v
-      reference.evaluate(row, v)
+      reference.evaluate(rows, row, v)
       text.append(index)
       var k = 0
       while (k < torques) {
-        val hw = FastFixed.longToDouble(out(outAt + k), outFrac)
+        val code = out(outAt + k)
+        val hw = FastFixed.longToDouble(code, outFrac)
         val ref = reference.tape.output(v, k)
-        text.append(',').append(hw).append(',').append(ref).append(',').append(hw - ref)
+        FixedDecimal.append(text.append(','), code, outFrac)
+        text.append(',').append(ref).append(',').append(hw - ref)
         errors(k) = math.abs(hw - ref)
         k += 1
       }

@@ -16,11 +16,11 @@ trait ArrayReplay {
 
 object ArrayReplay {
   trait Worker {
-    /** The codes of `row` (values in the design's column order) to `codes(at ..)`. */
-    def encode(row: Array[Double], codes: Array[Long], at: Int): Unit
+    /** The codes of the row at `rows(row ..)` (values in the design's column order) to `codes(at ..)`. */
+    def encode(rows: Array[Double], row: Int, codes: Array[Long], at: Int): Unit
     /** The bit-accurate model of the codes at `codes(at ..)`, to `out(outAt ..)`. */
     def evaluate(codes: Array[Long], at: Int, out: Array[Long], outAt: Int): Unit
-    /** [[ReplayDesign.result]] of the outputs at `out(outAt ..)`. */
-    def result(index: Long, row: Array[Double], out: Array[Long], outAt: Int, text: java.lang.StringBuilder, errors: Array[Double]): Boolean
+    /** [[ReplayDesign.result]] of the row at `rows(row ..)` and the outputs at `out(outAt ..)`. */
+    def result(index: Long, rows: Array[Double], row: Int, out: Array[Long], outAt: Int, text: java.lang.StringBuilder, errors: Array[Double]): Boolean
   }
 }

@@ -16,11 +16,13 @@ final class LoadReplay(settings: LoadParams) extends ArmReplay(settings.arm) {
   override def outputHeader: String = "idx,load_hw,load_ref,error,out_of_range"
 
   override def result(index: Long, row: IndexedSeq[Double], out: ArmOutputCodes, text: java.lang.StringBuilder, errors: Array[Double]): Boolean = {
-    val hw = FastFixed.toDouble(out.tau(0), p.analysis.outputPortFormat.fracBits) // ArmModel.torques, fast
+    val fracBits = p.analysis.outputPortFormat.fracBits
+    val hw = FastFixed.toDouble(out.tau(0), fracBits) // ArmModel.torques, fast
     val ref = LoadReference.torque(settings.robot, settings.model, sample(row))
     val outOfRange = out.outOfRange.exists(identity)
-    // StringBuilder.append(double) writes Double.toString's text
-    text.append(index).append(',').append(hw).append(',').append(ref).append(',').append(hw - ref).append(',').append(if (outOfRange) '1' else '0')
+    // The hardware's value as its exact decimal (FixedDecimal); StringBuilder.append(double) writes Double.toString's text
+    FixedDecimal.append(text.append(index).append(','), out.tau(0), fracBits)
+    text.append(',').append(ref).append(',').append(hw - ref).append(',').append(if (outOfRange) '1' else '0')
     errors(0) = math.abs(hw - ref)
     outOfRange
   }

@@ -19,26 +19,29 @@ final class ReferenceTape private (val tape: DoubleTape, joints: Int, source: Ar
 
   def outputs: Int = tape.outputSlots.length
 
-  /** Fill `v` (from `tape.scratch()`) with the inputs of `row` and run the tape; results by `tape.output`. */
-  def evaluate(row: Array[Double], v: Array[Double]): Unit = {
+  /** [[evaluate]] of a row on its own. */
+  def evaluate(row: Array[Double], v: Array[Double]): Unit = evaluate(row, 0, v)
+
+  /** Fill `v` (from `tape.scratch()`) with the inputs of the row at `rows(at ..)` and run the tape; results by `tape.output`. */
+  def evaluate(rows: Array[Double], at: Int, v: Array[Double]): Unit = {
     val slots = tape.inputSlots
     val n = joints
     var k = 0
     while (k < slots.length) {
       val j = joint(k)
       v(slots(k)) = (source(k): @annotation.switch) match {
-        case Velocity     => row(n + j)
-        case Acceleration => row(2 * n + j)
-        case CosQ         => math.cos(row(j))
-        case SinQ         => math.sin(row(j))
+        case Velocity     => rows(at + n + j)
+        case Acceleration => rows(at + 2 * n + j)
+        case CosQ         => math.cos(rows(at + j))
+        case SinQ         => math.sin(rows(at + j))
         case _ =>
           // AngleSum.radians: terms.map { case (j, k) => k * q(j) }.sum, whose seed 0.0 (when the
           // collection adds one) only turns a -0.0 into 0.0.
           val js = sumJoints(k)
           val ks = sumMultiples(k)
-          var rad = ks(0) * row(js(0))
+          var rad = ks(0) * rows(at + js(0))
           var t = 1
-          while (t < js.length) { rad += ks(t) * row(js(t)); t += 1 }
+          while (t < js.length) { rad += ks(t) * rows(at + js(t)); t += 1 }
           if (seeded(k)) rad += 0.0
           if (source(k) == SinSum) math.sin(rad) else math.cos(rad)
       }

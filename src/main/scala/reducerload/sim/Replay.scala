@@ -2,7 +2,6 @@ package reducerload.sim
 
 import java.io.OutputStream
 import java.nio.charset.StandardCharsets
-import scala.collection.immutable.ArraySeq
 import scala.collection.mutable.ArrayBuffer
 
 /**
@@ -63,14 +62,8 @@ object Replay {
   /** The text of a chunk's lines (ASCII: numbers, commas, line ends) as bytes. */
   private def bytes(text: java.lang.StringBuilder): Array[Byte] = text.toString.getBytes(StandardCharsets.ISO_8859_1)
 
-  /** A row's values as an array (the reader's rows already are one). */
-  private def rowArray(row: IndexedSeq[Double]): Array[Double] = row match {
-    case a: ArraySeq.ofDouble => a.unsafeArray
-    case other                => other.toArray
-  }
-
   /** Run every row, write the header and one line per sample to `out`. */
-  def run[In, Out](design: ReplayDesign[In, Out], engine: ReplayEngine, rows: IndexedSeq[IndexedSeq[Double]], jobs: Int,
+  def run[In, Out](design: ReplayDesign[In, Out], engine: ReplayEngine, rows: SampleRows, jobs: Int,
     out: OutputStream, progress: ProgressLine): ReplaySummary = {
     val start = System.nanoTime()
     val labels = design.errorLabels.size
@@ -83,12 +76,12 @@ object Replay {
     val writer = new InOrderWriter(out, (rows.size + size - 1) / size)
     val chunks = ChunkedRun(rows.size, size, jobs, n => progress.advance(n.toLong)) { range =>
       val cpuStart = threads.getCurrentThreadCpuTime
-      val (outs, harnessStats) = outputs(design, engine, range.map(i => design.encode(rows(i))))
+      val (outs, harnessStats) = outputs(design, engine, range.map(i => design.encode(rows.row(i))))
       val text = new java.lang.StringBuilder(range.size * 96)
       val maxErrors = new Array[Double](labels)
       val errors = new Array[Double](labels)
       val flagged = range.indices.count { k =>
-        val outOfRange = design.result(range(k).toLong, rows(range(k)), outs(k), text, errors)
+        val outOfRange = design.result(range(k).toLong, rows.row(range(k)), outs(k), text, errors)
         text.append('\n')
         if (!outOfRange) errors.indices.foreach(j => maxErrors(j) = maxErrors(j).max(errors(j)))
         outOfRange
@@ -104,7 +97,7 @@ object Replay {
   }
 
   /** [[run]] on the design's [[ArrayReplay]]: the same lines, from codes and outputs in long arrays. */
-  private def runArrays(design: ReplayDesign[_, _], fast: ArrayReplay, engine: ReplayEngine, rows: IndexedSeq[IndexedSeq[Double]],
+  private def runArrays(design: ReplayDesign[_, _], fast: ArrayReplay, engine: ReplayEngine, rows: SampleRows,
     jobs: Int, out: OutputStream, progress: ProgressLine, start: Long): ReplaySummary = {
     val labels = design.errorLabels.size
     val size = engine match {
@@ -121,15 +114,16 @@ object Replay {
       val first = range.start
       val codes = new Array[Long](n * ins)
       var k = 0
-      while (k < n) { worker.encode(rowArray(rows(first + k)), codes, k * ins); k += 1 }
-      val values = new Array[Long](n * outs)
+      val values = rows.values
+      while (k < n) { worker.encode(values, rows.offset(first + k), codes, k * ins); k += 1 }
+      val results = new Array[Long](n * outs)
       val harnessStats = engine match {
         case ReplayEngine.Model =>
           k = 0
-          while (k < n) { worker.evaluate(codes, k * ins, values, k * outs); k += 1 }
+          while (k < n) { worker.evaluate(codes, k * ins, results, k * outs); k += 1 }
           None
         case ReplayEngine.Rtl(harness) =>
-          Some(harness.streamLongs(codes, n, design.samplePeriod, design.latency + 1)(values))
+          Some(harness.streamLongs(codes, n, design.samplePeriod, design.latency + 1)(results))
       }
       val text = new java.lang.StringBuilder(n * (24 + 60 * labels))
       val maxErrors = new Array[Double](labels)
@@ -138,7 +132,7 @@ object Replay {
       k = 0
       while (k < n) {
         val i = first + k
-        if (worker.result(i.toLong, rowArray(rows(i)), values, k * outs, text, errors)) flagged += 1
+        if (worker.result(i.toLong, values, rows.offset(i), results, k * outs, text, errors)) flagged += 1
         else { var j = 0; while (j < labels) { maxErrors(j) = maxErrors(j).max(errors(j)); j += 1 } }
         text.append('\n')
         k += 1

@@ -63,30 +63,31 @@ final class CsvRecordReader(source: String, text: String, from: Int = 0, until: 
 
   /**
    * The next record when it is a plain data row (the usual case, read without building strings):
-   * exactly `into.length` unquoted numbers ([[DecimalCell]]), then a line break or the end. Fills
-   * `into` and returns the row's line; otherwise returns -1 and consumes nothing, and [[next]] reads
-   * the record (a comment, a blank line, quotes, a bad cell, a wrong count) by the full rules.
+   * exactly `count` unquoted numbers ([[DecimalCell]]), then a line break or the end. Fills
+   * `into(at until at + count)` and returns the row's line; otherwise returns -1 and consumes nothing
+   * (it may have written some of `into`'s slots), and [[next]] reads the record (a comment, a blank
+   * line, quotes, a bad cell, a wrong count) by the full rules.
    */
-  def nextNumbers(into: Array[Double]): Int = {
+  def nextNumbers(into: Array[Double], at: Int, count: Int): Int = {
     var i = pos
     var k = 0
-    while (k < into.length) {
+    while (k < count) {
       val from = i
       while (i < end && { val c = text.charAt(i); c != ',' && c != '"' && !isBreak(c) }) i += 1
       if (i < end && text.charAt(i) == '"') return -1
       val v = DecimalCell.parse(text, from, i)
       if (v.isNaN) return -1
-      into(k) = v
+      into(at + k) = v
       k += 1
-      if (k < into.length) {
+      if (k < count) {
         if (i < end && text.charAt(i) == ',') i += 1 else return -1
       }
     }
     if (i < end && !isBreak(text.charAt(i))) return -1
-    val at = line
+    val rowLine = line
     pos = i
     if (!atEnd) skipBreak()
-    at
+    rowLine
   }
 
   private def readCells(fieldName: Int => String): CsvRecord = {

@@ -5,7 +5,6 @@ import java.io.{ByteArrayInputStream, IOException}
 import java.nio.file.{Files, Path}
 import java.util.zip.GZIPInputStream
 import scala.collection.immutable.ArraySeq
-import scala.collection.mutable.ArrayBuffer
 import reducerload.sim.ChunkedRun
 
 import scala.util.Try
@@ -17,12 +16,28 @@ final class InputError(message: String) extends Exception(message)
  * A numeric CSV table: optional `#` comment lines, one header row, then rows of finite numbers.
  * Row numbers in errors are the file's line numbers (1-based). Fields may be quoted (RFC 4180), lines
  * may end in LF, CRLF or CR, and a UTF-8 byte-order mark is ignored (see [[CsvRecordReader]]).
+ *
+ * The rows are kept flat, with no object per row (a million-row trajectory would otherwise be
+ * millions of small objects for the collector): row r's value in column c is
+ * `values(r * header.size + c)`, and row r starts on file line `lines(r)`. Treat both arrays as read-only.
  */
-final case class TraceTable(source: String, comments: Seq[String], header: IndexedSeq[String], rows: IndexedSeq[(Int, IndexedSeq[Double])]) {
+final class TraceTable(val source: String, val comments: Seq[String], val header: IndexedSeq[String],
+  val lines: Array[Int], val values: Array[Double]) {
+  require(values.length == lines.length * header.size, s"TraceTable: ${values.length} values for ${lines.length} rows of ${header.size}")
+
+  def width: Int = header.size
+  def size: Int = lines.length
+
+  /** Row `r`'s values (a copy). */
+  def row(r: Int): IndexedSeq[Double] = ArraySeq.unsafeWrapArray(java.util.Arrays.copyOfRange(values, r * width, (r + 1) * width))
+
+  /** (file line, values) of every row, built on demand (one object per row: for small tables and tests). */
+  def rows: IndexedSeq[(Int, IndexedSeq[Double])] = IndexedSeq.tabulate(size)(r => lines(r) -> row(r))
+
   def column(name: String): IndexedSeq[Double] = {
     val i = header.indexOf(name)
     if (i < 0) throw new InputError(s"$source: no column '$name' (header: ${header.mkString(",")})")
-    rows.map(_._2(i))
+    ArraySeq.unsafeWrapArray(Array.tabulate(size)(r => values(r * width + i)))
   }
 
   def has(name: String): Boolean = header.contains(name)
@@ -37,6 +52,26 @@ final case class TraceTable(source: String, comments: Seq[String], header: Index
         }
       }
     }.toMap
+}
+
+/** A growing flat array of rows (values and their lines), for one segment of the file. */
+private final class RowBuffer(width: Int, expectedRows: Int) {
+  var values = new Array[Double](math.max(expectedRows, 1) * width)
+  var lines = new Array[Int](math.max(expectedRows, 1))
+  var size = 0
+
+  /** Room for one more row at `size * width`. */
+  def reserve(): Unit = if (size == lines.length) {
+    lines = java.util.Arrays.copyOf(lines, lines.length * 2)
+    values = java.util.Arrays.copyOf(values, lines.length * width)
+  }
+
+  def add(line: Int, row: Array[Double]): Unit = {
+    reserve()
+    System.arraycopy(row, 0, values, size * width, width)
+    lines(size) = line
+    size += 1
+  }
 }
 
 object TraceCsv {
@@ -130,13 +165,23 @@ object TraceCsv {
     val parts = ChunkedRun(segments.size, 1, jobs) { r =>
       val (from, until) = segments(r.head)
       val segmentComments = Vector.newBuilder[String]
-      val rows = readRows(source, new CsvRecordReader(source, body, from, until, firstLines(r.head)), header, segmentComments)
-      (segmentComments.result(), rows)
+      // At most one row per line (the segment's line breaks, plus a last line without one).
+      val buffer = new RowBuffer(header.size, firstLines(r.head + 1) - firstLines(r.head) + 1)
+      readRows(source, new CsvRecordReader(source, body, from, until, firstLines(r.head)), header, segmentComments, buffer)
+      (segmentComments.result(), buffer)
     }
     parts.foreach(p => comments ++= p._1)
-    val rows = parts.flatMap(_._2)
-    if (rows.isEmpty) throw new InputError(s"$source: no data rows after the header")
-    TraceTable(source, comments.result(), header, rows)
+    val count = parts.map(_._2.size).sum
+    if (count == 0) throw new InputError(s"$source: no data rows after the header")
+    val lines = new Array[Int](count)
+    val values = new Array[Double](count * header.size)
+    var at = 0
+    parts.foreach { case (_, b) =>
+      System.arraycopy(b.lines, 0, lines, at, b.size)
+      System.arraycopy(b.values, 0, values, at * header.size, b.size * header.size)
+      at += b.size
+    }
+    new TraceTable(source, comments.result(), header, lines, values)
   }
 
   /** The next row of cells; comment lines on the way go to `comments`. */
@@ -150,29 +195,29 @@ object TraceCsv {
 
   /** Every data row `reader` has left: plain rows by its fast path, any other record (comments, quotes, errors) by the general one. */
   private def readRows(source: String, reader: CsvRecordReader, header: IndexedSeq[String],
-    comments: collection.mutable.Growable[String]): ArrayBuffer[(Int, IndexedSeq[Double])] = {
+    comments: collection.mutable.Growable[String], into: RowBuffer): Unit = {
     val columnName = (i: Int) => if (i < header.size) s"column '${oneLine(header(i))}'" else s"field ${i + 1}"
-    def numbers(lineNo: Int, cells: IndexedSeq[String]): IndexedSeq[Double] = {
+    def numbers(lineNo: Int, cells: IndexedSeq[String]): Array[Double] = {
       if (cells.size != header.size)
         throw new InputError(s"$source:$lineNo: ${cells.size} values, the header has ${header.size} columns")
-      ArraySeq.unsafeWrapArray(cells.zip(header).map { case (cell, col) =>
+      cells.zip(header).map { case (cell, col) =>
         parseNumber(cell).getOrElse {
           val what = if (cell.toLowerCase.matches("[+-]?(nan|inf|infinity)")) "is not a finite number" else "is not a number"
           throw new InputError(s"$source:$lineNo: column '${oneLine(col)}': '${printable(cell)}' $what")
         }
-      }.toArray)
+      }.toArray
     }
-    val all = new ArrayBuffer[(Int, IndexedSeq[Double])]
+    val width = header.size
     var more = true // runtime loop state
     while (more) {
-      val values = new Array[Double](header.size)
-      val fast = reader.nextNumbers(values)
-      if (fast >= 0) all += fast -> ArraySeq.unsafeWrapArray(values)
+      into.reserve()
+      // Straight into the buffer; the row counts only once the reader says it was a plain row.
+      val fast = reader.nextNumbers(into.values, into.size * width, width)
+      if (fast >= 0) { into.lines(into.size) = fast; into.size += 1 }
       else nextCells(reader, comments, columnName) match {
-        case Some(CsvRecord.Cells(lineNo, cells)) => all += lineNo -> numbers(lineNo, cells)
+        case Some(CsvRecord.Cells(lineNo, cells)) => into.add(lineNo, numbers(lineNo, cells))
         case None                                 => more = false
       }
     }
-    all
   }
 }

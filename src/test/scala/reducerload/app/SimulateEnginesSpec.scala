@@ -5,7 +5,7 @@ import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.arm.{ArmConfig, ArmDatapath, ArmModel, ArmOutputCodes, ArmSample, ArmTrajectory}
 import reducerload.dynamics.Rnea
 import reducerload.load._
-import reducerload.sim.{ArmDriver, Cycle}
+import reducerload.sim.{ArmDriver, Cycle, FixedDecimal}
 import reducerload.testutil.{ArmGolden, Golden, Seeds, SimBackend}
 
 import java.nio.charset.StandardCharsets
@@ -19,7 +19,8 @@ import reducerload.testutil.SimBackend.multiplierImpl // the JVM simulator build
  * `run simulate` end to end on the golden traces plus rows beyond the declared ranges (--saturate):
  * the RTL harness with one and two jobs, and the model engine, write the same file, byte for byte,
  * as the chiseltest peek/poke path (joint 3) or the bit-accurate model (the arm; the RTL equals the
- * model in ArmDatapathSpec), with the reference conversions (BigDecimal) of the model.
+ * model in ArmDatapathSpec), with the reference conversions (BigDecimal) of the model; the hardware's
+ * values in the one text of a code, [[FixedDecimal]], checked to read back as the model's doubles.
  */
 class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "simulate's engines"
@@ -56,7 +57,10 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
     file("idx,load_hw,load_ref,error,out_of_range", samples.indices.map { i =>
       val hw = model.loadOf(outs(i))
       val ref = LoadReference.torque(p.robot, p.model, samples(i))
-      s"$i,$hw,$ref,${hw - ref},${if (outs(i).outOfRange.exists(identity)) 1 else 0}"
+      // The hardware's value as the one result-file text of a code (FixedDecimal), which must read back as the model's load.
+      val hwText = FixedDecimal.format(outs(i).tau(0), p.arm.analysis.outputPortFormat.fracBits)
+      assert(hwText.toDouble == hw, s"sample $i: $hwText is not the model's load $hw")
+      s"$i,$hwText,$ref,${hw - ref},${if (outs(i).outOfRange.exists(identity)) 1 else 0}"
     })
   }
 
@@ -110,7 +114,9 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
         val s = samples(i)
         val out = model.evaluate(model.encode(s))
         val (hw, ref) = (model.torques(out), Rnea.reference(arm.chain, s.q, s.qd, s.qdd))
-        (i.toString +: (0 until n).flatMap(j => Seq(hw(j).toString, ref(j).toString, (hw(j) - ref(j)).toString)) :+
+        val hwText = out.tau.map(FixedDecimal.format(_, arm.analysis.outputPortFormat.fracBits))
+        assert((0 until n).forall(j => hwText(j).toDouble == hw(j)), s"sample $i: ${hwText.mkString(",")} are not the model's torques")
+        (i.toString +: (0 until n).flatMap(j => Seq(hwText(j), ref(j).toString, (hw(j) - ref(j)).toString)) :+
           (if (out.outOfRange.exists(identity)) "1" else "0")).mkString(",")
       })
     assert(expected.linesIterator.count(_.endsWith(",1")) >= 100)

@@ -50,11 +50,13 @@ class ReplayArraysSpec extends AnyFlatSpec {
     var flaggedRows = 0
     rows.zipWithIndex.foreach { case (row, i) =>
       val array = row.toArray
-      worker.encode(array, codes, 0)
+      // The row in the middle of a flat array, as the replay reads it.
+      val flat = Array.fill(array.length)(Double.NaN) ++ array ++ Array.fill(array.length)(Double.NaN)
+      worker.encode(flat, array.length, codes, 0)
       worker.evaluate(codes, 0, out, 0)
       val text = new java.lang.StringBuilder
       val errors = new Array[Double](labels)
-      val flagged = worker.result(i.toLong, array, out, 0, text, errors)
+      val flagged = worker.result(i.toLong, flat, array.length, out, 0, text, errors)
       val expected = old(design, i, ArraySeq.unsafeWrapArray(array))
       assert((text.toString, errors.toSeq, flagged) == expected, s"$label: row $i (${row.mkString(",")})")
       if (flagged) flaggedRows += 1

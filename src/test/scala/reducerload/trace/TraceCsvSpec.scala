@@ -54,6 +54,22 @@ class TraceCsvSpec extends AnyFlatSpec {
     assert(plain.commentFields("robot") == Map("m3" -> "10"))
   }
 
+  it should "keep the rows flat: one array of values, row after row, and one of their lines" in {
+    assert(plain.size == 2 && plain.width == columns.size)
+    assert(plain.lines.toSeq == Seq(3, 4))
+    assert(plain.values.toSeq == (rowA ++ rowB).map(_.toDouble))
+    // Quoted fields, comments between rows, extra columns and rows in many segments: the same layout.
+    val mixed = s"$header,note\n${rowA.mkString(",")},1\n# between\n\n${rowB.map("\"" + _ + "\"").mkString(",")},\" 7\"\n" +
+      (1 to 50).map(i => (rowA :+ i.toString).mkString(",")).mkString("", "\n", "\n")
+    Seq(1, 7, 1 << 22).foreach { chars =>
+      val t = TraceCsv.parse("mixed.csv", mixed, columns, chars)
+      assert(t.size == 52 && t.width == columns.size + 1 && t.values.length == 52 * t.width)
+      assert(t.lines.toSeq == Seq(2, 5) ++ (6 to 55), s"segments of $chars characters")
+      assert(t.row(1) == rowB.map(_.toDouble) :+ 7.0)
+      assert(t.rows.map(_._2) == (0 until t.size).map(t.row))
+    }
+  }
+
   it should "ignore a UTF-8 byte-order mark (Excel's CSV UTF-8), in a file and in text" in {
     val bom = Array(0xef, 0xbb, 0xbf).map(_.toByte)
     sameAsPlain(TraceCsv.read(tempFile(".csv", bom ++ utf8(plainText)), columns))
