@@ -65,14 +65,13 @@ object ArmSweep {
   def run(out: Path, fmax: Boolean, jobs: Int, command: String): Unit = {
     val designs = robots.flatMap { robot =>
       val config = ArmGolden.of(robot).head.config
-      // The numerics, and so the errors, depend on the target only: once per target.
-      val byTarget = schedules.map(_._3).distinct.map { t =>
-        val base = reducerload.arm.ArmConfig(config.copy(targetError = t))
-        t -> (base, goldenErrors(base, robot))
-      }.toMap
-      schedules.map { case (point, request, target) =>
-        val (base, errors) = byTarget(target)
-        val p = base.copy(scheduleRequest = request)
+      // Fitted with its own schedule: per-node fraction-bit caps are kept only where they make that schedule cheaper.
+      val points = schedules.map { case (point, request, target) => point -> reducerload.arm.ArmConfig(config.copy(targetError = target, schedule = request)) }
+      // The errors depend on the numerics only: measured once per distinct fit.
+      def numericsOf(p: ArmParams) = (p.numerics, p.fracBitLimits)
+      val errorsOf = points.map(_._2).groupBy(numericsOf).map { case (key, ps) => key -> goldenErrors(ps.head, robot) }
+      points.map { case (point, p) =>
+        val errors = errorsOf(numericsOf(p))
         println(s"sweep: elaborating $robot $point (${p.schedule.clocksPerSample} clocks per sample)")
         val top = s"ArmDatapath_${p.tag}"
         (robot, point, p, errors, top, Emit.withBlackBoxes(ChiselStage.emitSystemVerilog(new ArmDatapath(p), Array.empty[String], Emit.firtoolOpts)))
