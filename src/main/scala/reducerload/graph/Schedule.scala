@@ -73,11 +73,13 @@ private final case class ScheduleState(ready: Vector[Option[Int]], slots: Vector
  *  - multiply: the unit's pipelined multiplier ([[PipelinedMultiplier.latency]] plus `multiplierLatency - 1` registers) then,
  *    when units are shared or the product rounds, a register that captures it: ready at
  *    r + multiplier latency (+ 1);
+ *  - multiply by a constant as shift-and-add logic (`shiftAdded`): its own registered adder tree,
+ *    one level per clock ([[ShiftAddMultiplier.latency]]), then the capture register as above;
  *  - sin/cos of an angle sum: the sum registered, then the CORDIC unit, then (shared) a capture register.
  * Every value is held in a chain of registers written once per sample (see `stages`).
  *
- * @param inputCycle cycle at which the clamped velocities and accelerations are in registers (their
- *                   raw codes and the angles are in the input register from cycle 1)
+ * @param inputCycle cycle at which the clamped velocities and accelerations are in registers (the
+ *                   angles are in the input register from cycle 1)
  */
 final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordic: CordicParams, multiplierLatency: Int, val inputCycle: Int) {
   import Op._
