@@ -148,7 +148,8 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
    *
    * The word is registered after the read (read-first), not read at a registered address
    * (write-first): the schedule never reads a word in the cycle it is written (a value is read
-   * after it is ready, and overwritten only after its last read), so either order gives the same
+   * after it is ready, and overwritten only after the last cycle its array is read, see
+   * [[BankedSchedule.copies]]), so either order gives the same
    * words. Synthesis must still honour whatever order the RTL states for such a collision, and the
    * RAM blocks serve neither across their ports, so it would add a bypass after the RAM output.
    * The read is therefore enabled only when it does not collide (a disabled read returns an
@@ -161,11 +162,11 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
     (0 to 1).map { port =>
       val mem = Mem(a.depth, UInt(b.bankWidths(bank).W))
       when(writeEnable)(mem.write(writeAddress, fit(next(bank), b.bankWidths(bank)).asUInt))
-      val address = RegNext(a.address(word(a.reads(port))))
+      val address = FixedHw.delay(a.address(word(a.reads(port))), BankedSchedule.arrayReadDelay)
       val data = Wire(UInt(b.bankWidths(bank).W))
       data := DontCare
       when(!(writeEnable && writeAddress === address))(data := mem.read(address))
-      FixedHw.delay(data, BankedSchedule.readLatency - 1).asSInt
+      FixedHw.delay(data, BankedSchedule.readLatency - BankedSchedule.arrayReadDelay).asSInt
     }
   }
 

@@ -319,9 +319,10 @@ final class BankedSchedule(val base: Schedule) {
 
   /** Words per value in each bank: one per sample in flight between a value's write and its last read, rounded up to a power of 2. */
   val copies: IndexedSeq[Int] = {
-    val lastRead = reads.groupMapReduce(_.node)(_.cycle)(math.max)
-    // Sample s + copies writes a value in cycle copies * II + ready - 1, which must come after the last read of sample s.
-    values.map(vs => BankedSchedule.pow2(vs.map(v => lastRead.get(v).fold(1)(l => (l - ready(v).get + 1) / ii + 1)).maxOption.getOrElse(1)))
+    val lastArrayRead = reads.groupMapReduce(_.node)(_.cycle + BankedSchedule.arrayReadDelay)(math.max)
+    // Sample s + copies writes a value in cycle copies * II + ready - 1, which must come strictly after the last cycle
+    // the array is read for sample s: the hardware leaves a read undefined when its word is written in the same cycle.
+    values.map(vs => BankedSchedule.pow2(vs.map(v => lastArrayRead.get(v).fold(1)(l => (l - ready(v).get + 1) / ii + 1)).maxOption.getOrElse(1)))
   }
 
   /** Samples in flight at most: the slot counter counts modulo this (every bank's copies divide it). */
@@ -355,6 +356,9 @@ object BankedSchedule {
 
   /** Cycles from a bank read's address to its word in a register: the block RAM's address and output registers and one more. */
   val readLatency: Int = 3
+
+  /** Cycles from a bank read's address to the cycle its array is read: the block RAM's address register. */
+  val arrayReadDelay: Int = 1
 
   /** Clocks a unit port's operand takes to be selected among its sources, where the schedule allows (a unit may have 30 sources a port). */
   val selectStages: Int = 2

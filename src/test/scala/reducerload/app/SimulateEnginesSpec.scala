@@ -3,7 +3,7 @@ package reducerload.app
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.arm.{ArmConfig, ArmDatapath, ArmModel, ArmOutputCodes, ArmSample, ArmTrajectory}
-import reducerload.dynamics.Rnea
+import reducerload.dynamics.{RandomChains, Rnea}
 import reducerload.load._
 import reducerload.sim.{ArmDriver, Cycle, FixedDecimal}
 import reducerload.testutil.{ArmGolden, Golden, Seeds, SimBackend}
@@ -95,19 +95,26 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
     }
   }
 
-  it should "write the model's file for every joint of the planar arm from the harness (--jobs 2, one sample per clock or per 7) and the model" in {
-    assume(verilatorPresent, "verilator is not installed")
-    val design = Seq("--robot", "planar3")
+  /**
+   * The arm file `run simulate` must write for `design`, from the bit-accurate model and the double
+   * reference: `robot`'s golden samples, seeded random ones within the declared ranges, and rows with
+   * one velocity or acceleration beyond its range (flagged).
+   */
+  private def armCase(robot: String, design: Seq[String], seed: Long): (Path, String) = {
     val arm = ArmConfig(Cli.parse("simulate", design, Simulate.options, Simulate.flags).params)
     val n = arm.chain.size
-    val rng = new Random(Seeds("simulate-engines-arm", 53L))
+    val rng = new Random(Seeds(s"simulate-engines-$robot", seed))
+    val golden = ArmGolden.of(robot).flatMap(_.samples).toIndexedSeq
     val beyond = IndexedSeq.fill(100) {
       val j = rng.nextInt(n)
-      val s = ArmGolden.of("planar3").head.samples(rng.nextInt(100))
-      val limit = if (rng.nextBoolean()) arm.maxVelocity(j) else arm.maxAcceleration(j)
-      if (limit == arm.maxVelocity(j)) s.copy(qd = s.qd.updated(j, -1.5 * limit)) else s.copy(qdd = s.qdd.updated(j, 1.5 * limit))
+      val s = golden(rng.nextInt(golden.size))
+      if (rng.nextBoolean()) s.copy(qd = s.qd.updated(j, -1.5 * arm.maxVelocity(j))) else s.copy(qdd = s.qdd.updated(j, 1.5 * arm.maxAcceleration(j)))
     }
-    val samples: IndexedSeq[ArmSample] = ArmGolden.of("planar3").flatMap(_.samples).toIndexedSeq ++ beyond
+    val random = IndexedSeq.fill(200) {
+      val (q, qd, qdd) = RandomChains.sample(rng, arm.maxVelocity, arm.maxAcceleration)
+      ArmSample(q, qd, qdd)
+    }
+    val samples = golden ++ beyond ++ random
     val model = new ArmModel(arm)
     val expected = file(("idx" +: (1 to n).flatMap(j => Seq(s"tau${j}_hw", s"tau${j}_ref", s"tau${j}_error")) :+ "out_of_range").mkString(","),
       samples.indices.map { i =>
@@ -120,10 +127,26 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
           (if (out.outOfRange.exists(identity)) "1" else "0")).mkString(",")
       })
     assert(expected.linesIterator.count(_.endsWith(",1")) >= 100)
-    val input = csv(ArmTrajectory.columns(n), samples.map(s => s.q ++ s.qd ++ s.qdd))
+    (csv(ArmTrajectory.columns(n), samples.map(s => s.q ++ s.qd ++ s.qdd)), expected)
+  }
+
+  it should "write the model's file for every joint of the planar arm from the harness (--jobs 2, one sample per clock or per 7) and the model" in {
+    assume(verilatorPresent, "verilator is not installed")
+    val design = Seq("--robot", "planar3")
+    val (input, expected) = armCase("planar3", design, 53L)
     // A shared schedule changes when results come, not what they are: the harness waits for ready.
     Seq(Seq("--jobs", "2"), Seq("--engine", "model", "--jobs", "1"), Seq("--clocks-per-sample", "7", "--schedule.cordic-units", "1", "--jobs", "2")).foreach { args =>
       assert(simulate(input, design ++ Seq("--saturate") ++ args: _*) == expected, s"simulate ${args.mkString(" ")} wrote another file")
     }
+  }
+
+  // The harness runs the Verilog `run emit` writes (firtool); the chiseltest suites run another
+  // compiler's. A read the memory schedule left undefined came out right in one and wrong in the other.
+  it should "write the model's file for every joint of the UR5 with block-RAM banks (64 clocks, 1e-3 N·m) from the emitted Verilog" in {
+    assume(verilatorPresent, "verilator is not installed")
+    val design = Seq("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15", "--target-error", "1e-3",
+      "--clocks-per-sample", "64", "--schedule.storage", "memory")
+    val (input, expected) = armCase("ur5", design, 54L)
+    assert(simulate(input, design ++ Seq("--saturate", "--jobs", "2"): _*) == expected, "simulate wrote another file")
   }
 }
