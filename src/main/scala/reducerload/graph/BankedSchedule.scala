@@ -68,9 +68,21 @@ final case class BankRead(node: NodeId, bank: Int, port: Int, cycle: Int)
  */
 private final case class Kind(kind: UnitKind, units: Range, lead: Int, forwardLead: Int, shape: Int => Option[MulShape], latency: Int, bank: Int => Bank)
 
-/** The banked list scheduler's state after each node: ready cycles, banks, placements, taken unit and read-port residues, reads. */
+/**
+ * The banked list scheduler's state after each node: ready cycles, banks, placements, taken unit and
+ * read-port residues, reads, and the sources each unit port (kind, unit, port) selects among so far.
+ */
 private final case class BankedState(ready: Vector[Option[Int]], bank: Vector[Option[Int]], placed: Vector[Option[PlacedOp]],
-  units: Set[(UnitKind, Int, Int)], ports: Map[(Int, Int, Int), (NodeId, Int)], reads: Vector[BankRead])
+  units: Set[(UnitKind, Int, Int)], ports: Map[(Int, Int, Int), (NodeId, Int)], reads: Vector[BankRead],
+  sources: Map[(UnitKind, Int, Int), Set[OperandSource]] = Map.empty)
+
+/** Where a unit port's operand comes from: a bank's read port, a unit's output register, or the table (a constant or zero). */
+private sealed trait OperandSource
+private object OperandSource {
+  final case class ReadPort(bank: Int, port: Int) extends OperandSource
+  final case class Output(bank: Int) extends OperandSource
+  case object Table extends OperandSource
+}
 
 /**
  * The memory-storage schedule of a graph at the initiation interval of `base` (II >= 2): the same
@@ -191,8 +203,9 @@ final class BankedSchedule(val base: Schedule) {
 
   /**
    * Cycle-driven list scheduling: in each cycle, the operations whose operands can be read by then,
-   * highest first, each on the first unit free at the cycle's residue with an operand order whose
-   * bank read ports are free at the residue of its read.
+   * highest first, each on a unit free at the cycle's residue with an operand order and bank read
+   * ports free at the residue of its read; among those, the one adding the fewest inputs to the
+   * unit's operand multiplexers (most of a shared datapath's logic).
    */
   private def scheduleWith(stages: Int): BankedState = {
     val kinds = graph.ids.map(kindOf(_, stages))
@@ -208,7 +221,7 @@ final class BankedSchedule(val base: Schedule) {
      * ready exactly `forwardLead` cycles before, else read from its bank; None when one is not
      * available then or a read port is taken.
      */
-    def resolve(s: BankedState, operands: IndexedSeq[Operand], k: Kind, t: Int): Option[(IndexedSeq[Operand], Seq[BankRead])] = {
+    def resolve(s: BankedState, operands: IndexedSeq[Operand], k: Kind, t: Int): Seq[(IndexedSeq[Operand], Seq[BankRead])] = {
       // Per operand: the ways it can arrive at t (forwarded, or read on either bank port, its own position's first).
       val ways: IndexedSeq[Seq[(Operand, Option[BankRead])]] = operands.zipWithIndex.map {
         case (Operand.Stored(x, _), position) =>
@@ -224,23 +237,34 @@ final class BankedSchedule(val base: Schedule) {
       }
       ways.foldLeft(Seq(IndexedSeq.empty[(Operand, Option[BankRead])]))((acc, w) => for (a <- acc; x <- w) yield a :+ x)
         .map(choice => (choice.map(_._1), choice.flatMap(_._2)))
-        .find { case (_, rs) => free(rs) }
+        .filter { case (_, rs) => free(rs) }
     }
     /** Whether every stored operand of `id` is ready by `t` (forwarded or read). */
     def candidate(s: BankedState, id: NodeId, t: Int): Boolean = {
       val k = kinds(id.index).get
       graph(id).operands.filterNot(isConst).forall(x => s.ready(x.index).exists(r => r + k.forwardLead == t || r + k.lead <= t))
     }
+    def sourceOf(s: BankedState, o: Operand): OperandSource = o match {
+      case Operand.Stored(x, bankPort) => OperandSource.ReadPort(s.bank(x.index).get, bankPort)
+      case Operand.Forwarded(x)        => OperandSource.Output(s.bank(x.index).get)
+      case _                           => OperandSource.Table
+    }
+    /** Sources a placement adds to its unit's port multiplexers: each one is a multiplexer input as wide as the unit. */
+    def newSources(s: BankedState, kind: UnitKind, u: Int, operands: IndexedSeq[Operand]): Int =
+      operands.indices.count(port => !s.sources.getOrElse((kind, u, port), Set.empty).contains(sourceOf(s, operands(port))))
+    // Among the free units and operand orders, the one adding the fewest multiplexer inputs (then the first).
     def tryPlace(s: BankedState, id: NodeId, t: Int): Option[BankedState] = {
       val k = kinds(id.index).get
       val op = graph(id)
-      k.units.iterator.filterNot(u => s.units((k.kind, u, t % ii))).flatMap { u =>
-        assignments(op, k.shape(u)).iterator.flatMap(a => resolve(s, a, k, t).map { case (ops, rs) => (u, ops, rs) })
-      }.nextOption().map { case (u, a, rs) =>
+      val options = k.units.filterNot(u => s.units((k.kind, u, t % ii))).flatMap { u =>
+        assignments(op, k.shape(u)).flatMap(a => resolve(s, a, k, t).map { case (ops, rs) => (u, ops, rs) })
+      }
+      options.minByOption { case (u, a, _) => newSources(s, k.kind, u, a) }.map { case (u, a, rs) =>
         val placed = PlacedOp(id, k.kind, u, t, a, subtract = op.isInstanceOf[Sub] || op.isInstanceOf[Neg])
         s.copy(ready = s.ready.updated(id.index, Some(t + k.latency)), bank = s.bank.updated(id.index, Some(bankIndex(k.bank(u)))),
           placed = s.placed.updated(id.index, Some(placed)), units = s.units + ((k.kind, u, t % ii)),
-          ports = s.ports ++ rs.map(r => (r.bank, r.port, r.cycle % ii) -> ((r.node, r.cycle))), reads = s.reads ++ rs)
+          ports = s.ports ++ rs.map(r => (r.bank, r.port, r.cycle % ii) -> ((r.node, r.cycle))), reads = s.reads ++ rs,
+          sources = a.indices.foldLeft(s.sources)((m, port) => m.updated((k.kind, u, port), m.getOrElse((k.kind, u, port), Set.empty) + sourceOf(s, a(port)))))
       }
     }
     @scala.annotation.tailrec
