@@ -10,7 +10,7 @@ import reducerload.pipeline.{MultiplierImpl, PipelinedMultiplier}
 /**
  * The memory-storage body of [[ArmDatapath]] (`schedule.storage = memory`): the hardware of a
  * [[BankedSchedule]]. Every unit (the input stage, each multiplier, adder and CORDIC unit) writes
- * its result into the unit's bank in the cycle before the value is ready; units
+ * its result into the unit's bank through one register ([[BankedSchedule.writeDelay]]); units
  * read their operands from the banks' two read ports (port 0 for first operands, port 1 for
  * second), through a multiplexer over the banks that port actually reads. What each bank port,
  * multiplexer, shift and unit does in a cycle comes from one table indexed by the phase (a ROM of
@@ -27,6 +27,8 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   private val graph = p.graph
   private val ii = b.clocksPerSample
   private def residue(cycle: Int) = Math.floorMod(cycle, ii)
+  /** A field's values a cycle early, for a register after the table's. */
+  private def earlier(f: Field) = Field(f.width, f.values.map { case (r, v) => residue(r - 1) -> v })
   private def fmt(x: NodeId) = analysis(x).format
 
   // ---- The table: every control field, by residue, as plain integers first. ----
@@ -55,7 +57,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
       val slot = if (slotBits == 0) None else Some(entry(slotBits - 1, 0))
       (copy.toSeq ++ slot.toSeq).reduceOption(Cat(_, _)).getOrElse(0.U(1.W))
     }
-    // A value is written in the cycle before it is ready, straight from its unit's result.
+    // A value leaves its unit in the cycle before it is ready; the table addresses its write then (registered with the data).
     val write: Field = Field(width, b.values(bank).map(v => residue(b.ready(v).get - 1) -> entry(v, b.ready(v).get - 1)).toMap)
     val writeEnable: Field = Field.flag(b.values(bank).map(v => residue(b.ready(v).get - 1)).toSet)
     val reads: IndexedSeq[Field] = (0 to 1).map(port =>
@@ -98,7 +100,8 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
     /** Two's complement codes of the constants, in the constant field's width. */
     val constant: Option[Field] =
       if (constants.isEmpty) None else Some(Field(constantWidth, constants.map { case (r, (c, _)) => r -> (c & ((BigInt(1) << constantWidth) - 1)) }))
-    def fields: Seq[Field] = selectLow.toSeq ++ selectHigh.toSeq ++ constant.toSeq
+    /** The selects come from copies beside the multiplexers' slices ([[sliced]]): the table holds them a cycle early. */
+    def fields: Seq[Field] = selectLow.map(earlier).toSeq ++ selectHigh.map(earlier).toSeq ++ constant.toSeq
   }
 
   private def opsOn(kind: UnitKind, unit: Int) = b.ops.filter(o => o.kind == kind && o.unit == unit)
@@ -124,7 +127,8 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
     val shiftSelects: IndexedSeq[Field] = (0 to 1).map(port =>
       Field(log2Ceil(math.max(shifts(port).size, 2)), ops.map(o => residue(o.issue - 1) -> BigInt(shifts(port).indexOf(shift(o, port)))).toMap))
     val subtract: Field = Field.flag(ops.filter(_.subtract).map(o => residue(o.issue - 1)).toSet)
-    def fields: Seq[Field] = ports.flatMap(_.fields) ++ shiftSelects :+ subtract
+    /** The shifts and add/subtract come from copies beside the slices they drive ([[sliced]]): the table holds them a cycle early. */
+    def fields: Seq[Field] = ports.flatMap(_.fields) ++ shiftSelects.map(earlier) :+ earlier(subtract)
   }
   private val adders = (0 until b.adderUnits).map(new AdderPlan(_))
 
@@ -135,6 +139,20 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
     adders.flatMap(_.fields), phase)
 
   private def bankIndex(bank: Bank) = b.banks.indexOf(bank)
+
+  /**
+   * A control field for a `width`-bit datapath, in the cycle of its use: one register per slice of
+   * the datapath ([[MemoryStorage.slices]]), each a kept copy ([[FixedHw.keptCopy]]) of the field
+   * the table gives a cycle early, so each can sit beside the slice it drives. One register for a
+   * whole unit drove bits spread across the chip: the UR5's critical path.
+   */
+  private def sliced(f: Field, width: Int): IndexedSeq[UInt] = MemoryStorage.slices(width).map(_ => FixedHw.keptCopy(word(earlier(f))))
+
+  /** A multiplexer over `options` (each at least as wide as the slices), slice by slice, each slice by its own select. */
+  private def slicedMux(options: Seq[SInt], selects: IndexedSeq[UInt]): SInt = {
+    val width = options.map(_.getWidth).min
+    MemoryStorage.slices(width).zip(selects).map { case ((lo, hi), sel) => VecInit(options.map(_(hi, lo)))(sel) }.reverse.reduce(Cat(_, _)).asSInt
+  }
   private def fit(v: SInt, width: Int): SInt = FixedHw.fitWidth(v, width)
 
   /** Each unit's result, written into its bank (block RAM registers its write port), and its output register (forwarding). */
@@ -157,11 +175,13 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
    */
   private val readData: IndexedSeq[IndexedSeq[SInt]] = b.banks.indices.map { bank =>
     val a = addressing(bank)
-    val writeAddress = a.address(word(a.write))
-    val writeEnable = word(a.writeEnable).asBool
+    // The write, registered (BankedSchedule.writeDelay): the route from a unit to its bank's block RAM gets a clock of its own.
+    val writeAddress = FixedHw.delay(a.address(word(a.write)), BankedSchedule.writeDelay)
+    val writeEnable = FixedHw.delay(word(a.writeEnable).asBool, BankedSchedule.writeDelay)
+    val writeData = FixedHw.delay(fit(next(bank), b.bankWidths(bank)).asUInt, BankedSchedule.writeDelay)
     (0 to 1).map { port =>
       val mem = Mem(a.depth, UInt(b.bankWidths(bank).W))
-      when(writeEnable)(mem.write(writeAddress, fit(next(bank), b.bankWidths(bank)).asUInt))
+      when(writeEnable)(mem.write(writeAddress, writeData))
       val address = FixedHw.delay(a.address(word(a.reads(port))), BankedSchedule.arrayReadDelay)
       val data = Wire(UInt(b.bankWidths(bank).W))
       data := DontCare
@@ -178,10 +198,11 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   private def operand(src: PortSources, width: Int): SInt = {
     val options = src.sources.map(s => fit(s.fold({ case (bank, bankPort) => readData(bank)(bankPort) }, bank => out(bank)), width)) ++
       src.constant.map(c => fit(word(c).asSInt, width))
+    lazy val low = sliced(src.selectLow.get, width) // one set of copies for every group
     val groups = options.grouped(MemoryStorage.selectGroup).map { g =>
-      FixedHw.delay(if (g.size == 1) g.head else VecInit(g)(word(src.selectLow.get)(log2Ceil(g.size) - 1, 0)), b.selectStages - 1)
+      FixedHw.delay(if (g.size == 1) g.head else slicedMux(g, low.map(_(log2Ceil(g.size) - 1, 0))), b.selectStages - 1)
     }.toSeq
-    if (groups.size == 1) groups.head else VecInit(groups)(word(src.selectHigh.get))
+    if (groups.size == 1) groups.head else slicedMux(groups, sliced(src.selectHigh.get, width))
   }
 
   // Inputs: all loaded into a chain of registers (after the input cycle), then written one per clock
@@ -213,17 +234,18 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   // Adder units.
   adders.zipWithIndex.foreach { case (plan, u) =>
     val width = b.adderWidths(u)
-    val subtract = word(plan.subtract).asBool
+    val subtract = sliced(plan.subtract, width).map(_.asBool)
     val aligned = (0 to 1).map { port =>
       val x = FixedHw.delay(operand(plan.ports(port), width), 1)
       val options = plan.shifts(port).map(sh => (x << sh)(width - 1, 0).asUInt)
-      if (options.size == 1) options.head else VecInit(options)(word(plan.shiftSelects(port)))
+      if (options.size == 1) options.head else slicedMux(options.map(_.asSInt), sliced(plan.shiftSelects(port), width)).asUInt
     }
     // a - b as a + ~b + 1 (FixedHw.addSub's form), with ~b and the carry in registered beside a:
     // the table's subtract bit then drives no logic ahead of the carry chain.
     val a = FixedHw.delay(aligned(0), 1)
-    val bFlipped = FixedHw.delay(aligned(1) ^ Fill(width, subtract), 1)
-    val carryIn = FixedHw.delay(subtract.asUInt, 1)
+    val bFlipped = FixedHw.delay(MemoryStorage.slices(width).zip(subtract).map { case ((lo, hi), sub) =>
+      aligned(1)(hi, lo) ^ Fill(hi - lo + 1, sub) }.reverse.reduce(Cat(_, _)), 1)
+    val carryIn = FixedHw.delay(subtract.head.asUInt, 1)
     val sum = (Cat(a, 1.U(1.W)) + Cat(bFlipped, carryIn))(width, 1).asSInt
     next(bankIndex(Bank.Sums(u))) := fit(sum, b.unitWidths(bankIndex(Bank.Sums(u))))
   }
@@ -285,6 +307,12 @@ final class Microcode(ii: Int, fields: Seq[Field], phase: UInt) {
 }
 
 object MemoryStorage {
+
+  /** Bits of a datapath per copy of its control registers ([[MemoryStorage.sliced]]): a Cyclone IV LAB has 16 LEs, an ECP5 PFU 8 LUTs. */
+  val sliceBits: Int = 9
+
+  /** A `width`-bit datapath's slices, (low bit, high bit), from bit 0. */
+  def slices(width: Int): IndexedSeq[(Int, Int)] = (0 until width by sliceBits).map(lo => (lo, math.min(width, lo + sliceBits) - 1))
 
   /** Options a unit port selects among in the first select stage, per group: a 4-way multiplexer is one LUT level on ECP5 (two LUTs and a PFUMX). */
   val selectGroup: Int = 4

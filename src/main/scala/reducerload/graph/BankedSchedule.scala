@@ -93,8 +93,9 @@ private object OperandSource {
  * model does not depend on any of this.
  *
  * Timing (cycles of one sample, counted as in [[Schedule]]):
- *  - a value ready in cycle R was written into its bank in cycle R - 1, straight from its unit's
- *    result; a read's address may be presented from cycle R on, and its word is in a register
+ *  - a value ready in cycle R leaves its unit in cycle R - 1 and is written into its bank
+ *    `writeDelay` cycles later (registered on the way); a read's address may be presented from
+ *    cycle R on, the array is read `arrayReadDelay` cycles after it, and the word is in a register
  *    `readLatency` cycles after the address;
  *  - a multiply reads its operands (address) `mulLead` cycles before its issue: the read, then
  *    `mulForwardLead` clocks (the operand selected among its sources in `selectStages` registered
@@ -344,9 +345,10 @@ final class BankedSchedule(val base: Schedule) {
   /** Words per value in each bank: one per sample in flight between a value's write and its last read, rounded up to a power of 2. */
   val copies: IndexedSeq[Int] = {
     val lastArrayRead = reads.groupMapReduce(_.node)(_.cycle + BankedSchedule.arrayReadDelay)(math.max)
-    // Sample s + copies writes a value in cycle copies * II + ready - 1, which must come strictly after the last cycle
-    // the array is read for sample s: the hardware leaves a read undefined when its word is written in the same cycle.
-    values.map(vs => BankedSchedule.pow2(vs.map(v => lastArrayRead.get(v).fold(1)(l => (l - ready(v).get + 1) / ii + 1)).maxOption.getOrElse(1)))
+    // Sample s + copies writes a value in cycle copies * II + ready - 1 + writeDelay, which must come strictly after the last
+    // cycle the array is read for sample s: the hardware leaves a read undefined when its word is written in the same cycle.
+    def written(v: NodeId) = ready(v).get - 1 + BankedSchedule.writeDelay
+    values.map(vs => BankedSchedule.pow2(vs.map(v => lastArrayRead.get(v).fold(1)(l => (l - written(v)) / ii + 1)).maxOption.getOrElse(1)))
   }
 
   /** Samples in flight at most: the slot counter counts modulo this (every bank's copies divide it). */
@@ -383,6 +385,15 @@ object BankedSchedule {
 
   /** Cycles from a bank read's address to the cycle its array is read: the block RAM's address register. */
   val arrayReadDelay: Int = 1
+
+  /**
+   * Cycles from a unit's result to its bank's write: one register (data, address and enable), so
+   * the route from a unit to its block RAM's write port gets a clock of its own. The array then
+   * holds a value from the cycle after it is ready, the earliest a read (its address presented
+   * when the value is ready, the array read [[arrayReadDelay]] later) looks at it.
+   */
+  val writeDelay: Int = 1
+  require(writeDelay <= arrayReadDelay, "BankedSchedule: a value's first read would look at the array before its write")
 
   /** Clocks a unit port's operand takes to be selected among its sources, where the schedule allows (a unit may have 30 sources a port). */
   val selectStages: Int = 2

@@ -7,8 +7,8 @@ import reducerload.testutil.ArmGolden
 
 /**
  * The memory-storage schedule's promises, checked from the graph and the hardware's timing rules
- * (block RAM: write in the cycle before a value is ready, the array read a clock after the address, the
- * word `readLatency` cycles after it), not
+ * (block RAM: written in the cycle a value is ready, its unit's result registered once on the way; the
+ * array read a clock after the address, the word `readLatency` cycles after it), not
  * from the schedule's bookkeeping: every operation computes its graph node from the right operands,
  * each operand is in its bank (or on its unit's output) when taken, no unit, read port or write port
  * serves two values in one residue, no later sample overwrites a word before its last read; and
@@ -82,13 +82,14 @@ class BankedScheduleSpec extends AnyFlatSpec {
       val writes = vs.map(v => (readyOf(v) - 1) % ii)
       assert(writes.distinct.size == writes.size, s"bank $bank is written twice in one residue")
       assert(vs.forall(v => b.bankOf(v).contains(bank)))
-      // Sample s + copies writes v in cycle copies * II + ready - 1: after the cycle sample s's last read
-      // of it reads the array, one clock after the read's address (its register); the hardware leaves a
-      // read undefined when the same word is written in that cycle.
+      // Sample s + copies writes v in cycle copies * II + ready (its unit's result, registered once on the
+      // way to the RAM): after the cycle sample s's last read of it reads the array, one clock after the
+      // read's address (its register); the hardware leaves a read undefined when the same word is written
+      // in that cycle.
       vs.foreach { v =>
         b.reads.filter(_.node == v).foreach { r =>
           val arrayRead = r.cycle + 1
-          assert(b.copies(bank) * ii + readyOf(v) - 1 > arrayRead,
+          assert(b.copies(bank) * ii + readyOf(v) > arrayRead,
             s"bank $bank keeps ${b.copies(bank)} copies: node ${v.index} (ready ${readyOf(v)}) is overwritten in or before cycle $arrayRead, when its read reads the array")
         }
       }
