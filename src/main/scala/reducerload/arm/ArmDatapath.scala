@@ -68,6 +68,22 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       VecInit(filled)(phase)
     }
 
+  /**
+   * The entry of the current phase through a multiplexer whose select is a register: which entry
+   * is decoded from the next phase a cycle early. For a select that reaches far (a CORDIC unit's
+   * input among the angle sums: the phase decode and its routes were the UR5's critical path).
+   */
+  private def byPhaseRegistered[T <: Data](entries: Seq[(Int, T)]): T =
+    if (entries.size == 1) entries.head._2
+    else {
+      val sorted = entries.sortBy(_._1)
+      // The index of the entry at each residue; residues nothing uses repeat the one before.
+      val index = (0 until ii).map(r => sorted.lastIndexWhere(_._1 <= r).max(0))
+      val nextPhase = Mux(phase === (ii - 1).U, 0.U, phase + 1.U)
+      val select = RegNext(VecInit(index.map(_.U(log2Ceil(sorted.size).W)))(nextPhase), 0.U)
+      VecInit(sorted.map(_._2))(select)
+    }
+
   /** True in cycle `cycle` of every sample (and in every cycle at II = 1). */
   private def during(cycle: Int): Bool = phaseIs(cycle % ii)
 
@@ -120,7 +136,9 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     val unit = Module(new CordicSinCos(p.cordic))
     val sums = bound.map { case (residue, angle) => residue -> angleSum(angle, schedule.angleSlot(angle).issue) }
     unit.io.in.valid := true.B // no data register waits on valid; the datapath's own valid chain says which samples count
-    unit.io.in.bits := RegNext(byPhase(sums))
+    // Memory storage: the select registered (the UR5's critical path); registers storage keeps the
+    // phase-decoded one, measured fast enough there (162 MHz on the joint-3 shared preset).
+    unit.io.in.bits := RegNext(if (p.banked.isDefined) byPhaseRegistered(sums) else byPhase(sums))
     unit.io.out.bits
   }
 
