@@ -161,8 +161,10 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
 
   /**
    * Each bank's two read ports: the word `readLatency` cycles after its address. The address is
-   * registered, read, and the word registered twice: block RAM with its address register, then its
-   * output register, then one in the fabric (a RAM output must not feed logic directly).
+   * registered, read, and the word registered twice. Yosys maps the address register to the fabric,
+   * the first word register to the block RAM's synchronous read and the second to its output
+   * register, whose pin then drives the operand multiplexers (the UR5's critical path at 140.7 MHz;
+   * keeping that register in the fabric measured no better).
    *
    * The word is registered after the read (read-first), not read at a registered address
    * (write-first): the schedule never reads a word in the cycle it is written (a value is read
