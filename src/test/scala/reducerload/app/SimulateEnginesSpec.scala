@@ -142,11 +142,13 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   // The harness runs the Verilog `run emit` writes (firtool); the chiseltest suites run another
   // compiler's. A read the memory schedule left undefined came out right in one and wrong in the other.
-  it should "write the model's file for every joint of the UR5 with block-RAM banks (64 clocks, 1e-3 N·m) from the emitted Verilog" in {
+  it should "write the model's file for every joint of the UR5 with block-RAM banks (64 and 88 clocks, 1e-3 N·m) from the emitted Verilog" in {
     assume(verilatorPresent, "verilator is not installed")
-    val design = Seq("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15", "--target-error", "1e-3",
-      "--clocks-per-sample", "64", "--schedule.storage", "memory")
-    val (input, expected) = armCase("ur5", design, 54L)
-    assert(simulate(input, design ++ Seq("--saturate", "--jobs", "2"): _*) == expected, "simulate wrote another file")
+    Seq(64 -> 54L, 88 -> 55L).foreach { case (clocks, seed) =>
+      val design = Seq("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15", "--target-error", "1e-3",
+        "--clocks-per-sample", clocks.toString, "--schedule.storage", "memory")
+      val (input, expected) = armCase("ur5", design, seed)
+      assert(simulate(input, design ++ Seq("--saturate", "--jobs", "2"): _*) == expected, s"simulate at $clocks clocks wrote another file")
+    }
   }
 }
