@@ -148,11 +148,13 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
    */
   private def sliced(f: Field, width: Int): IndexedSeq[UInt] = MemoryStorage.slices(width).map(_ => FixedHw.keptCopy(word(earlier(f))))
 
-  /** A multiplexer over `options` (each at least as wide as the slices), slice by slice, each slice by its own select. */
-  private def slicedMux(options: Seq[SInt], selects: IndexedSeq[UInt]): SInt = {
-    val width = options.map(_.getWidth).min
-    MemoryStorage.slices(width).zip(selects).map { case ((lo, hi), sel) => VecInit(options.map(_(hi, lo)))(sel) }.reverse.reduce(Cat(_, _)).asSInt
-  }
+  /** `width` bits built slice by slice ([[MemoryStorage.slices]]), each from its low bit, high bit and its own control copy. */
+  private def bySlice(width: Int, controls: IndexedSeq[UInt])(slice: (Int, Int, UInt) => UInt): UInt =
+    MemoryStorage.slices(width).zip(controls).map { case ((lo, hi), c) => slice(lo, hi, c) }.reverse.reduce(Cat(_, _))
+
+  /** A multiplexer over `options` (all of one width), slice by slice, each slice by its own select. */
+  private def slicedMux(options: Seq[SInt], selects: IndexedSeq[UInt]): SInt =
+    bySlice(options.map(_.getWidth).min, selects)((lo, hi, select) => VecInit(options.map(_(hi, lo)))(select)).asSInt
   private def fit(v: SInt, width: Int): SInt = FixedHw.fitWidth(v, width)
 
   /** Each unit's result, written into its bank (block RAM registers its write port), and its output register (forwarding). */
@@ -236,7 +238,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   // Adder units.
   adders.zipWithIndex.foreach { case (plan, u) =>
     val width = b.adderWidths(u)
-    val subtract = sliced(plan.subtract, width).map(_.asBool)
+    val subtract = sliced(plan.subtract, width)
     val aligned = (0 to 1).map { port =>
       val x = FixedHw.delay(operand(plan.ports(port), width), 1)
       val options = plan.shifts(port).map(sh => (x << sh)(width - 1, 0).asUInt)
@@ -245,9 +247,8 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
     // a - b as a + ~b + 1 (FixedHw.addSub's form), with ~b and the carry in registered beside a:
     // the table's subtract bit then drives no logic ahead of the carry chain.
     val a = FixedHw.delay(aligned(0), 1)
-    val bFlipped = FixedHw.delay(MemoryStorage.slices(width).zip(subtract).map { case ((lo, hi), sub) =>
-      aligned(1)(hi, lo) ^ Fill(hi - lo + 1, sub) }.reverse.reduce(Cat(_, _)), 1)
-    val carryIn = FixedHw.delay(subtract.head.asUInt, 1)
+    val bFlipped = FixedHw.delay(bySlice(width, subtract)((lo, hi, sub) => aligned(1)(hi, lo) ^ Fill(hi - lo + 1, sub.asBool)), 1)
+    val carryIn = FixedHw.delay(subtract.head, 1)
     val sum = (Cat(a, 1.U(1.W)) + Cat(bFlipped, carryIn))(width, 1).asSInt
     next(bankIndex(Bank.Sums(u))) := fit(sum, b.unitWidths(bankIndex(Bank.Sums(u))))
   }
