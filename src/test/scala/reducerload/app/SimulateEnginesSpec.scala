@@ -151,4 +151,12 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
       assert(simulate(input, design ++ Seq("--saturate", "--jobs", "2"): _*) == expected, s"simulate at $clocks clocks wrote another file")
     }
   }
+
+  it should "write the model's file for every joint of the Panda with block-RAM banks (114 clocks, 1e-3 N·m: issue 12's Panda design) from the emitted Verilog" in {
+    assume(verilatorPresent, "verilator is not installed")
+    val design = Seq("--robot", "golden/robots/panda.urdf", "--tip", "panda_hand", "--max-acceleration", "[15,7.5,10,12.5,15,20,20]",
+      "--target-error", "1e-3", "--clocks-per-sample", "114", "--schedule.storage", "memory")
+    val (input, expected) = armCase("panda", design, 57L)
+    assert(simulate(input, design ++ Seq("--saturate", "--jobs", "2"): _*) == expected, "simulate wrote another file")
+  }
 }
