@@ -176,6 +176,9 @@ object Settings {
     new Choice("schedule.constant-multiplies", "", "multiplies by a folded robot constant: blocks (on the 18x18 multiplier units) or shift-add " +
       "(the constant's signed digits summed in logic elements: no multiplier block, more logic; storage registers only)", Nil,
       reducerload.graph.ConstantMultiplies.all.map(_.name), _.schedule.constantMultiplies.name),
+    new Choice("schedule.list-order", "", "storage memory: the list scheduler's order, by-height (each operation, critical path first, at its " +
+      "first free cycle) or by-cycle (each cycle's ready operations, critical path first); auto: both, the shorter latency kept", Nil,
+      "auto" +: reducerload.graph.ListOrder.all.map(_.name), _.schedule.listOrder.fold("auto")(_.name)),
     new PerJoint("numeric.target-error", "N·m", "derived error bound to meet per torque; the datapath's fraction bits become the fewest that meet it " +
       "(none: as set above)", Seq("target-error"), _.targetError, keyword = Some("none")),
     new Switch("monitor.enabled", "", "build the reducer life and limit monitor beside the arm datapath (model rnea; docs/monitor.md)", Nil,
@@ -278,7 +281,8 @@ object Settings {
         targetError = joints("numeric.target-error"),
         schedule = reducerload.graph.ScheduleRequest(count("schedule.clocks-per-sample"), count("schedule.max-multipliers"), count("schedule.cordic-units"),
           reducerload.graph.Storage.all.find(_.name == str("schedule.storage")).get,
-          reducerload.graph.ConstantMultiplies.all.find(_.name == str("schedule.constant-multiplies")).get),
+          reducerload.graph.ConstantMultiplies.all.find(_.name == str("schedule.constant-multiplies")).get,
+          reducerload.graph.ListOrder.all.find(_.name == str("schedule.list-order"))),
         monitor = MonitorSettings(
           enabled = bool("monitor.enabled"),
           exponent = joints("monitor.exponent"),

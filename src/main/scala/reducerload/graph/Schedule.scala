@@ -22,9 +22,12 @@ object ConstantMultiplies {
  * @param cordicUnits     sin/cos units (None: the fewest that do not lengthen the interval)
  * @param storage         where values wait between operations ([[Storage]])
  * @param constantMultiplies how a multiply by a robot constant is built ([[ConstantMultiplies]])
+ * @param listOrder       the memory-storage list scheduler's order ([[ListOrder]]; None: `auto`, the one with the least latency)
  */
 final case class ScheduleRequest(clocksPerSample: Option[Int] = Some(1), maxMultipliers: Option[Int] = None, cordicUnits: Option[Int] = None,
-  storage: Storage = Storage.Registers, constantMultiplies: ConstantMultiplies = ConstantMultiplies.Blocks) {
+  storage: Storage = Storage.Registers, constantMultiplies: ConstantMultiplies = ConstantMultiplies.Blocks, listOrder: Option[ListOrder] = None) {
+  require(listOrder.isEmpty || storage == Storage.Memory,
+    s"schedule.list-order = ${listOrder.get} orders the block-RAM schedule: it needs schedule.storage = memory (or list-order auto)")
   require(constantMultiplies == ConstantMultiplies.Blocks || storage == Storage.Registers,
     "schedule.constant-multiplies = shift-add needs schedule.storage = registers (block-RAM banks feed shared units only)")
   require(clocksPerSample.forall(c => c >= 1 && c <= 4096), s"schedule.clocks-per-sample must be auto or in 1..4096, got ${clocksPerSample.get}")

@@ -68,6 +68,9 @@ class CliSpec extends AnyFlatSpec {
     refused(Seq("--robot", "planar3", "--schedule.storage", "memory"), "schedule.storage = memory", "clocks-per-sample >= 2")
     refused(Seq("--robot", "planar3", "--clocks-per-sample", "4", "--schedule.storage", "memory"), "schedule.storage = memory", "clocks-per-sample >= 6")
     refused(Seq("--robot", "planar3", "--clocks-per-sample", "8", "--schedule.storage", "disk"), "schedule.storage", "registers", "memory")
+    refused(Seq("--robot", "planar3", "--clocks-per-sample", "8", "--schedule.list-order", "by-cycle"), "schedule.list-order = by-cycle", "schedule.storage = memory")
+    refused(Seq("--robot", "planar3", "--clocks-per-sample", "8", "--schedule.storage", "memory", "--schedule.list-order", "random"), "schedule.list-order",
+      "auto", "by-height", "by-cycle")
     val hand = java.nio.file.Paths.get(getClass.getResource("/urdf/arm.urdf").toURI).toString
     refused(Seq("--robot", hand, "--tip", "l3", "--max-acceleration", "5", "--max-velocity", "2"), "wrist_slide", "prismatic")
   }
