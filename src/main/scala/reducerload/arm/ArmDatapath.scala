@@ -70,8 +70,12 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
   /**
    * The entry of the current phase through a multiplexer whose select is a register: which entry
-   * is decoded from the next phase a cycle early. For a select that reaches far (a CORDIC unit's
-   * input among the angle sums: the phase decode and its routes were the UR5's critical path).
+   * is looked up from a counter [[selectAhead]] cycles ahead of the phase, then registered that
+   * many times, so the lookup sits between two flip-flops of its own and the select's route to the
+   * multiplexer is a register-to-register hop. For a select that reaches far (a CORDIC unit's input
+   * among the angle sums: the phase decode and its routes were the UR5's critical path, and then,
+   * decoded from the phase a cycle early, again at 129.8 MHz). In the first cycles after reset the
+   * select is 0: those cycles' CORDIC inputs belong to samples taken before the reset.
    */
   private def byPhaseRegistered[T <: Data](entries: Seq[(Int, T)]): T =
     if (entries.size == 1) entries.head._2
@@ -79,10 +83,14 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       val sorted = entries.sortBy(_._1)
       // The index of the entry at each residue; residues nothing uses repeat the one before.
       val index = (0 until ii).map(r => sorted.lastIndexWhere(_._1 <= r).max(0))
-      val nextPhase = Mux(phase === (ii - 1).U, 0.U, phase + 1.U)
-      val select = RegNext(VecInit(index.map(_.U(log2Ceil(sorted.size).W)))(nextPhase), 0.U)
+      val ahead = RegInit((selectAhead % ii).U(log2Ceil(ii).W))
+      ahead := Mux(ahead === (ii - 1).U, 0.U, ahead + 1.U)
+      val select = (0 until selectAhead).foldLeft(VecInit(index.map(_.U(log2Ceil(sorted.size).W)))(ahead))((v, _) => RegNext(v, 0.U))
       VecInit(sorted.map(_._2))(select)
     }
+
+  /** Cycles a registered select is looked up ahead of its use: the lookup, then a hop. */
+  private val selectAhead = 2
 
   /** True in cycle `cycle` of every sample (and in every cycle at II = 1). */
   private def during(cycle: Int): Bool = phaseIs(cycle % ii)
