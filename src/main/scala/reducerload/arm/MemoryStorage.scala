@@ -162,11 +162,13 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   private val out: IndexedSeq[SInt] = next.map(FixedHw.delay(_, 1))
 
   /**
-   * Each bank's two read ports: the word `readLatency` cycles after its address. The address is
-   * registered, read, and the word registered twice. Yosys maps the address register to the fabric,
-   * the first word register to the block RAM's synchronous read and the second to its output
-   * register, whose pin then drives the operand multiplexers (the UR5's critical path at 140.7 MHz;
-   * keeping that register in the fabric measured no better).
+   * Each bank's two read ports: the word a cycle before it is in the registers of the unit ports
+   * that take it (`readLatency` cycles after its address, [[operand]]). The address is registered,
+   * read, and the word registered twice. Yosys maps the address register to the fabric, the first
+   * word register to the block RAM's synchronous read and the second to its output register, whose
+   * pin then drives each unit port's copy (without those copies it drove the operand multiplexers
+   * and was the UR5's critical path at 140.7 and 148.2 MHz; keeping the output register in the
+   * fabric measured no better).
    *
    * The word is registered after the read (read-first), not read at a registered address
    * (write-first): the schedule never reads a word in the cycle it is written (a value is read
@@ -190,17 +192,18 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
       val data = Wire(UInt(b.bankWidths(bank).W))
       data := DontCare
       when(!(writeEnable && writeAddress === address))(data := mem.read(address))
-      FixedHw.delay(data, BankedSchedule.readLatency - BankedSchedule.arrayReadDelay).asSInt
+      FixedHw.delay(data, BankedSchedule.readLatency - BankedSchedule.arrayReadDelay - 1).asSInt
     }
   }
 
   /**
    * A unit port's operand, selected from the options of the cycle its selection starts and out of the
    * multiplexer `b.selectStages` - 1 cycles later (to be registered by the unit),
-   * sign-extended or cut to `width` (values fit their formats).
+   * sign-extended or cut to `width` (values fit their formats). A word read from a bank comes from
+   * the port's own copy of the read port's register (kept apart from other ports' copies).
    */
   private def operand(src: PortSources, width: Int): SInt = {
-    val options = src.sources.map(s => fit(s.fold({ case (bank, bankPort) => readData(bank)(bankPort) }, bank => out(bank)), width)) ++
+    val options = src.sources.map(s => fit(s.fold({ case (bank, bankPort) => FixedHw.keptCopy(readData(bank)(bankPort)) }, bank => out(bank)), width)) ++
       src.constant.map(c => fit(word(c).asSInt, width))
     lazy val low = sliced(src.selectLow.get, width) // one set of copies for every group
     val groups = options.grouped(MemoryStorage.selectGroup).map { g =>
