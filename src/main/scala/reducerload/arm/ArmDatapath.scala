@@ -36,11 +36,14 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   private val graph = p.graph
   private val joints = p.chain.size
 
+  /** The residue after `r` modulo II (a phase counter's next value). */
+  private def nextResidue(r: UInt): UInt = Mux(r === (ii - 1).U, 0.U, r + 1.U)
+
   private val phase: UInt =
     if (ii == 1) 0.U
     else {
       val counter = RegInit(0.U(log2Ceil(ii).W))
-      counter := Mux(counter === (ii - 1).U, 0.U, counter + 1.U)
+      counter := nextResidue(counter)
       counter
     }
 
@@ -52,7 +55,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   private val phaseIs: IndexedSeq[Bool] =
     if (ii == 1) IndexedSeq(true.B)
     else {
-      val next = Mux(phase === (ii - 1).U, 0.U, phase + 1.U)
+      val next = nextResidue(phase)
       (0 until ii).map(r => RegNext(next === r.U, (r == 0).B))
     }
   /**
@@ -84,7 +87,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       // The index of the entry at each residue; residues nothing uses repeat the one before.
       val index = (0 until ii).map(r => sorted.lastIndexWhere(_._1 <= r).max(0))
       val ahead = RegInit((selectAhead % ii).U(log2Ceil(ii).W))
-      ahead := Mux(ahead === (ii - 1).U, 0.U, ahead + 1.U)
+      ahead := nextResidue(ahead)
       val select = (0 until selectAhead).foldLeft(VecInit(index.map(_.U(log2Ceil(sorted.size).W)))(ahead))((v, _) => RegNext(v, 0.U))
       VecInit(sorted.map(_._2))(select)
     }

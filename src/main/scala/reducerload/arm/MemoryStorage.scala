@@ -192,7 +192,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
       val data = Wire(UInt(b.bankWidths(bank).W))
       data := DontCare
       when(!(writeEnable && writeAddress === address))(data := mem.read(address))
-      FixedHw.delay(data, BankedSchedule.readLatency - BankedSchedule.arrayReadDelay - 1).asSInt
+      FixedHw.delay(data, BankedSchedule.readLatency - BankedSchedule.arrayReadDelay - BankedSchedule.portCopyStages).asSInt
     }
   }
 
@@ -203,7 +203,8 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
    * the port's own copy of the read port's register (kept apart from other ports' copies).
    */
   private def operand(src: PortSources, width: Int): SInt = {
-    val options = src.sources.map(s => fit(s.fold({ case (bank, bankPort) => FixedHw.keptCopy(readData(bank)(bankPort)) }, bank => out(bank)), width)) ++
+    def portCopy(word: SInt) = (0 until BankedSchedule.portCopyStages).foldLeft(word)((v, _) => FixedHw.keptCopy(v))
+    val options = src.sources.map(s => fit(s.fold({ case (bank, bankPort) => portCopy(readData(bank)(bankPort)) }, bank => out(bank)), width)) ++
       src.constant.map(c => fit(word(c).asSInt, width))
     lazy val low = sliced(src.selectLow.get, width) // one set of copies for every group
     val groups = options.grouped(MemoryStorage.selectGroup).map { g =>

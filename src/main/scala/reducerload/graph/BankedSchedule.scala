@@ -287,6 +287,9 @@ final class BankedSchedule(val base: Schedule) {
           sources = a.indices.foldLeft(s.sources)((m, port) => m.updated((k.kind, u, port), m.getOrElse((k.kind, u, port), Set.empty) + sourceOf(s, a(port)))))
       }
     }
+    def noFreePorts(clocks: Int, from: Int, what: String) = new IllegalArgumentException(
+      s"schedule.storage = memory: for $clocks clocks from cycle $from no unit and bank read ports were free for $what; " +
+        "use a larger schedule.clocks-per-sample or schedule.storage = registers")
     @scala.annotation.tailrec
     def byCycle(t: Int, s: BankedState, pending: IndexedSeq[NodeId], idle: Int): BankedState =
       if (pending.isEmpty) s
@@ -296,9 +299,7 @@ final class BankedSchedule(val base: Schedule) {
           tryPlace(st, id, t).fold((st, done))(n => (n, done + id))
         }
         if (candidates.nonEmpty && placed.isEmpty && idle >= 2 * ii)
-          throw new IllegalArgumentException(
-            s"schedule.storage = memory: for ${2 * ii} clocks from cycle ${t - idle} no unit and bank read ports were free for " +
-              s"${candidates.size} ready operations (node ${candidates.head.index}: ${graph(candidates.head)}); use a larger schedule.clocks-per-sample or schedule.storage = registers")
+          throw noFreePorts(2 * ii, t - idle, s"${candidates.size} ready operations (node ${candidates.head.index}: ${graph(candidates.head)})")
         byCycle(t + 1, next, pending.filterNot(placed), if (placed.isEmpty && candidates.nonEmpty) idle + 1 else 0)
       }
     def byHeight: BankedState = pending.foldLeft(start) { (s, id) =>
@@ -306,9 +307,7 @@ final class BankedSchedule(val base: Schedule) {
       val earliest = graph(id).operands.filterNot(isConst).map(x => s.ready(x.index).get + k.forwardLead).maxOption.getOrElse(0)
       // Every residue of the issue and of its reads comes up within lead + 2 II cycles.
       Iterator.range(earliest, earliest + k.lead + 2 * ii).filter(t => candidate(s, id, t)).flatMap(t => tryPlace(s, id, t)).nextOption()
-        .getOrElse(throw new IllegalArgumentException(
-          s"schedule.storage = memory: in the ${k.lead + 2 * ii} clocks from cycle $earliest no unit and bank read ports were free for " +
-            s"node ${id.index} (${graph(id)}); use a larger schedule.clocks-per-sample or schedule.storage = registers"))
+        .getOrElse(throw noFreePorts(k.lead + 2 * ii, earliest, s"node ${id.index} (${graph(id)})"))
     }
     order match {
       case ListOrder.ByCycle  => byCycle(0, start, pending, 0)
@@ -318,6 +317,8 @@ final class BankedSchedule(val base: Schedule) {
 
   /** Cycle at which every output of a scheduled state is in its register. */
   private def outputsReadyIn(s: BankedState): Int = graph.outputs.flatMap(o => s.ready(o.node.index)).maxOption.getOrElse(base.inputCycle)
+  /** A scheduled state's latency: the output stage reads the outputs when all are ready. */
+  private def latencyOf(s: BankedState): Int = outputsReadyIn(s) + Schedule.outputStages
 
   /**
    * Clocks a unit port's operand takes to be selected among its sources ([[BankedSchedule.selectStages]],
@@ -330,9 +331,9 @@ final class BankedSchedule(val base: Schedule) {
       base.request.listOrder.fold(ListOrder.all)(Seq(_)).map(order => order -> (try Right(scheduleWith(stages, order)) catch { case e: IllegalArgumentException => Left(e) }))
     val full = schedules(BankedSchedule.selectStages)
     val (stages, tried) = if (full.exists(_._2.isRight)) (BankedSchedule.selectStages, full) else (1, schedules(1))
-    val best = tried.collect { case (order, Right(s)) => (stages, order, s) }.minByOption(c => outputsReadyIn(c._3))
+    val best = tried.collect { case (order, Right(s)) => (stages, order, s) }.minByOption(c => latencyOf(c._3))
       .getOrElse(throw tried.flatMap(_._2.left.toOption).last)
-    (best, tried.map { case (order, r) => order -> r.toOption.map(outputsReadyIn(_) + Schedule.outputStages) })
+    (best, tried.map { case (order, r) => order -> r.toOption.map(latencyOf) })
   }
   val selectStages: Int = chosen._1
   /** The list order that gave the schedule: the one asked for, or of the orders that place every operation, the one with the least latency. */
@@ -376,7 +377,7 @@ final class BankedSchedule(val base: Schedule) {
   val outputsReady: Int = outputsReadyIn(state)
 
   /** Cycles from a sample on the input port to its torques on the output port (output stage included). */
-  val latency: Int = outputsReady + Schedule.outputStages
+  val latency: Int = latencyOf(state)
 
   /** Values of each bank that some operation reads from it, in the order they are ready: a value's slot is its place here. */
   val values: IndexedSeq[IndexedSeq[NodeId]] = {
@@ -432,6 +433,9 @@ object BankedSchedule {
    * with no logic in it (its next stage was the UR5's critical path at 148.2 MHz).
    */
   val readLatency: Int = 4
+
+  /** Of [[readLatency]], the clocks in the registers beside each unit port that takes the word (its own copies, after the shared read registers). */
+  val portCopyStages: Int = 1
 
   /** Cycles from a bank read's address to the cycle its array is read: the block RAM's address register. */
   val arrayReadDelay: Int = 1
