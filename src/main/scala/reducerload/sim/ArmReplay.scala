@@ -48,10 +48,10 @@ class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCod
     val ref = Rnea.reference(p.chain, s.q, s.qd, s.qdd)
     val outOfRange = out.outOfRange.exists(identity)
     text.append(index)
-    // The hardware's value as its exact decimal (FixedDecimal); StringBuilder.append(double) writes Double.toString's text
+    // The hardware's value as its exact decimal (FixedDecimal), the reference and the error by DoubleText
     (0 until joints).foreach { j =>
       FixedDecimal.append(text.append(','), out.tau(j), p.analysis.outputPortFormat.fracBits)
-      text.append(',').append(ref(j)).append(',').append(hw(j) - ref(j))
+      DoubleText.append(DoubleText.append(text.append(','), ref(j)).append(','), hw(j) - ref(j))
       errors(j) = math.abs(hw(j) - ref(j))
     }
     text.append(',').append(if (outOfRange) '1' else '0')
@@ -103,7 +103,7 @@ class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCod
         val hw = FastFixed.longToDouble(code, outFrac)
         val ref = reference.tape.output(v, k)
         FixedDecimal.append(text.append(','), code, outFrac)
-        text.append(',').append(ref).append(',').append(hw - ref)
+        DoubleText.append(DoubleText.append(text.append(','), ref).append(','), hw - ref)
         errors(k) = math.abs(hw - ref)
         k += 1
       }

@@ -20,9 +20,9 @@ final class LoadReplay(settings: LoadParams) extends ArmReplay(settings.arm) {
     val hw = FastFixed.toDouble(out.tau(0), fracBits) // ArmModel.torques, fast
     val ref = LoadReference.torque(settings.robot, settings.model, sample(row))
     val outOfRange = out.outOfRange.exists(identity)
-    // The hardware's value as its exact decimal (FixedDecimal); StringBuilder.append(double) writes Double.toString's text
+    // The hardware's value as its exact decimal (FixedDecimal), the reference and the error by DoubleText
     FixedDecimal.append(text.append(index).append(','), out.tau(0), fracBits)
-    text.append(',').append(ref).append(',').append(hw - ref).append(',').append(if (outOfRange) '1' else '0')
+    DoubleText.append(DoubleText.append(text.append(','), ref).append(','), hw - ref).append(',').append(if (outOfRange) '1' else '0')
     errors(0) = math.abs(hw - ref)
     outOfRange
   }

@@ -27,7 +27,7 @@ trait ReplayDesign[In, Out] {
   def outputHeader: String
   /**
    * Append sample `index`'s output line (no line end; the hardware's values by [[FixedDecimal]], the
-   * reference and the error as Double.toString writes them) to
+   * reference and the error by [[DoubleText]]) to
    * `text` and its |error| per [[errorLabels]] entry to `errors`; returns whether it was flagged out of range.
    */
   def result(index: Long, row: IndexedSeq[Double], out: Out, text: java.lang.StringBuilder, errors: Array[Double]): Boolean

@@ -5,7 +5,7 @@ import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.arm.{ArmConfig, ArmDatapath, ArmModel, ArmOutputCodes, ArmSample, ArmTrajectory}
 import reducerload.dynamics.{RandomChains, Rnea}
 import reducerload.load._
-import reducerload.sim.{ArmDriver, Cycle, FixedDecimal}
+import reducerload.sim.{ArmDriver, Cycle, DoubleText, FixedDecimal}
 import reducerload.testutil.{ArmGolden, Golden, Seeds, SimBackend}
 
 import java.nio.charset.StandardCharsets
@@ -60,7 +60,7 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
       // The hardware's value as the one result-file text of a code (FixedDecimal), which must read back as the model's load.
       val hwText = FixedDecimal.format(outs(i).tau(0), p.arm.analysis.outputPortFormat.fracBits)
       assert(hwText.toDouble == hw, s"sample $i: $hwText is not the model's load $hw")
-      s"$i,$hwText,$ref,${hw - ref},${if (outs(i).outOfRange.exists(identity)) 1 else 0}"
+      s"$i,$hwText,${DoubleText.format(ref)},${DoubleText.format(hw - ref)},${if (outs(i).outOfRange.exists(identity)) 1 else 0}"
     })
   }
 
@@ -123,7 +123,7 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
         val (hw, ref) = (model.torques(out), Rnea.reference(arm.chain, s.q, s.qd, s.qdd))
         val hwText = out.tau.map(FixedDecimal.format(_, arm.analysis.outputPortFormat.fracBits))
         assert((0 until n).forall(j => hwText(j).toDouble == hw(j)), s"sample $i: ${hwText.mkString(",")} are not the model's torques")
-        (i.toString +: (0 until n).flatMap(j => Seq(hwText(j), ref(j).toString, (hw(j) - ref(j)).toString)) :+
+        (i.toString +: (0 until n).flatMap(j => Seq(hwText(j), DoubleText.format(ref(j)), DoubleText.format(hw(j) - ref(j)))) :+
           (if (out.outOfRange.exists(identity)) "1" else "0")).mkString(",")
       })
     assert(expected.linesIterator.count(_.endsWith(",1")) >= 100)
