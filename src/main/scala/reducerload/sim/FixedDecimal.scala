@@ -28,15 +28,31 @@ object FixedDecimal {
     text.append('.')
     if (fraction == 0) text.append('0')
     else {
-      // One decimal per step: the next digit is what ten times the fraction carries past the point.
+      // Several decimals per step: the next `step` digits are what 10^step times the fraction
+      // carries past the point (10^step * 2^fracBits stays below 2^63); the last group's trailing
+      // zeros are dropped.
+      val step = digitsPerStep(fracBits)
+      val scale = pow10(step)
+      val mask = (1L << fracBits) - 1
       while (fraction != 0) {
-        fraction *= 10
-        text.append(('0' + (fraction >>> fracBits)).toChar)
-        fraction &= (1L << fracBits) - 1
+        fraction *= scale
+        var group = fraction >>> fracBits
+        fraction &= mask
+        val end = text.length + step
+        text.setLength(end)
+        var at = end
+        while (at > end - step) { at -= 1; text.setCharAt(at, ('0' + group % 10).toChar); group /= 10 }
       }
+      var last = text.length
+      while (text.charAt(last - 1) == '0') last -= 1
+      text.setLength(last)
     }
     text
   }
+
+  private val pow10: Array[Long] = Array.iterate(1L, 19)(_ * 10)
+  /** Decimals per step for `fracBits`: the most k with 10^k < 2^(63 - fracBits) (one at 59 bits). */
+  private val digitsPerStep: Array[Int] = Array.tabulate(longFracBits + 1)(f => (1 to 18).filter(k => BigInt(10).pow(k) < (BigInt(1) << (63 - f))).max)
 
   /** [[append]] of a BigInt code (the design's general path): the long path when the code fits one. */
   def append(text: java.lang.StringBuilder, code: BigInt, fracBits: Int): java.lang.StringBuilder =
