@@ -44,9 +44,10 @@ bench() {
   local cpurate; cpurate="$(sed -n 's/.*JVM side \([0-9]*\) samples per CPU second.*/\1/p' "$log")"
   local clocks; clocks="$(sed -n 's/.*; \([0-9]*\) clock cycles\/s per harness process.*/\1/p' "$log")"
   local clockscpu; clockscpu="$(sed -n 's/.*clock cycles\/s per harness process (\([0-9]*\) per CPU second).*/\1/p' "$log")"
+  local enginerate; enginerate="$(sed -n 's/.*engine [0-9.]* us (\([0-9]*\) samples\/s per job.*/\1/p' "$log")"
   local cpu; cpu="$(awk '{printf "%.0f", $1 + $2}' "$log.cpu")"
-  rows+=("$(printf '| %s | %s | %d | %.1f | %.0f | %s | %s | %s | %s | %s | %s | %s |' "$label" "$engine" "$n" "$wall" \
-    "$(echo "$n / $wall" | bc -l)" "$read" "$rate" "$cpurate" "${clocks:--}" "${clockscpu:--}" "$cpu" "$load")")
+  rows+=("$(printf '| %s | %s | %d | %.1f | %.0f | %s | %s | %s | %s | %s | %s | %s | %s |' "$label" "$engine" "$n" "$wall" \
+    "$(echo "$n / $wall" | bc -l)" "$read" "$rate" "$cpurate" "${enginerate:--}" "${clocks:--}" "${clockscpu:--}" "$cpu" "$load")")
 }
 
 same() { # two result files of one design
@@ -69,6 +70,6 @@ done
 echo
 echo "$(nproc) processors; load average now $(cut -d' ' -f1-3 /proc/loadavg); seed $seed; logs in $work"
 echo "$(java -version 2>&1 | head -1); $(verilator --version 2>/dev/null || echo 'no verilator'); commit $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
-echo "| design | engine | samples | wall clock s (end to end) | samples/s end to end | CSV read s | replay samples/s (wall) | replay samples per JVM CPU s | harness clocks/s per process (wall) | harness clocks per CPU s | CPU s (user+sys, sbt, JVM and harness processes) | load at start |"
-echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+echo "| design | engine | samples | wall clock s (end to end) | samples/s end to end | CSV read s | replay samples/s (wall) | replay samples per JVM CPU s | engine samples/s per job (model, or harness process with its files) | harness clocks/s per process (wall) | harness clocks per CPU s | CPU s (user+sys, sbt, JVM and harness processes) | load at start |"
+echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
 printf '%s\n' "${rows[@]}"

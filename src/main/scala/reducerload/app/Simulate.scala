@@ -176,6 +176,12 @@ object Simulate {
       case ReplayEngine.Model => "bit-accurate model"
     }
     println(f"simulation rate: ${summary.samplesPerSecond}%.0f samples/s ($how; JVM side ${summary.samplesPerCpuSecond}%.0f samples per CPU second)")
+    summary.phases.foreach { p =>
+      def us(seconds: Double) = seconds / summary.samples.max(1) * 1e6
+      val engineName = engine match { case ReplayEngine.Rtl(_) => "harness process and its files"; case ReplayEngine.Model => "bit-accurate model" }
+      println(f"replay per sample, wall clock summed over jobs: input codes ${us(p.codes)}%.2f us, engine ${us(p.engine)}%.2f us " +
+        f"(${summary.samples / p.engine.max(1e-9)}%.0f samples/s per job: $engineName), result lines ${us(p.lines)}%.2f us (reference and text)")
+    }
     worst.zipWithIndex.find { case ((e, b), _) => e > b }.foreach { case ((e, b), j) =>
       throw new IllegalStateException(s"${d.errorLabels(j)}: max error $e exceeds the derived bound $b")
     }

@@ -24,7 +24,8 @@ object Replay {
     ((samples + jobs - 1) / jobs).min(most).max(1)
   }
 
-  private final case class ChunkResult(maxErrors: Array[Double], outOfRange: Long, harness: Option[HarnessStats], cpuSeconds: Double)
+  private final case class ChunkResult(maxErrors: Array[Double], outOfRange: Long, harness: Option[HarnessStats], cpuSeconds: Double,
+    phases: Option[ReplayPhases] = None)
 
   private val threads = java.lang.management.ManagementFactory.getThreadMXBean
 
@@ -109,6 +110,7 @@ object Replay {
     val writer = new InOrderWriter(out, (rows.size + size - 1) / size)
     val chunks = ChunkedRun(rows.size, size, jobs, n => progress.advance(n.toLong)) { range =>
       val cpuStart = threads.getCurrentThreadCpuTime
+      val codesStart = System.nanoTime()
       val worker = workers.get()
       val n = range.size
       val first = range.start
@@ -116,6 +118,7 @@ object Replay {
       var k = 0
       val values = rows.values
       while (k < n) { worker.encode(values, rows.offset(first + k), codes, k * ins); k += 1 }
+      val engineStart = System.nanoTime()
       val results = new Array[Long](n * outs)
       val harnessStats = engine match {
         case ReplayEngine.Model =>
@@ -125,6 +128,7 @@ object Replay {
         case ReplayEngine.Rtl(harness) =>
           Some(harness.streamLongs(codes, n, design.samplePeriod, design.latency + 1)(results))
       }
+      val linesStart = System.nanoTime()
       val text = new java.lang.StringBuilder(n * (24 + 60 * labels))
       val maxErrors = new Array[Double](labels)
       val errors = new Array[Double](labels)
@@ -138,13 +142,16 @@ object Replay {
         k += 1
       }
       val text8 = bytes(text)
+      val linesEnd = System.nanoTime()
       val cpuSeconds = (threads.getCurrentThreadCpuTime - cpuStart) / 1e9
       writer.put(first / size, text8)
-      ChunkResult(maxErrors, flagged, harnessStats, cpuSeconds)
+      ChunkResult(maxErrors, flagged, harnessStats, cpuSeconds,
+        Some(ReplayPhases((engineStart - codesStart) / 1e9, (linesStart - engineStart) / 1e9, (linesEnd - linesStart) / 1e9)))
     }
     progress.finish()
     ReplaySummary(rows.size.toLong,
       (0 until labels).map(j => chunks.map(_.maxErrors(j)).maxOption.getOrElse(0.0)),
-      chunks.map(_.outOfRange).sum, (System.nanoTime() - start) / 1e9, chunks.map(_.cpuSeconds).sum, chunks.flatMap(_.harness))
+      chunks.map(_.outOfRange).sum, (System.nanoTime() - start) / 1e9, chunks.map(_.cpuSeconds).sum, chunks.flatMap(_.harness),
+      chunks.flatMap(_.phases).reduceOption(_ + _))
   }
 }

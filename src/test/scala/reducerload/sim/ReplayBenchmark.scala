@@ -21,7 +21,8 @@ object ReplayBenchmark {
     val nowhere = new OutputStream { def write(b: Int): Unit = (); override def write(b: Array[Byte], o: Int, l: Int): Unit = () }
     (1 to rounds).foreach { round =>
       val s = Replay.run(request.design, ReplayEngine.Model, request.rows, 1, nowhere, new ProgressLine(0, "", None))
-      println(f"round $round: ${s.samples} samples, ${s.samplesPerCpuSecond}%.0f samples per CPU second, ${s.samplesPerSecond}%.0f samples/s wall")
+      val phases = s.phases.fold("")(p => f"; per sample: codes ${p.codes / s.samples * 1e9}%.0f ns, model ${p.engine / s.samples * 1e9}%.0f ns, lines ${p.lines / s.samples * 1e9}%.0f ns")
+      println(f"round $round: ${s.samples} samples, ${s.samplesPerCpuSecond}%.0f samples per CPU second, ${s.samplesPerSecond}%.0f samples/s wall$phases")
     }
   }
 }
