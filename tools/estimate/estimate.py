@@ -86,8 +86,8 @@ def effective_width(conn):
     return len(bits)
 
 
-# A register the design keeps (Verilog `keep`/`preserve` on a `reg`: `FixedHw.keptCopy`, copies of
-# one signal placed beside separate groups of loads) stays a register of its own, as Quartus keeps
+# A register the design keeps (Verilog `keep`/`preserve` on a `reg`, e.g. copies of one signal
+# meant for separate groups of loads) stays a register of its own, as Quartus keeps
 # it. Yosys puts the attribute on the wire only, so `opt_merge` would merge copies with the same
 # input into one flip-flop driving every load; the flip-flops driving kept wires get it too.
 KEEP_REGISTERS = "setattr -set keep 1 w:* a:keep %i %ci1 c:* %i"

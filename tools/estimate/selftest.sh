@@ -15,7 +15,7 @@ if bad:
     sys.exit(f"estimate selftest: got/expected {bad}")
 print("estimate selftest: adder and multiply ok")
 PY
-# Kept copies (FixedHw.keptCopy: `keep, preserve` on a reg) stay registers of their own: 3 x 4 bits.
+# Kept copies (`keep, preserve` on a reg) stay registers of their own: 3 x 4 bits.
 python3 "$here/estimate.py" --top est_keep --no-fmax --json "$out" "$here/testdata/est_keep.sv"
 python3 - "$out" <<'PY'
 import json, sys

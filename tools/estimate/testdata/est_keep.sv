@@ -1,4 +1,4 @@
-// Estimator self-test: two kept copies of one register (FixedHw.keptCopy's Verilog) stay two
+// Estimator self-test: two kept copies of one register (`keep, preserve` on a reg) stay two
 // registers, as Quartus keeps them: 3 x 4 register bits, each in an LE of its own.
 module est_keep(
   input             clock,

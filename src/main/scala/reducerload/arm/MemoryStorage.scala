@@ -100,7 +100,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
     /** Two's complement codes of the constants, in the constant field's width. */
     val constant: Option[Field] =
       if (constants.isEmpty) None else Some(Field(constantWidth, constants.map { case (r, (c, _)) => r -> (c & ((BigInt(1) << constantWidth) - 1)) }))
-    /** The selects come from copies beside the multiplexers' slices ([[sliced]]): the table holds them a cycle early. */
+    /** The selects come from registers after the table's word ([[control]]): the table holds them a cycle early. */
     def fields: Seq[Field] = selectLow.map(earlier).toSeq ++ selectHigh.map(earlier).toSeq ++ constant.toSeq
   }
 
@@ -127,7 +127,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
     val shiftSelects: IndexedSeq[Field] = (0 to 1).map(port =>
       Field(log2Ceil(math.max(shifts(port).size, 2)), ops.map(o => residue(o.issue - 1) -> BigInt(shifts(port).indexOf(shift(o, port)))).toMap))
     val subtract: Field = Field.flag(ops.filter(_.subtract).map(o => residue(o.issue - 1)).toSet)
-    /** The shifts and add/subtract come from copies beside the slices they drive ([[sliced]]): the table holds them a cycle early. */
+    /** The shifts and add/subtract come from registers after the table's word ([[control]]): the table holds them a cycle early. */
     def fields: Seq[Field] = ports.flatMap(_.fields) ++ shiftSelects.map(earlier) :+ earlier(subtract)
   }
   private val adders = (0 until b.adderUnits).map(new AdderPlan(_))
@@ -141,20 +141,12 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   private def bankIndex(bank: Bank) = b.banks.indexOf(bank)
 
   /**
-   * A control field for a `width`-bit datapath, in the cycle of its use: one register per slice of
-   * the datapath ([[MemoryStorage.slices]]), each a kept copy ([[FixedHw.keptCopy]]) of the field
-   * the table gives a cycle early, so each can sit beside the slice it drives. One register for a
-   * whole unit drove bits spread across the chip: the UR5's critical path.
+   * A control field in the cycle of its use, from a register of its own after the table's word (the
+   * table holds it a cycle early), which the placer can put near the unit it drives. (Copies of it
+   * per 9-bit slice of the unit, kept apart, were emitted before; synthesis merged them back into
+   * one register, which is what every clock figure was measured on.)
    */
-  private def sliced(f: Field, width: Int): IndexedSeq[UInt] = MemoryStorage.slices(width).map(_ => FixedHw.keptCopy(word(earlier(f))))
-
-  /** `width` bits built slice by slice ([[MemoryStorage.slices]]), each from its low bit, high bit and its own control copy. */
-  private def bySlice(width: Int, controls: IndexedSeq[UInt])(slice: (Int, Int, UInt) => UInt): UInt =
-    MemoryStorage.slices(width).zip(controls).map { case ((lo, hi), c) => slice(lo, hi, c) }.reverse.reduce(Cat(_, _))
-
-  /** A multiplexer over `options` (all of one width), slice by slice, each slice by its own select. */
-  private def slicedMux(options: Seq[SInt], selects: IndexedSeq[UInt]): SInt =
-    bySlice(options.map(_.getWidth).min, selects)((lo, hi, select) => VecInit(options.map(_(hi, lo)))(select)).asSInt
+  private def control(f: Field): UInt = FixedHw.delay(word(earlier(f)), 1)
   private def fit(v: SInt, width: Int): SInt = FixedHw.fitWidth(v, width)
 
   /** Each unit's result, written into its bank (block RAM registers its write port), and its output register (forwarding). */
@@ -192,25 +184,23 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
       val data = Wire(UInt(b.bankWidths(bank).W))
       data := DontCare
       when(!(writeEnable && writeAddress === address))(data := mem.read(address))
-      FixedHw.delay(data, BankedSchedule.readLatency - BankedSchedule.arrayReadDelay - BankedSchedule.portCopyStages).asSInt
+      FixedHw.delay(data, BankedSchedule.readLatency - BankedSchedule.arrayReadDelay).asSInt
     }
   }
 
   /**
    * A unit port's operand, selected from the options of the cycle its selection starts and out of the
    * multiplexer `b.selectStages` - 1 cycles later (to be registered by the unit),
-   * sign-extended or cut to `width` (values fit their formats). A word read from a bank comes from
-   * the port's own copy of the read port's register (kept apart from other ports' copies).
+   * sign-extended or cut to `width` (values fit their formats).
    */
   private def operand(src: PortSources, width: Int): SInt = {
-    def portCopy(word: SInt) = (0 until BankedSchedule.portCopyStages).foldLeft(word)((v, _) => FixedHw.keptCopy(v))
-    val options = src.sources.map(s => fit(s.fold({ case (bank, bankPort) => portCopy(readData(bank)(bankPort)) }, bank => out(bank)), width)) ++
+    val options = src.sources.map(s => fit(s.fold({ case (bank, bankPort) => readData(bank)(bankPort) }, bank => out(bank)), width)) ++
       src.constant.map(c => fit(word(c).asSInt, width))
-    lazy val low = sliced(src.selectLow.get, width) // one set of copies for every group
+    lazy val low = control(src.selectLow.get) // one register for every group
     val groups = options.grouped(MemoryStorage.selectGroup).map { g =>
-      FixedHw.delay(if (g.size == 1) g.head else slicedMux(g, low.map(_(log2Ceil(g.size) - 1, 0))), b.selectStages - 1)
+      FixedHw.delay(if (g.size == 1) g.head else VecInit(g)(low(log2Ceil(g.size) - 1, 0)), b.selectStages - 1)
     }.toSeq
-    if (groups.size == 1) groups.head else slicedMux(groups, sliced(src.selectHigh.get, width))
+    if (groups.size == 1) groups.head else VecInit(groups)(control(src.selectHigh.get))
   }
 
   // Inputs: all loaded into a chain of registers (after the input cycle), then written one per clock
@@ -242,17 +232,17 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   // Adder units.
   adders.zipWithIndex.foreach { case (plan, u) =>
     val width = b.adderWidths(u)
-    val subtract = sliced(plan.subtract, width)
+    val subtract = control(plan.subtract).asBool
     val aligned = (0 to 1).map { port =>
       val x = FixedHw.delay(operand(plan.ports(port), width), 1)
       val options = plan.shifts(port).map(sh => (x << sh)(width - 1, 0).asUInt)
-      if (options.size == 1) options.head else slicedMux(options.map(_.asSInt), sliced(plan.shiftSelects(port), width)).asUInt
+      if (options.size == 1) options.head else VecInit(options)(control(plan.shiftSelects(port)))
     }
     // a - b as a + ~b + 1 (FixedHw.addSub's form), with ~b and the carry in registered beside a:
     // the table's subtract bit then drives no logic ahead of the carry chain.
     val a = FixedHw.delay(aligned(0), 1)
-    val bFlipped = FixedHw.delay(bySlice(width, subtract)((lo, hi, sub) => aligned(1)(hi, lo) ^ Fill(hi - lo + 1, sub.asBool)), 1)
-    val carryIn = FixedHw.delay(subtract.head, 1)
+    val bFlipped = FixedHw.delay(aligned(1) ^ Fill(width, subtract), 1)
+    val carryIn = FixedHw.delay(subtract.asUInt, 1)
     val sum = (Cat(a, 1.U(1.W)) + Cat(bFlipped, carryIn))(width, 1).asSInt
     next(bankIndex(Bank.Sums(u))) := fit(sum, b.unitWidths(bankIndex(Bank.Sums(u))))
   }
@@ -314,12 +304,6 @@ final class Microcode(ii: Int, fields: Seq[Field], phase: UInt) {
 }
 
 object MemoryStorage {
-
-  /** Bits of a datapath per copy of its control registers ([[MemoryStorage.sliced]]): a Cyclone IV LAB has 16 LEs, an ECP5 PFU 8 LUTs. */
-  val sliceBits: Int = 9
-
-  /** A `width`-bit datapath's slices, (low bit, high bit), from bit 0. */
-  def slices(width: Int): IndexedSeq[(Int, Int)] = (0 until width by sliceBits).map(lo => (lo, math.min(width, lo + sliceBits) - 1))
 
   /** Options a unit port selects among in the first select stage, per group: a 4-way multiplexer is one LUT level on ECP5 (two LUTs and a PFUMX). */
   val selectGroup: Int = 4

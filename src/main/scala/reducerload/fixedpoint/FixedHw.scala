@@ -7,19 +7,6 @@ import chisel3.util._
 object FixedHw {
 
   /**
-   * `x` in a register of its own that synthesis keeps (Verilog `keep` and `preserve`: Yosys and
-   * Quartus would merge registers with the same input), so a signal with loads across the chip can
-   * leave one register beside each group of loads.
-   */
-  def keptCopy[T <: Data](x: T): T = {
-    val r = Reg(chiselTypeOf(x))
-    r := x
-    dontTouch(r)
-    chisel3.experimental.annotate(r)(Seq("keep", "preserve").map(firrtl.AttributeAnnotation(r.toTarget, _)))
-    r
-  }
-
-  /**
    * `n` registers in a row, without reset, keeping `x`'s width (chisel3.util.ShiftRegister leaves the
    * width to inference, which elaboration-time width checks cannot read).
    */

@@ -427,15 +427,13 @@ final class BankedSchedule(val base: Schedule) {
 object BankedSchedule {
 
   /**
-   * Cycles from a bank read's address to its word in a register beside each unit port that takes
-   * it: the block RAM's address and output registers, one more, and the port's own copy, so the
-   * route from the block RAM (which may sit far from the units that read it) has a clock of its own
-   * with no logic in it (its next stage was the UR5's critical path at 148.2 MHz).
+   * Cycles from a bank read's address to its word in the fabric register the unit ports select
+   * from: the block RAM's address and output registers, then two in the fabric, so the route from
+   * the block RAM (which may sit far from the units that read it) has a clock of its own with no
+   * logic in it (its next stage was the UR5's critical path at 148.2 MHz). (A copy of the last
+   * register per unit port, kept apart, was emitted before; synthesis merged the copies back.)
    */
   val readLatency: Int = 4
-
-  /** Of [[readLatency]], the clocks in the registers beside each unit port that takes the word (its own copies, after the shared read registers). */
-  val portCopyStages: Int = 1
 
   /** Cycles from a bank read's address to the cycle its array is read: the block RAM's address register. */
   val arrayReadDelay: Int = 1
