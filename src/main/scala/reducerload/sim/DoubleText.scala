@@ -55,8 +55,8 @@ object DoubleText {
     (g.map(_.shiftRight(63).longValueExact).toArray, g.map(_.and(BigInteger.valueOf(Mask63)).longValueExact).toArray)
   }
 
-  /** Powers of ten that fit a long, for digit counts. */
-  private val pow10: Array[Long] = Array.iterate(1L, 19)(_ * 10)
+  /** 10^0 to 10^18, every power of ten a long holds (digit counts here, digit groups in [[FixedDecimal]]). */
+  private[sim] val pow10: Array[Long] = Array.iterate(1L, 19)(_ * 10)
 
   /** Append the text of `x` to `text`. */
   def append(text: java.lang.StringBuilder, x: Double): java.lang.StringBuilder = {
@@ -127,7 +127,7 @@ object DoubleText {
     var e = exponent
     while (f % 10 == 0) { f /= 10; e += 1 }
     var n = 1
-    while (n < 19 && f >= pow10(n)) n += 1
+    while (n < pow10.length && f >= pow10(n)) n += 1
     val d = new Array[Char](n)
     var i = n
     while (i > 0) { i -= 1; d(i) = ('0' + f % 10).toChar; f /= 10 }

@@ -16,7 +16,7 @@ package reducerload.sim
  * against BigDecimal).
  */
 object FixedDecimal {
-  /** The longest fraction the long path takes: `frac * 10` stays below 2^63. */
+  /** The longest fraction the long path takes: `fraction * 10` stays below 2^63 (one digit a step at 59 bits). */
   private final val longFracBits = 59
 
   /** Append the text of `code * 2^-fracBits` to `text`. */
@@ -32,7 +32,7 @@ object FixedDecimal {
       // carries past the point (10^step * 2^fracBits stays below 2^63); the last group's trailing
       // zeros are dropped.
       val step = digitsPerStep(fracBits)
-      val scale = pow10(step)
+      val scale = DoubleText.pow10(step)
       val mask = (1L << fracBits) - 1
       while (fraction != 0) {
         fraction *= scale
@@ -50,7 +50,6 @@ object FixedDecimal {
     text
   }
 
-  private val pow10: Array[Long] = Array.iterate(1L, 19)(_ * 10)
   /** Decimals per step for `fracBits`: the most k with 10^k < 2^(63 - fracBits) (one at 59 bits). */
   private val digitsPerStep: Array[Int] = Array.tabulate(longFracBits + 1)(f => (1 to 18).filter(k => BigInt(10).pow(k) < (BigInt(1) << (63 - f))).max)
 
