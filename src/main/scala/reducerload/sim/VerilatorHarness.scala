@@ -131,7 +131,7 @@ object VerilatorHarness {
     finally listing.close()
   }
 
-  private[sim] def deleteTree(dir: Path): Unit =
+  private[reducerload] def deleteTree(dir: Path): Unit =
     if (Files.exists(dir)) {
       val walk = Files.walk(dir)
       try walk.iterator().asScala.toSeq.reverse.foreach(p => Files.deleteIfExists(p))

@@ -1,5 +1,6 @@
 package reducerload.app
 
+import reducerload.testutil.Scratch
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.load.{LoadModel, LoadParams}
 import reducerload.trace.InputError
@@ -89,7 +90,7 @@ class CliSpec extends AnyFlatSpec {
   }
 
   it should "name the file when a configuration file is not HOCON" in {
-    val f = Files.createTempFile("bad", ".conf")
+    val f = Scratch.file("bad", ".conf")
     Files.write(f, Array[Byte](0, 1, 2, '{'.toByte, '{'.toByte))
     val e = intercept[InputError](params("--config", f.toString))
     assert(e.getMessage.contains(f.toString), e.getMessage)

@@ -1,5 +1,6 @@
 package reducerload.app
 
+import reducerload.testutil.Scratch
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.load.LoadParams
 import reducerload.trace.InputError
@@ -12,7 +13,7 @@ import scala.util.Try
 class EmitSpec extends AnyFlatSpec {
   behavior of "emit"
 
-  private def tempDir(): Path = Files.createTempDirectory("emit-spec-")
+  private def tempDir(): Path = Scratch.dir("emit-spec-")
   private def listing(d: Path) = Files.list(d).iterator().asScala.map(_.getFileName.toString).toSeq.sorted
 
   it should "write Verilog with a regeneration header, report.md, report.json and config.conf" in {
@@ -60,7 +61,7 @@ class EmitSpec extends AnyFlatSpec {
       "JSON array" -> "[1, 2, 3]".getBytes("UTF-8")
     )
     corpus.foreach { case (what, bytes) =>
-      val f = Files.createTempFile("bad-config-", ".conf")
+      val f = Scratch.file("bad-config-", ".conf")
       Files.write(f, bytes)
       val d = tempDir().resolve("out")
       val e = intercept[InputError](Main.run(Seq("emit", "--config", f.toString, "--target-dir", d.toString)))

@@ -1,5 +1,6 @@
 package reducerload.app
 
+import reducerload.testutil.Scratch
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.arm.{ArmConfig, ArmDatapath, ArmModel, ArmOutputCodes, ArmSample, ArmTrajectory}
@@ -28,14 +29,14 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
   private def verilatorPresent: Boolean = Try(Seq("verilator", "--version").!!(ProcessLogger(_ => ()))).isSuccess
 
   private def csv(header: Seq[String], rows: Seq[Seq[Double]]): Path = {
-    val f = Files.createTempFile("engines-", ".csv")
+    val f = Scratch.file("engines-", ".csv")
     Files.write(f, (header.mkString(",") +: rows.map(_.mkString(","))).mkString("", "\n", "\n").getBytes(StandardCharsets.UTF_8))
     f
   }
 
   /** `run simulate` on `input` with `args`: the output file's text. */
   private def simulate(input: Path, args: String*): String = {
-    val out = Files.createTempDirectory("engines-out-").resolve("out.csv")
+    val out = Scratch.dir("engines-out-").resolve("out.csv")
     Main.run(Seq("simulate", "--input", input.toString, "--output", out.toString) ++ args)
     new String(Files.readAllBytes(out), StandardCharsets.UTF_8)
   }

@@ -1,5 +1,6 @@
 package reducerload.app
 
+import reducerload.testutil.Scratch
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.testutil.Seeds
 import reducerload.trace.InputError
@@ -16,7 +17,7 @@ class SimulateSpec extends AnyFlatSpec {
   private val good = "0.1,0.2,0.3,1,-1,0.5,2,3,-4"
 
   private def file(content: Array[Byte]): Path = {
-    val f = Files.createTempFile("traj-", ".csv")
+    val f = Scratch.file("traj-", ".csv")
     Files.write(f, content)
     f
   }
@@ -26,7 +27,7 @@ class SimulateSpec extends AnyFlatSpec {
   private def refused(input: Path, words: String*): Unit = refusedWith(input, Nil, input.toString +: words: _*)
 
   private def refusedWith(input: Path, args: Seq[String], words: String*): Unit = {
-    val out = Files.createTempDirectory("sim-out-").resolve("loads.csv")
+    val out = Scratch.dir("sim-out-").resolve("loads.csv")
     val e = intercept[InputError](Main.run(Seq("simulate", "--input", input.toString, "--output", out.toString) ++ args))
     assert(!e.getMessage.contains("\n"), s"error spans lines: ${e.getMessage}")
     words.foreach(w => assert(e.getMessage.contains(w), s"'${e.getMessage}' does not mention '$w'"))
@@ -48,7 +49,7 @@ class SimulateSpec extends AnyFlatSpec {
     refused(text(s"$header\n0.1,0.2,0.3,1,-1,0.5,2,3,-11\n"), "'dd3'", "beyond the declared range")
     refused(text(s"$header,t1\n$good,1\n"), "appears twice")
     refused(file(Array[Byte](0x7f, 'E', 'L', 'F', 0, 0, 1, 2, -1, -2)), "not a text file")
-    refused(Files.createTempDirectory("not-a-file"), "no such file")
+    refused(Scratch.dir("not-a-file"), "no such file")
   }
 
   it should "refuse a bad --engine or --jobs, a missing output directory, and bad arm rows, with one line and no output" in {
@@ -72,7 +73,7 @@ class SimulateSpec extends AnyFlatSpec {
       val junk = "x,.-e9\n\u0000;\u00ff"
       (0 until 1 + rng.nextInt(4)).foreach(_ => chars(rng.nextInt(chars.length)) = junk(rng.nextInt(junk.length)))
       val f = text(new String(chars))
-      val out = Files.createTempDirectory("sim-fuzz-").resolve("o.csv")
+      val out = Scratch.dir("sim-fuzz-").resolve("o.csv")
       // Every check runs before the simulation; a corruption that leaves a valid file is accepted.
       Try(Simulate.prepare(Cli.parse("simulate", Seq("--input", f.toString, "--output", out.toString), Simulate.options, Simulate.flags))).failed.foreach {
         case e: InputError => assert(!e.getMessage.contains("\n"), e.getMessage); assert(!Files.exists(out))
@@ -85,7 +86,7 @@ class SimulateSpec extends AnyFlatSpec {
   it should "stream a hand-written trajectory through the RTL and write idx,load_hw,load_ref,error" in {
     assume(Try(Seq("verilator", "--version").!!).isSuccess, "verilator is not installed")
     val in = text(s"$header\n$good\n1.5,-0.7,2.9,2.5,0.5,-1,-9,9,1\n0,0,0,0,0,0,0,0,0\n4,5,6,3,-3,3,-10,10,-10\n")
-    val out = Files.createTempDirectory("sim-ok-").resolve("loads.csv")
+    val out = Scratch.dir("sim-ok-").resolve("loads.csv")
     Main.run(Seq("simulate", "--input", in.toString, "--output", out.toString, "--model", "paper"))
     val lines = new String(Files.readAllBytes(out), StandardCharsets.UTF_8).trim.split("\n").toSeq
     assert(lines.head == "idx,load_hw,load_ref,error,out_of_range")
@@ -100,7 +101,7 @@ class SimulateSpec extends AnyFlatSpec {
   it should "write a seeded trajectory within the declared ranges (run trajectory) that simulate reads without --saturate" in {
     val seed = Seeds("trajectory-command", 81L)
     def write(args: String*): Path = {
-      val out = Files.createTempDirectory("trajectory-").resolve("t.csv")
+      val out = Scratch.dir("trajectory-").resolve("t.csv")
       Main.run(Seq("trajectory", "--output", out.toString, "--samples", "500", "--seed", seed.toString) ++ args)
       out
     }
@@ -115,7 +116,7 @@ class SimulateSpec extends AnyFlatSpec {
     }
     assert(table.column("t1").forall(v => math.abs(v) <= math.Pi))
     assert(Files.readAllBytes(joint3).sameElements(Files.readAllBytes(write())), "the same seed wrote another file")
-    val out = Files.createTempDirectory("trajectory-sim-").resolve("loads.csv")
+    val out = Scratch.dir("trajectory-sim-").resolve("loads.csv")
     Main.run(Seq("simulate", "--input", joint3.toString, "--output", out.toString, "--engine", "model"))
     assert(new String(Files.readAllBytes(out), StandardCharsets.UTF_8).linesIterator.size == 501)
     val arm = reducerload.trace.TraceCsv.read(write("--robot", "planar3"), reducerload.arm.ArmTrajectory.columns(3))

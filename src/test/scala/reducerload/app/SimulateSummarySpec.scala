@@ -1,5 +1,6 @@
 package reducerload.app
 
+import reducerload.testutil.Scratch
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.testutil.{ArmGolden, ArmGoldenTrace}
 import reducerload.trace.InputError
@@ -29,7 +30,7 @@ class SimulateSummarySpec extends AnyFlatSpec {
    */
   private def summarize(robotArgs: Seq[String], file: String, repeated: Seq[Double], momentary: Seq[Double], period: Double,
     margin: Double): (String, ArmGoldenTrace) = {
-    val dir = Files.createTempDirectory("summary")
+    val dir = Scratch.dir("summary")
     val (out, summary) = (dir.resolve("out.csv"), dir.resolve("summary.json"))
     def list(xs: Seq[Double]) = xs.mkString("[", ", ", "]")
     Main.run(Seq("simulate") ++ robotArgs ++ Seq("--input", s"golden/arms/$file", "--output", out.toString,
@@ -71,7 +72,7 @@ class SimulateSummarySpec extends AnyFlatSpec {
   }
 
   it should "refuse --summary for the joint-3 closed form and an efforts-less planar arm, writing nothing" in {
-    val dir = Files.createTempDirectory("summary")
+    val dir = Scratch.dir("summary")
     val summary: Path = dir.resolve("summary.json")
     def refused(args: Seq[String], word: String): Unit = {
       val e = intercept[Exception](Main.run(Seq("simulate", "--output", dir.resolve("out.csv").toString, "--summary", summary.toString,

@@ -1,5 +1,6 @@
 package reducerload.sim
 
+import reducerload.testutil.Scratch
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.app.{Emit, Top}
 import reducerload.arm.ArmModel
@@ -191,7 +192,7 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
     import scala.concurrent.{Await, Future}
     import scala.concurrent.ExecutionContext.Implicits.global
     import scala.concurrent.duration._
-    val cache = java.nio.file.Files.createTempDirectory("harness-cache-")
+    val cache = Scratch.dir("harness-cache-")
     try {
       val racing = Seq.fill(2)(Future(VerilatorHarness.compile(tinyVerilog, "Tiny", tinyPorts, cache)))
       val Seq(a, b) = racing.map(Await.result(_, 10.minutes))

@@ -1,5 +1,6 @@
 package reducerload.trace
 
+import reducerload.testutil.Scratch
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.testutil.Seeds
 
@@ -21,7 +22,7 @@ class TraceCsvSpec extends AnyFlatSpec {
   private val plain = TraceCsv.parse("plain.csv", plainText, columns)
 
   private def tempFile(suffix: String, bytes: Array[Byte]): Path = {
-    val f = Files.createTempFile("trace-", suffix)
+    val f = Scratch.file("trace-", suffix)
     f.toFile.deleteOnExit()
     Files.write(f, bytes)
   }
