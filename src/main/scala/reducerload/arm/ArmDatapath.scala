@@ -36,28 +36,29 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   private val graph = p.graph
   private val joints = p.chain.size
 
-  /** The residue after `r` modulo II (a phase counter's next value). */
-  private def nextResidue(r: UInt): UInt = Mux(r === (ii - 1).U, 0.U, r + 1.U)
+  /**
+   * A register counting residues modulo II, at `start` in the cycle after reset. Each group of loads
+   * (the phase flags, the table's address, a registered select) has a counter of its own: one
+   * counter read by all of them fanned out across the chip, and the route from it to its own
+   * increment was the Panda's critical path.
+   */
+  private def residueCounter(start: Int): UInt = {
+    val counter = RegInit((start % ii).U(log2Ceil(ii).W))
+    counter := Mux(counter === (ii - 1).U, 0.U, counter + 1.U)
+    counter
+  }
 
-  private val phase: UInt =
-    if (ii == 1) 0.U
-    else {
-      val counter = RegInit(0.U(log2Ceil(ii).W))
-      counter := nextResidue(counter)
-      counter
-    }
+  private val phase: UInt = if (ii == 1) 0.U else residueCounter(0)
 
   /**
-   * One flip-flop per residue, high while the phase equals it: compared a cycle early, so the
-   * enables of the many registers written at one phase leave a flip-flop, not a comparator
-   * (that compare and its fan-out were the critical path). Residues nothing uses are removed.
+   * One flip-flop per residue, high while the phase equals it: the phase compared with the residue
+   * before, a cycle early, so the enables of the many registers written at one phase leave a
+   * flip-flop, not a comparator (that compare and its fan-out were the critical path), and the
+   * compare does not wait for the counter's increment. Residues nothing uses are removed.
    */
   private val phaseIs: IndexedSeq[Bool] =
     if (ii == 1) IndexedSeq(true.B)
-    else {
-      val next = nextResidue(phase)
-      (0 until ii).map(r => RegNext(next === r.U, (r == 0).B))
-    }
+    else (0 until ii).map(r => RegNext(phase === ((r + ii - 1) % ii).U, (r == 0).B))
   /**
    * The entry of the current phase: a multiplexer tree indexed by the phase. Residues no operation
    * uses repeat the entry before them (any value would do; a repeat lets synthesis merge inputs).
@@ -86,8 +87,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       val sorted = entries.sortBy(_._1)
       // The index of the entry at each residue; residues nothing uses repeat the one before.
       val index = (0 until ii).map(r => sorted.lastIndexWhere(_._1 <= r).max(0))
-      val ahead = RegInit((selectAhead % ii).U(log2Ceil(ii).W))
-      ahead := nextResidue(ahead)
+      val ahead = residueCounter(selectAhead)
       val select = (0 until selectAhead).foldLeft(VecInit(index.map(_.U(log2Ceil(sorted.size).W)))(ahead))((v, _) => RegNext(v, 0.U))
       VecInit(sorted.map(_._2))(select)
     }
@@ -162,7 +162,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
   /** Each output's value in cycle `outAt`, from the storage the schedule asks for. */
   private val outputValues: IndexedSeq[SInt] = p.banked match {
-    case Some(banked) => new MemoryStorage(p, banked, phase, during, held[SInt], signal, cordicOutputs).outputs
+    case Some(banked) => new MemoryStorage(p, banked, residueCounter, during, held[SInt], signal, cordicOutputs).outputs
     case None         => registerStorage()
   }
 

@@ -18,9 +18,11 @@ import reducerload.pipeline.{MultiplierImpl, PipelinedMultiplier}
  *
  * Called while [[ArmDatapath]] elaborates: `signals` are the clamped inputs (valid from
  * `inputCycle` for II cycles), `cordic` the CORDIC units' outputs, `during(c)` is true in cycle c of
- * every sample. The result is each output node's value, held until `outputsReady`.
+ * every sample, and `residueCounter(r)` is a new counter of residues modulo II, at `r` in the cycle
+ * after reset (the datapath's phase is such a counter at 0). The result is each output node's
+ * value, held until `outputsReady`.
  */
-final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: Int => Bool,
+final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int => UInt, during: Int => Bool,
   held: (SInt, Int, Seq[Int]) => Map[Int, SInt], signals: Signal => SInt, cordic: IndexedSeq[SinCos])(implicit multiplierImpl: MultiplierImpl) {
   import Op._
   private val analysis = p.analysis
@@ -39,7 +41,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
     if (tagBits == 0) 0.U(1.W)
     else {
       val c = RegInit(0.U(tagBits.W))
-      when(phase === (ii - 1).U)(c := c + 1.U) // wraps modulo slotCount, a power of 2
+      when(during(ii - 1))(c := c + 1.U) // wraps modulo slotCount, a power of 2
       c
     }
 
@@ -136,7 +138,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, phase: UInt, during: 
   require(Microcode.ahead <= p.schedule.inputCycle + BankedSchedule.inputLatency - 1,
     s"MemoryStorage: the table's first word comes ${Microcode.ahead} cycles after reset, after a sample's first write")
   private val word = new Microcode(ii, addressing.flatMap(a => Seq(a.write, a.writeEnable) ++ a.reads) ++ multipliers.flatMap(_.fields) ++
-    adders.flatMap(_.fields), phase)
+    adders.flatMap(_.fields), residueCounter(0))
 
   private def bankIndex(bank: Bank) = b.banks.indexOf(bank)
 
@@ -277,15 +279,19 @@ object Field {
   def flag(residues: Set[Int]): Field = Field(1, residues.map(_ -> BigInt(1)).toMap)
 }
 
-/** Control fields packed into one ROM word per residue, read by the phase [[Microcode.ahead]] cycles ahead. Equal fields share their bits. */
-final class Microcode(ii: Int, fields: Seq[Field], phase: UInt) {
+/**
+ * Control fields packed into one ROM word per residue, read [[Microcode.ahead]] cycles ahead at
+ * `address`, a counter of its own that equals the phase (so the phase counter does not also drive
+ * the ROM's address pins across the chip). Equal fields share their bits.
+ */
+final class Microcode(ii: Int, fields: Seq[Field], address: UInt) {
   private val distinct = fields.distinct
   distinct.foreach(f => require(f.values.keys.forall(r => r >= 0 && r < ii), s"Microcode: a residue outside 0..${ii - 1}"))
   private val offsets: Map[Field, Int] = distinct.zip(distinct.map(_.width).scanLeft(0)(_ + _)).toMap
   val width: Int = distinct.map(_.width).sum
   /**
    * The word of the current residue, from registers: the ROM holds each residue's word
-   * [[Microcode.ahead]] residues earlier and is read by the phase that many cycles ahead, through
+   * [[Microcode.ahead]] residues earlier and is read at the phase that many cycles ahead, through
    * three registers (the block RAM's address and output registers, then one in the fabric), so
    * every control signal leaves a flip-flop the placer can put near its loads, not a block-RAM read
    * or the block RAM's own output register (the word's bits fan out to every unit from one place:
@@ -296,7 +302,7 @@ final class Microcode(ii: Int, fields: Seq[Field], phase: UInt) {
   private val bits: UInt = {
     val words = (0 until ii).map(r => distinct.foldLeft(BigInt(0))((acc, f) => acc | (f.values.getOrElse(r, BigInt(0)) << offsets(f))))
     val rom = VecInit((0 until ii).map(r => words((r + Microcode.ahead) % ii).U(math.max(width, 1).W)))
-    FixedHw.delay(rom(phase), Microcode.ahead)
+    FixedHw.delay(rom(address), Microcode.ahead)
   }
 
   /** A field's bits in the current cycle. */
