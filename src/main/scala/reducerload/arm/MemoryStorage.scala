@@ -72,8 +72,9 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
    * it reads, then a constant (or zero) if any. The selection takes `b.selectStages` clocks (two,
    * or one at a tight interval): in the first, each group of [[MemoryStorage.selectGroup]] options
    * picks by the low bits of the option's index (the same bits for every group) and is registered,
-   * cleared unless its group holds the option (one flag per group); in the second, the groups are
-   * ORed. A port with 30 options then has an 8-way and a 4-way multiplexer in two clocks instead of
+   * cleared unless its group holds the option (one clear bit per group, set for the other groups,
+   * so that it drives the registers' synchronous reset with no inverter between); in the second,
+   * the groups are ORed. A port with 30 options then has an 8-way and a 4-way multiplexer in two clocks instead of
    * a 32-way one in one, and the second clock needs no select (a select register driving every bit
    * of a wide multiplexer across the chip was the Panda's critical path).
    */
@@ -98,14 +99,14 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
     /** The index within its group, in the first stage's cycle (None: one option). */
     val selectLow: Option[Field] =
       if (options <= 1) None else Some(Field(log2Ceil(math.min(options, group)), index.map { case (r, i) => r -> BigInt(i % group) }.toMap))
-    /** One flag per group, set for the option's group, in the first stage's cycle (None: one group). */
-    val groupFlags: Option[Field] =
-      if (groups <= 1) None else Some(Field(groups, index.map { case (r, i) => r -> (BigInt(1) << (i / group)) }.toMap))
+    /** One clear bit per group, set for every group but the option's, in the first stage's cycle (None: one group). */
+    val groupClears: Option[Field] =
+      if (groups <= 1) None else Some(Field(groups, index.map { case (r, i) => r -> (((BigInt(1) << groups) - 1) ^ (BigInt(1) << (i / group))) }.toMap))
     /** Two's complement codes of the constants, in the constant field's width. */
     val constant: Option[Field] =
       if (constants.isEmpty) None else Some(Field(constantWidth, constants.map { case (r, (c, _)) => r -> (c & ((BigInt(1) << constantWidth) - 1)) }))
     /** The selects come from registers after the table's word ([[control]]): the table holds them a cycle early. */
-    def fields: Seq[Field] = selectLow.map(earlier).toSeq ++ groupFlags.map(earlier).toSeq ++ constant.toSeq
+    def fields: Seq[Field] = selectLow.map(earlier).toSeq ++ groupClears.map(earlier).toSeq ++ constant.toSeq
   }
 
   private def opsOn(kind: UnitKind, unit: Int) = b.ops.filter(o => o.kind == kind && o.unit == unit)
@@ -201,11 +202,11 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
     val options = src.sources.map(s => fit(s.fold({ case (bank, bankPort) => readData(bank)(bankPort) }, bank => out(bank)), width)) ++
       src.constant.map(c => fit(word(c).asSInt, width))
     lazy val low = control(src.selectLow.get) // one register for every group
-    lazy val flags = control(src.groupFlags.get)
+    lazy val clears = control(src.groupClears.get)
     val grouped = options.grouped(MemoryStorage.selectGroup).toSeq
     val groups = grouped.zipWithIndex.map { case (g, k) =>
       val picked = if (g.size == 1) g.head else VecInit(g)(low(log2Ceil(g.size) - 1, 0))
-      FixedHw.delay(if (grouped.size == 1) picked else Mux(flags(k), picked, 0.S), b.selectStages - 1)
+      FixedHw.delay(if (grouped.size == 1) picked else Mux(clears(k), 0.S, picked), b.selectStages - 1)
     }
     groups.reduce((x, y) => (x.asUInt | y.asUInt).asSInt)
   }
