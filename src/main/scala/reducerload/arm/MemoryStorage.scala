@@ -74,9 +74,10 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
    * picks by the low bits of the option's index (the same bits for every group) and is registered,
    * cleared unless its group holds the option (one clear bit per group, set for the other groups,
    * so that it drives the registers' synchronous reset with no inverter between); in the second,
-   * the groups are ORed. A port with 30 options then has an 8-way and a 4-way multiplexer in two clocks instead of
-   * a 32-way one in one, and the second clock needs no select (a select register driving every bit
-   * of a wide multiplexer across the chip was the Panda's critical path).
+   * the groups are ORed. A port with 30 options then has eight 4-way multiplexers in one clock and
+   * an 8-input OR in the next instead of a 32-way multiplexer in one, and the second clock needs no
+   * select (a select register driving every bit of a wide multiplexer across the chip was the
+   * Panda's critical path).
    */
   private final class PortSources(operands: Seq[(Int, Operand)]) {
     /** Sources: a bank's read port (Left: bank, port) or a unit's output register (Right: bank). */
