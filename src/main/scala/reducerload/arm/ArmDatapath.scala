@@ -52,19 +52,13 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
   /**
    * One flip-flop per residue, high while the phase equals it: the phase compared with the residue
-   * two before, registered twice, so the enables of the many registers written at one phase leave a
-   * flip-flop, not a comparator (that compare and its fan-out were the critical path), the compare
-   * does not wait for the counter's increment, and the flag's register, which the placer puts among
-   * its loads, is a plain hop from one beside the counter (with one register, the compare shared
-   * with the counter's wrap sat halfway to the flag: the Panda's critical path on another placer
-   * seed). Residues nothing uses are removed.
+   * before, a cycle early, so the enables of the many registers written at one phase leave a
+   * flip-flop, not a comparator (that compare and its fan-out were the critical path), and the
+   * compare does not wait for the counter's increment. Residues nothing uses are removed.
    */
   private val phaseIs: IndexedSeq[Bool] =
     if (ii == 1) IndexedSeq(true.B)
-    else (0 until ii).map { r =>
-      val early = RegNext(phase === ((r + ii - 2) % ii).U, (r == 1).B)
-      RegNext(early, (r == 0).B)
-    }
+    else (0 until ii).map(r => RegNext(phase === ((r + ii - 1) % ii).U, (r == 0).B))
   /**
    * The entry of the current phase: a multiplexer tree indexed by the phase. Residues no operation
    * uses repeat the entry before them (any value would do; a repeat lets synthesis merge inputs).
