@@ -16,7 +16,9 @@ Method (see README.md beside this file; it is an estimate, not a Quartus fit):
      multiplier's own input/output register, one at a RAM's output is the RAM's output register (no
      LE); a register whose input is a LUT or adder output packs into that LE; every other register
      (delay lines, register-to-register) takes an LE of its own.
-  6. Memory bits: the size of every `$mem` cell.
+  6. Memory bits: the size of every `$mem` cell; M9K blocks: each `$mem` in the fewest 9-kbit
+     M9Ks of one shape (256x36, 512x18, 1024x9, 2048x4, 4096x2 or 8192x1; width and depth rounded up
+     to it; one block per read port beyond the first), ROMs and small delays included (an EP4CE30 has 66).
   Fmax proxy: Yosys `synth_ecp5` and nextpnr-ecp5 (LFE5U-85F unless --device says otherwise, speed 6,
   out of context, seed 1 unless --seed says otherwise: placement moves the figure by tens of MHz
   between seeds, so compare designs on several); a Lattice ECP5 is not a Cyclone IV: use the figure
@@ -112,7 +114,7 @@ def cyclone_estimate(files, top, work):
     run([yosys_exe(), "-q", "-s", "cyclone.ys"], os.path.join(work, "cyclone.log"), work)
 
     coarse = json.load(open(os.path.join(work, "coarse.json")))["modules"][top]["cells"]
-    alu_bits, mults, mult_adder_bits, mem_bits = 0, 0, 0, 0
+    alu_bits, mults, mult_adder_bits, mem_bits, m9k = 0, 0, 0, 0, 0
     for c in coarse.values():
         p = c.get("parameters", {})
         width = lambda k: int(p.get(k, "0"), 2) if isinstance(p.get(k), str) else int(p.get(k, 0))
@@ -126,6 +128,7 @@ def cyclone_estimate(files, top, work):
                 mult_adder_bits += (blocks - 1) * (a + b - 18)
         elif c["type"] in ("$mem", "$mem_v2"):
             mem_bits += width("SIZE") * width("WIDTH")
+            m9k += m9k_blocks(width("WIDTH"), width("SIZE")) * max(1, width("RD_PORTS"))
 
     mapped = json.load(open(os.path.join(work, "mapped.json")))["modules"][top]
     cells = mapped["cells"]
@@ -174,7 +177,16 @@ def cyclone_estimate(files, top, work):
     unpacked = ffs - in_blocks - min(packable, arith_les + logic_les)
     les = arith_les + logic_les + unpacked
     return dict(les=les, les_arith=arith_les, les_logic=logic_les, registers=ffs, registers_in_blocks=in_blocks,
-                registers_unpacked=unpacked, mult18x18=mults, memory_bits=mem_bits)
+                registers_unpacked=unpacked, mult18x18=mults, memory_bits=mem_bits, m9k_blocks=m9k)
+
+
+# Cyclone IV M9K shapes (width, depth) in simple dual-port mode: 9,216 bits with parity, 8,192 without.
+M9K_SHAPES = [(36, 256), (18, 512), (9, 1024), (4, 2048), (2, 4096), (1, 8192)]
+
+
+def m9k_blocks(width, depth):
+    """M9K blocks for a width x depth memory: the shape that needs the fewest."""
+    return min(math.ceil(width / w) * math.ceil(depth / d) for w, d in M9K_SHAPES)
 
 
 ECP5_PRIMITIVES = os.path.join(HERE, "ecp5_primitives.v")
@@ -293,10 +305,10 @@ def main():
     r["top"] = a.top
     r["seed"] = a.seed
     r["device"] = "LFE5U-" + a.device.upper().replace("K", "F")
-    print(f"| design | est. LEs | arith LEs | logic LEs | registers | 18x18 mults | memory bits | ECP5-6 Fmax |")
-    print(f"| --- | --- | --- | --- | --- | --- | --- | --- |")
+    print(f"| design | est. LEs | arith LEs | logic LEs | registers | 18x18 mults | memory bits | M9K blocks | ECP5-6 Fmax |")
+    print(f"| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     fm = f"{r['fmax_ecp5_mhz']:.1f} MHz" if r["fmax_ecp5_mhz"] else "not run"
-    print(f"| {a.top} | {r['les']} | {r['les_arith']} | {r['les_logic']} | {r['registers']} | {r['mult18x18']} | {r['memory_bits']} | {fm} |")
+    print(f"| {a.top} | {r['les']} | {r['les_arith']} | {r['les_logic']} | {r['registers']} | {r['mult18x18']} | {r['memory_bits']} | {r['m9k_blocks']} | {fm} |")
     if a.json:
         with open(a.json, "w") as f:
             json.dump(r, f, indent=2, sort_keys=True)

@@ -46,11 +46,11 @@ object ArmSweep {
       p.latency.toString, f"${p.latency * 1000 / fmax.getOrElse(nominalMhz)}%.0f", f"$samplesPerSecond%.3g", s.multiplierUnits.toString,
       p.banked.fold(p.graph.counts.additions + p.graph.counts.negations)(_.adderUnits).toString, s.cordicUnits.toString,
       s.multiplierBlocks.toString, estimate.mult18x18.toString, estimate.les.toString, estimate.registers.toString, estimate.memoryBits.toString,
-      fmax.map(f => f"$f%.1f").getOrElse(""), f"${errors.max}%.2e", f"${p.errorBound}%.2e",
+      estimate.m9kBlocks.toString, fmax.map(f => f"$f%.1f").getOrElse(""), f"${errors.max}%.2e", f"${p.errorBound}%.2e",
       errors.map(e => f"$e%.1e").mkString(" "), p.errorBounds.map(e => f"$e%.1e").mkString(" "))
   }
   val header: Seq[String] = Seq("robot", "schedule", "joints", "internal_frac_bits", "storage", "clocks_per_sample", "latency_cycles", "latency_ns",
-    "samples_per_s", "mul_units", "adder_units", "cordic_units", "mult_blocks", "est_mult18x18", "est_les", "registers", "memory_bits", "fmax_ecp5_mhz",
+    "samples_per_s", "mul_units", "adder_units", "cordic_units", "mult_blocks", "est_mult18x18", "est_les", "registers", "memory_bits", "est_m9k", "fmax_ecp5_mhz",
     "max_error_nm", "bound_nm", "max_error_per_joint", "bound_per_joint")
 
   /** Max |model - Pinocchio| per joint over every golden trace of `robot`. */
@@ -97,7 +97,7 @@ object ArmSweep {
       s"Arm sweep ${if (fmax) "with" else "without"} the ECP5 Fmax proxy. Regenerate: `$command`.",
       s"Latency in ns and samples/s at ${if (fmax) "the Fmax proxy" else s"$nominalMhz MHz"}. Errors: max |torque - Pinocchio| over the golden " +
         "traces per joint (bit-accurate model, equal to the RTL); bound: derived worst case over the declared ranges.",
-      "Resources: open-tool Cyclone IV E estimate (tools/estimate/README.md); mult_blocks: the schedule's 18x18 blocks. EP4CE30: 28,848 LEs, 66 multipliers.",
+      "Resources: open-tool Cyclone IV E estimate (tools/estimate/README.md); mult_blocks: the schedule's 18x18 blocks; est_m9k: the estimate's 9-kbit M9K blocks. EP4CE30: 28,848 LEs, 66 multipliers, 66 M9K blocks.",
       "",
       header.mkString("| ", " | ", " |"),
       header.map(_ => "---").mkString("| ", " | ", " |")
