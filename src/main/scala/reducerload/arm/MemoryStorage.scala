@@ -231,9 +231,8 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
   multipliers.zipWithIndex.foreach { case (plan, u) =>
     val shape = p.schedule.unitShape(u)
     // Operands registered in the fabric: the selection's long routes to the multiplier blocks get a clock of their own.
-    // Retimed: each block's product registered in the fabric, so its route to the unit's adders does too.
     val operands = Seq(operand(plan.ports(0), shape.wide), operand(plan.ports(1), shape.narrow)).map(FixedHw.delay(_, 1))
-    val product = FixedHw.delay(PipelinedMultiplier(operands(0), operands(1), retimed = true), p.multiplierLatency - 1)
+    val product = FixedHw.delay(PipelinedMultiplier(operands(0), operands(1)), p.multiplierLatency - 1)
     val width = b.unitWidths(bankIndex(Bank.Products(u)))
     val rounded = plan.drops.map(d => fit(FixedHw.shiftRound(product, d, p.productRounding), width))
     next(bankIndex(Bank.Products(u))) := (if (rounded.size == 1) rounded.head else VecInit(rounded)(word(plan.dropSelect)))

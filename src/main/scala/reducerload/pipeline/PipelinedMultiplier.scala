@@ -9,17 +9,10 @@ import reducerload.fixedpoint.FixedHw
  * registers on its operands and its product ([[SignedMultiply]]), and the shifted
  * partial products are summed by a registered adder tree, one level per clock. The result is the
  * exact full-width product.
- *
- * `retimed` (more than one block only): the same latency, one register moved. Each block's product
- * is registered once more, in the fabric, before the tree, and the tree's last level is left
- * unregistered (its carry chain shares a clock with whatever takes the product). The placer spreads
- * a unit's blocks over the chip's multiplier rows, and the route from a block's output register to
- * the tree's first adder (5.1 ns, 22 rows, on the Panda) was a critical path; a register with no logic
- * after it may sit anywhere along that route.
  */
-class PipelinedMultiplier(aWidth: Int, bWidth: Int, retimed: Boolean = false)(implicit multiplierImpl: MultiplierImpl) extends Module {
+class PipelinedMultiplier(aWidth: Int, bWidth: Int)(implicit multiplierImpl: MultiplierImpl) extends Module {
   require(aWidth >= 2 && bWidth >= 2, s"PipelinedMultiplier: operands of $aWidth and $bWidth bits")
-  override def desiredName = s"PipelinedMultiplier_${aWidth}x$bWidth${if (isRetimed) "_retimed" else ""}"
+  override def desiredName = s"PipelinedMultiplier_${aWidth}x$bWidth"
   val io = IO(new Bundle {
     val a = Input(SInt(aWidth.W))
     val b = Input(SInt(bWidth.W))
@@ -40,24 +33,17 @@ class PipelinedMultiplier(aWidth: Int, bWidth: Int, retimed: Boolean = false)(im
   }
 
   private val w = aWidth + bWidth
-  /** Whether the register is moved: a single block has no tree to take it from. */
-  private def isRetimed: Boolean = retimed && PipelinedMultiplier.blocks(aWidth, bWidth) > 1
   private val partials: Seq[SInt] = for ((ac, ao) <- chunks(io.a, aWidth); (bc, bo) <- chunks(io.b, bWidth)) yield {
-    val product = SignedMultiply(ac, bc)
-    (FixedHw.delay(product, if (isRetimed) 1 else 0).pad(w) << (ao + bo)).asSInt
+    (SignedMultiply(ac, bc).pad(w) << (ao + bo)).asSInt
   }
 
   // Synthesis trims each adder to the bits above the partial products' zero low bits.
   private def sumTree(xs: Seq[SInt]): SInt =
     if (xs.size == 1) xs.head
-    else {
-      // Retimed: the last level (two operands left) is not registered.
-      val registers = if (isRetimed && xs.size <= 2) 0 else 1
-      sumTree(xs.grouped(2).map {
-        case Seq(x, y) => FixedHw.delay((x +% y)(w - 1, 0).asSInt, registers) // exact: the full product fits w bits
-        case Seq(x)    => FixedHw.delay(x(w - 1, 0).asSInt, registers)
-      }.toSeq)
-    }
+    else sumTree(xs.grouped(2).map {
+      case Seq(x, y) => FixedHw.delay((x +% y)(w - 1, 0).asSInt, 1) // exact: the full product fits w bits
+      case Seq(x)    => FixedHw.delay(x(w - 1, 0).asSInt, 1)
+    }.toSeq)
 
   io.product := sumTree(partials)(w - 1, 0).asSInt
 }
@@ -76,8 +62,8 @@ object PipelinedMultiplier {
   /** Number of 18x18 blocks. */
   def blocks(aWidth: Int, bWidth: Int): Int = chunkCount(aWidth) * chunkCount(bWidth)
 
-  def apply(a: SInt, b: SInt, retimed: Boolean = false)(implicit multiplierImpl: MultiplierImpl): SInt = {
-    val m = Module(new PipelinedMultiplier(a.getWidth, b.getWidth, retimed))
+  def apply(a: SInt, b: SInt)(implicit multiplierImpl: MultiplierImpl): SInt = {
+    val m = Module(new PipelinedMultiplier(a.getWidth, b.getWidth))
     m.io.a := a
     m.io.b := b
     m.io.product

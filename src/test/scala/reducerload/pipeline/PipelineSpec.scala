@@ -16,14 +16,13 @@ class PipelineSpec extends AnyFlatSpec with ChiselScalatestTester {
     if (x.testBit(width - 1)) x - (BigInt(1) << width) else x
   }
 
-  // Retimed (a register moved from the tree's last level to each block's product): the same latency.
-  for ((wa, wb, retimed) <- Seq((18, 18, false), (26, 30, false), (35, 19, false), (4, 40, false), (18, 18, true), (35, 30, true), (37, 28, true))) {
-    it should s"multiply exactly, one product per clock, for $wa x $wb bits${if (retimed) ", retimed" else ""}" in {
-      val rng = new Random(Seeds(s"mul-$wa-$wb${if (retimed) "-retimed" else ""}", 71L + wa))
+  for ((wa, wb) <- Seq((18, 18), (26, 30), (35, 19), (4, 40))) {
+    it should s"multiply exactly, one product per clock, for $wa x $wb bits" in {
+      val rng = new Random(Seeds(s"mul-$wa-$wb", 71L + wa))
       val extremes = Seq(-(BigInt(1) << (wa - 1)), (BigInt(1) << (wa - 1)) - 1, BigInt(0), BigInt(-1))
         .flatMap(a => Seq(-(BigInt(1) << (wb - 1)), (BigInt(1) << (wb - 1)) - 1, BigInt(0), BigInt(-1)).map(a -> _))
       val pairs = extremes ++ Seq.fill(SimBackend.scale(3000))((signed(rng, wa), signed(rng, wb)))
-      test(new PipelinedMultiplier(wa, wb, retimed)).withAnnotations(SimBackend.annotations) { dut =>
+      test(new PipelinedMultiplier(wa, wb)).withAnnotations(SimBackend.annotations) { dut =>
         val l = dut.latency
         assert(l == PipelinedMultiplier.latency(wa, wb))
         val observed = (pairs ++ Seq.fill(l)((BigInt(0), BigInt(0)))).map { case (a, b) =>
