@@ -1,14 +1,12 @@
 // ECP5 mapping of the generator's registered signed multiply, used only by the Fmax proxy
 // (estimate.py reads it over the design's own SignedMultiply with `read_verilog -overwrite`).
 // Same behaviour as the generic module the generator emits: operand registers, then the product
-// register, latency 2 (OPERAND_REGISTERS = 0: the product registered twice, in the block and then
-// in the fabric). Here the registers are the MULT18X18D's own input and output registers (and the
-// fabric one), as Quartus packs the generic module's registers into a Cyclone IV embedded multiplier;
+// register, latency 2. Here the three registers are the MULT18X18D's own input and output
+// registers, as Quartus packs the generic module's registers into a Cyclone IV embedded multiplier;
 // Yosys does not pack fabric registers into ECP5 DSPs by itself.
 module SignedMultiply #(
   parameter A_WIDTH = 18,
-  parameter B_WIDTH = 18,
-  parameter OPERAND_REGISTERS = 1
+  parameter B_WIDTH = 18
 ) (
   input                                    clock,
   input      signed [A_WIDTH-1:0]         a,
@@ -21,10 +19,8 @@ module SignedMultiply #(
       wire [17:0] a18 = $signed(a);
       wire [17:0] b18 = $signed(b);
       wire [35:0] p;
-      // OPERAND_REGISTERS = 0: no input registers; the output register, then one in the fabric (below).
-      localparam INPUT_CLK = OPERAND_REGISTERS != 0 ? "CLK0" : "NONE";
       MULT18X18D #(
-        .REG_INPUTA_CLK(INPUT_CLK), .REG_INPUTB_CLK(INPUT_CLK), .REG_OUTPUT_CLK("CLK0"), .GSR("DISABLED")
+        .REG_INPUTA_CLK("CLK0"), .REG_INPUTB_CLK("CLK0"), .REG_OUTPUT_CLK("CLK0"), .GSR("DISABLED")
       ) mult (
         .A0(a18[0]), .A1(a18[1]), .A2(a18[2]), .A3(a18[3]), .A4(a18[4]), .A5(a18[5]), .A6(a18[6]), .A7(a18[7]), .A8(a18[8]),
         .A9(a18[9]), .A10(a18[10]), .A11(a18[11]), .A12(a18[12]), .A13(a18[13]), .A14(a18[14]), .A15(a18[15]), .A16(a18[16]), .A17(a18[17]),
@@ -36,26 +32,17 @@ module SignedMultiply #(
         .P19(p[19]), .P20(p[20]), .P21(p[21]), .P22(p[22]), .P23(p[23]), .P24(p[24]), .P25(p[25]), .P26(p[26]), .P27(p[27]),
         .P28(p[28]), .P29(p[29]), .P30(p[30]), .P31(p[31]), .P32(p[32]), .P33(p[33]), .P34(p[34]), .P35(p[35])
       );
-      if (OPERAND_REGISTERS != 0) begin : direct
-        assign product = p[A_WIDTH+B_WIDTH-1:0];
-      end else begin : twice
-        reg [A_WIDTH+B_WIDTH-1:0] p_r;
-        always @(posedge clock) p_r <= p[A_WIDTH+B_WIDTH-1:0];
-        assign product = p_r;
-      end
+      assign product = p[A_WIDTH+B_WIDTH-1:0];
     end else begin : fabric
       reg signed [A_WIDTH-1:0] a_r;
       reg signed [B_WIDTH-1:0] b_r;
-      reg signed [A_WIDTH+B_WIDTH-1:0] p_r, p_r2;
+      reg signed [A_WIDTH+B_WIDTH-1:0] p_r;
       always @(posedge clock) begin
         a_r <= a;
         b_r <= b;
         p_r <= a_r * b_r;
-        p_r2 <= a * b;
       end
-      reg signed [A_WIDTH+B_WIDTH-1:0] p_r3;
-      always @(posedge clock) p_r3 <= p_r2;
-      assign product = OPERAND_REGISTERS != 0 ? p_r : p_r3;
+      assign product = p_r;
     end
   endgenerate
 endmodule

@@ -5,7 +5,7 @@ import chisel3.util._
 import reducerload.cordic.SinCos
 import reducerload.fixedpoint.FixedHw
 import reducerload.graph._
-import reducerload.pipeline.{MultiplierImpl, PipelinedMultiplier, ProductRegisters}
+import reducerload.pipeline.{MultiplierImpl, PipelinedMultiplier}
 
 /**
  * The memory-storage body of [[ArmDatapath]] (`schedule.storage = memory`): the hardware of a
@@ -232,9 +232,8 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
   multipliers.zipWithIndex.foreach { case (plan, u) =>
     val shape = p.schedule.unitShape(u)
     // Operands registered in the fabric: the selection's long routes to the multiplier blocks get a clock of their own.
-    // That register feeds the blocks alone, so they have none on their operands and register the product twice.
     val operands = Seq(operand(plan.ports(0), shape.wide), operand(plan.ports(1), shape.narrow)).map(FixedHw.delay(_, 1))
-    val product = FixedHw.delay(PipelinedMultiplier(operands(0), operands(1), ProductRegisters.ProductTwice), p.multiplierLatency - 1)
+    val product = FixedHw.delay(PipelinedMultiplier(operands(0), operands(1)), p.multiplierLatency - 1)
     val width = b.unitWidths(bankIndex(Bank.Products(u)))
     val rounded = plan.drops.map(d => fit(FixedHw.shiftRound(product, d, p.productRounding), width))
     // The drop select from a register of its own near the unit: read off the table's word register, shared by every

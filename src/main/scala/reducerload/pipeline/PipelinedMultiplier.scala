@@ -8,11 +8,11 @@ import reducerload.fixedpoint.FixedHw
  * low chunks and a signed top chunk (each fits an 18x18 signed multiplier), every 18x18 block has
  * registers on its operands and its product ([[SignedMultiply]]), and the shifted
  * partial products are summed by a registered adder tree, one level per clock. The result is the
- * exact full-width product. `registers`: where each block's first register sits ([[ProductRegisters]]).
+ * exact full-width product.
  */
-class PipelinedMultiplier(aWidth: Int, bWidth: Int, registers: ProductRegisters = ProductRegisters.Operands)(implicit multiplierImpl: MultiplierImpl) extends Module {
+class PipelinedMultiplier(aWidth: Int, bWidth: Int)(implicit multiplierImpl: MultiplierImpl) extends Module {
   require(aWidth >= 2 && bWidth >= 2, s"PipelinedMultiplier: operands of $aWidth and $bWidth bits")
-  override def desiredName = s"PipelinedMultiplier_${aWidth}x$bWidth${if (registers == ProductRegisters.Operands) "" else "_p2"}"
+  override def desiredName = s"PipelinedMultiplier_${aWidth}x$bWidth"
   val io = IO(new Bundle {
     val a = Input(SInt(aWidth.W))
     val b = Input(SInt(bWidth.W))
@@ -34,7 +34,7 @@ class PipelinedMultiplier(aWidth: Int, bWidth: Int, registers: ProductRegisters 
 
   private val w = aWidth + bWidth
   private val partials: Seq[SInt] = for ((ac, ao) <- chunks(io.a, aWidth); (bc, bo) <- chunks(io.b, bWidth)) yield {
-    (SignedMultiply(ac, bc, registers).pad(w) << (ao + bo)).asSInt
+    (SignedMultiply(ac, bc).pad(w) << (ao + bo)).asSInt
   }
 
   // Synthesis trims each adder to the bits above the partial products' zero low bits.
@@ -62,8 +62,8 @@ object PipelinedMultiplier {
   /** Number of 18x18 blocks. */
   def blocks(aWidth: Int, bWidth: Int): Int = chunkCount(aWidth) * chunkCount(bWidth)
 
-  def apply(a: SInt, b: SInt, registers: ProductRegisters = ProductRegisters.Operands)(implicit multiplierImpl: MultiplierImpl): SInt = {
-    val m = Module(new PipelinedMultiplier(a.getWidth, b.getWidth, registers))
+  def apply(a: SInt, b: SInt)(implicit multiplierImpl: MultiplierImpl): SInt = {
+    val m = Module(new PipelinedMultiplier(a.getWidth, b.getWidth))
     m.io.a := a
     m.io.b := b
     m.io.product

@@ -22,8 +22,8 @@ import chisel3.util.{HasBlackBoxInline, ShiftRegister}
  * Verilog: a design built with [[MultiplierImpl.ChiselTwin]] (a constructor parameter of every module
  * that multiplies) has [[SignedMultiplyTwin]], the same registers and product in Chisel, instead.
  */
-class SignedMultiply(val aWidth: Int, val bWidth: Int, val registers: ProductRegisters = ProductRegisters.Operands)
-    extends BlackBox(Map("A_WIDTH" -> IntParam(aWidth), "B_WIDTH" -> IntParam(bWidth), "OPERAND_REGISTERS" -> IntParam(registers.operandRegisters)))
+class SignedMultiply(val aWidth: Int, val bWidth: Int)
+    extends BlackBox(Map("A_WIDTH" -> IntParam(aWidth), "B_WIDTH" -> IntParam(bWidth)))
     with HasBlackBoxInline {
   require(aWidth >= 1 && bWidth >= 1, s"SignedMultiply: operand widths must be >= 1, got $aWidth and $bWidth")
   val io = IO(new Bundle {
@@ -34,24 +34,6 @@ class SignedMultiply(val aWidth: Int, val bWidth: Int, val registers: ProductReg
   })
   override def desiredName = SignedMultiply.moduleName
   setInline(s"${SignedMultiply.moduleName}.sv", SignedMultiply.verilog)
-}
-
-/**
- * Where [[SignedMultiply]]'s first register sits; either way the operands reach the product in
- * [[SignedMultiply.latency]] clocks.
- */
-sealed abstract class ProductRegisters(val operandRegisters: Int)
-object ProductRegisters {
-  /** On the operands (the block's input registers), then on the product (its output register). */
-  case object Operands extends ProductRegisters(1)
-
-  /**
-   * On the product twice: the block's output register, then one in the fabric. For a caller whose
-   * operands leave a fabric register that feeds the block alone (the block's input registers would
-   * repeat it): the route from the block to the logic that takes its product (a unit's adder tree
-   * that the placer put rows away from the block: 5.1 ns on the Panda) gets a clock of its own.
-   */
-  case object ProductTwice extends ProductRegisters(0)
 }
 
 /** How a design's signed multiplies are built; a constructor parameter (implicit) of every module that multiplies. */
@@ -76,47 +58,34 @@ object SignedMultiply {
   val verilog: String =
     s"""// Registered signed multiply: one 18x18 block with its input and output registers when both
        |// operands fit 18 bits. Latency $latency clocks. No reset: data registers only.
-       |// OPERAND_REGISTERS = 0: no operand registers; the product is registered twice instead (the
-       |// block's output register, then one in the fabric), for operands that leave a register already.
        |module $moduleName #(
        |  parameter A_WIDTH = 18,
-       |  parameter B_WIDTH = 18,
-       |  parameter OPERAND_REGISTERS = 1
+       |  parameter B_WIDTH = 18
        |) (
        |  input                                    clock,
        |  input      signed [A_WIDTH-1:0]         a,
        |  input      signed [B_WIDTH-1:0]         b,
        |  output reg signed [A_WIDTH+B_WIDTH-1:0] product
        |);
-       |  generate
-       |    if (OPERAND_REGISTERS != 0) begin : operands
-       |      reg signed [A_WIDTH-1:0] a_r;
-       |      reg signed [B_WIDTH-1:0] b_r;
-       |      always @(posedge clock) begin
-       |        a_r <= a;
-       |        b_r <= b;
-       |        product <= a_r * b_r;
-       |      end
-       |    end else begin : product_twice
-       |      reg signed [A_WIDTH+B_WIDTH-1:0] p_r;
-       |      always @(posedge clock) begin
-       |        p_r <= a * b;
-       |        product <= p_r;
-       |      end
-       |    end
-       |  endgenerate
+       |  reg signed [A_WIDTH-1:0] a_r;
+       |  reg signed [B_WIDTH-1:0] b_r;
+       |  always @(posedge clock) begin
+       |    a_r <= a;
+       |    b_r <= b;
+       |    product <= a_r * b_r;
+       |  end
        |endmodule
        |""".stripMargin
 
   /** The exact signed product of `a` and `b` (`a.getWidth + b.getWidth` bits), [[latency]] clocks later. */
-  def apply(a: SInt, b: SInt, registers: ProductRegisters = ProductRegisters.Operands)(implicit multiplierImpl: MultiplierImpl): SInt =
+  def apply(a: SInt, b: SInt)(implicit multiplierImpl: MultiplierImpl): SInt =
     if (multiplierImpl == MultiplierImpl.ChiselTwin) {
-      val m = Module(new SignedMultiplyTwin(a.getWidth, b.getWidth, registers))
+      val m = Module(new SignedMultiplyTwin(a.getWidth, b.getWidth))
       m.io.a := a
       m.io.b := b
       m.io.product
     } else {
-      val m = Module(new SignedMultiply(a.getWidth, b.getWidth, registers))
+      val m = Module(new SignedMultiply(a.getWidth, b.getWidth))
       m.io.clock := Module.clock
       m.io.a := a
       m.io.b := b
@@ -125,14 +94,14 @@ object SignedMultiply {
 }
 
 /** [[SignedMultiply]]'s behaviour in Chisel (operand registers, product register), for the JVM simulator. */
-class SignedMultiplyTwin(aWidth: Int, bWidth: Int, registers: ProductRegisters = ProductRegisters.Operands) extends Module {
-  override def desiredName = s"SignedMultiplyTwin_${aWidth}x${bWidth}_o${registers.operandRegisters}"
+class SignedMultiplyTwin(aWidth: Int, bWidth: Int) extends Module {
+  override def desiredName = s"SignedMultiplyTwin_${aWidth}x$bWidth"
   val io = IO(new Bundle {
     val a = Input(SInt(aWidth.W))
     val b = Input(SInt(bWidth.W))
     val product = Output(SInt((aWidth + bWidth).W))
   })
-  // Operand registers, then the product register (or the product registered twice): SignedMultiply.latency clocks in all.
-  private val operandDelay = (SignedMultiply.latency - 1) * registers.operandRegisters
-  io.product := ShiftRegister(ShiftRegister(io.a, operandDelay) * ShiftRegister(io.b, operandDelay), SignedMultiply.latency - operandDelay)
+  // Operand registers, then the product register: SignedMultiply.latency clocks in all.
+  private val operandDelay = SignedMultiply.latency - 1
+  io.product := RegNext(ShiftRegister(io.a, operandDelay) * ShiftRegister(io.b, operandDelay))
 }
