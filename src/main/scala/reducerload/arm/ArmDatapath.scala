@@ -19,8 +19,8 @@ import reducerload.pipeline.{MemoryDelay, MultiplierImpl, PipelinedMultiplier, S
  * registers written at the same phase (at II = 1: a delay line, long ones in block RAM).
  *
  * In cycle 1 the angles are in the input register, and each velocity and acceleration, clamped to its
- * joint's declared range (flagging the joint), in its own (memory storage: as given, clamped after the
- * register). Data registers have no reset; the valid chain and the phase do.
+ * joint's declared range (flagging the joint), in its own. Data registers have no reset; the valid
+ * chain and the phase do.
  */
 class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
   private val schedule = p.schedule
@@ -122,17 +122,11 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
   // Cycle 0: velocities and accelerations clamped to the declared ranges straight from the port, in
   // each joint's own format, into their registers for cycle 1 (a register before the clamp would
-  // hold every one twice). Memory storage: registered as they come and clamped after the register,
-  // on the way into the input chain (read once, in cycle 2) and the flags (cycle 1). A clamp before
-  // the register becomes the register's synchronous set/reset, gated with the input stage's enable
-  // (the flag of residue 0, loaded all over the chip) by a LUT that the placer pulled far from both:
-  // that route was the Panda's and the UR5's critical path.
-  private def clamp(x: SInt, limit: BigInt, width: Int): (SInt, Bool) =
-    if (p.banked.isDefined) FixedHw.clamp(RegEnable(x, during(0)), -limit, limit, width)
-    else {
-      val (value, outside) = FixedHw.clamp(x, -limit, limit, width)
-      (RegEnable(value, during(0)), RegEnable(outside, during(0)))
-    }
+  // hold every one twice).
+  private def clamp(x: SInt, limit: BigInt, width: Int): (SInt, Bool) = {
+    val (value, outside) = FixedHw.clamp(x, -limit, limit, width)
+    (RegEnable(value, during(0)), RegEnable(outside, during(0)))
+  }
   private val velocities = (0 until joints).map(j => clamp(io.in.bits.qd(j), numerics.velocityLimitRaw(j), numerics.velocityFormats(j).width))
   private val accelerations = (0 until joints).map(j => clamp(io.in.bits.qdd(j), numerics.accelerationLimitRaw(j), numerics.accelerationFormats(j).width))
   require(schedule.inputCycle == ArmDatapath.inputCycle, "the input stage above is one register deep")
