@@ -18,7 +18,7 @@ Method (see README.md beside this file; it is an estimate, not a Quartus fit):
      (delay lines, register-to-register) takes an LE of its own.
   6. Memory bits: the size of every `$mem` cell; M9K blocks: each `$mem` in the fewest 9-kbit
      M9Ks of one shape (256x36, 512x18, 1024x9, 2048x4, 4096x2 or 8192x1; width and depth rounded up
-     to it; one block per read port beyond the first), ROMs and small delays included (an EP4CE30 has 66).
+     to it; times the read ports, one copy each), ROMs and small delays included (an EP4CE30 has 66).
   Fmax proxy: Yosys `synth_ecp5` and nextpnr-ecp5 (LFE5U-85F unless --device says otherwise, speed 6,
   out of context, seed 1 unless --seed says otherwise: placement moves the figure by tens of MHz
   between seeds, so compare designs on several); a Lattice ECP5 is not a Cyclone IV: use the figure
