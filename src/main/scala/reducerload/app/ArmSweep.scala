@@ -29,14 +29,16 @@ object ArmSweep {
    * The schedule axis: intervals from one clock to hundreds, and the fewest clocks within an
    * EP4CE30's 66 blocks; then two of them with the fraction bits fitted to 1e-3 N·m (`numeric.target-error`);
    * then values in block-RAM banks (`schedule.storage = memory`) at 1e-3 N·m from 32 to 512 clocks
-   * (88: the UR5 design that meets issue 12's targets; 114: the Panda's).
+   * (88: the UR5 design that meets issue 12's targets; 114: the Panda's, and at 114 with 5 adder
+   * units, which the Panda's latency target needs).
    */
   val schedules: Seq[(String, ScheduleRequest, Seq[Double])] =
     Seq(1, 4, 16, 64, 256).map(c => (s"ii$c", ScheduleRequest(clocksPerSample = Some(c)), Nil)) ++ Seq(
       ("budget66", ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)), Nil),
       ("budget66-t1e-3", ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)), Seq(1e-3)),
       ("ii64-t1e-3", ScheduleRequest(clocksPerSample = Some(64)), Seq(1e-3))) ++
-      Seq(32, 64, 88, 114, 128, 512).map(c => (s"mem-ii$c-t1e-3", ScheduleRequest(clocksPerSample = Some(c), storage = Storage.Memory), Seq(1e-3)))
+      Seq(32, 64, 88, 114, 128, 512).map(c => (s"mem-ii$c-t1e-3", ScheduleRequest(clocksPerSample = Some(c), storage = Storage.Memory), Seq(1e-3))) :+
+      ("mem-ii114-a5-t1e-3", ScheduleRequest(clocksPerSample = Some(114), storage = Storage.Memory, adderUnits = Some(5)), Seq(1e-3))
 
   final case class Row(robot: String, point: String, p: ArmParams, errors: IndexedSeq[Double], estimate: Estimate) {
     private val s = p.schedule

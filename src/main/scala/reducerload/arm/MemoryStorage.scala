@@ -68,8 +68,10 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
   private val addressing = b.banks.indices.map(new BankAddressing(_))
 
   /**
-   * A unit port's sources (`operands` by the residue of the cycle their selection starts): the banks
-   * it reads, then a constant (or zero) if any. The selection takes `b.selectStages` clocks (two,
+   * A unit port's sources (`operands` by the residue of the cycle their selection starts, each with
+   * the bits it is shifted left by: an addition aligns its operands' fraction bits here, in the
+   * wiring of the first stage's inputs, so no stage of its own does): the banks it reads (once per
+   * shift), then a constant (or zero) if any. The selection takes `b.selectStages` clocks (two,
    * or one at a tight interval): in the first, each group of [[MemoryStorage.selectGroup]] options
    * picks by the low bits of the option's index (the same bits for every group) and is registered,
    * cleared unless its group holds the option (one clear bit per group, set for the other groups,
@@ -79,20 +81,21 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
    * select (a select register driving every bit of a wide multiplexer across the chip was the
    * Panda's critical path).
    */
-  private final class PortSources(operands: Seq[(Int, Operand)]) {
-    /** Sources: a bank's read port (Left: bank, port) or a unit's output register (Right: bank). */
-    private def sourceOf(o: Operand): Option[Either[(Int, Int), Int]] = o match {
-      case Operand.Stored(x, bankPort) => Some(Left((b.bankOf(x).get, bankPort)))
-      case Operand.Forwarded(x)        => Some(Right(b.bankOf(x).get))
+  private final class PortSources(operands: Seq[(Int, Operand, Int)]) {
+    /** Sources: a bank's read port (Left: bank, port) or a unit's output register (Right: bank), and the shift. */
+    private def sourceOf(o: Operand, shift: Int): Option[(Either[(Int, Int), Int], Int)] = o match {
+      case Operand.Stored(x, bankPort) => Some((Left((b.bankOf(x).get, bankPort)), shift))
+      case Operand.Forwarded(x)        => Some((Right(b.bankOf(x).get), shift))
       case _                           => None
     }
-    val sources: IndexedSeq[Either[(Int, Int), Int]] = operands.flatMap(o => sourceOf(o._2)).distinct.sortBy(_.toString).toIndexedSeq
+    val sources: IndexedSeq[(Either[(Int, Int), Int], Int)] = operands.flatMap(o => sourceOf(o._2, o._3)).distinct.sortBy(_.toString).toIndexedSeq
+    // The table holds each constant shifted already.
     private val constants: Map[Int, (BigInt, Int)] = operands.collect {
-      case (r, Operand.Constant(x)) => r -> (analysis(x).raw.get, fmt(x).width)
-      case (r, Operand.Zero)        => r -> (BigInt(0), 1)
+      case (r, Operand.Constant(x), shift) => r -> (analysis(x).raw.get << shift, fmt(x).width + shift)
+      case (r, Operand.Zero, _)            => r -> (BigInt(0), 1)
     }.toMap
     private val constantWidth = constants.values.map(_._2).maxOption.getOrElse(1)
-    private val index: Seq[(Int, Int)] = operands.map { case (r, o) => r -> sourceOf(o).fold(sources.size)(sources.indexOf) }
+    private val index: Seq[(Int, Int)] = operands.map { case (r, o, shift) => r -> sourceOf(o, shift).fold(sources.size)(sources.indexOf) }
     /** Options: the sources, then the constant field if any. */
     private val options: Int = sources.size + (if (constants.isEmpty) 0 else 1)
     private val group = MemoryStorage.selectGroup
@@ -115,7 +118,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
   /** A multiplier unit: sources the cycle before the issue (operands registered), each product's dropped bits the cycle before it is ready. */
   private final class MultiplierPlan(u: Int) {
     private val ops = opsOn(UnitKind.Multiplier, u)
-    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => residue(o.issue - b.mulForwardLead) -> o.operands(port))))
+    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => (residue(o.issue - b.mulForwardLead), o.operands(port), 0))))
     private def drop(o: PlacedOp) = analysis.productRounding(o.node).drop
     val drops: IndexedSeq[Int] = ops.map(drop).distinct.sorted.toIndexedSeq
     val dropSelect: Field = Field(log2Ceil(math.max(drops.size, 2)), ops.map(o => residue(b.ready(o.node).get - 1) -> BigInt(drops.indexOf(drop(o)))).toMap)
@@ -123,18 +126,15 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
   }
   private val multipliers = (0 until p.schedule.multiplierUnits).map(new MultiplierPlan(_))
 
-  /** An adder unit: sources two cycles before the issue, alignment shifts and add or subtract one cycle before (each step registered). */
+  /** An adder unit: sources (aligned) `addForwardLead` cycles before the issue, add or subtract one cycle before (each step registered). */
   private final class AdderPlan(u: Int) {
     private val ops = opsOn(UnitKind.Adder, u)
-    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => residue(o.issue - b.addForwardLead) -> o.operands(port))))
     /** Fraction bits an operand gains to reach its sum's (the analysis's rule for exact sums); zero needs none. */
     private def shift(o: PlacedOp, port: Int) = o.operands(port).carried.fold(0)(x => fmt(o.node).fracBits - fmt(x).fracBits)
-    val shifts: IndexedSeq[IndexedSeq[Int]] = (0 to 1).map(port => ops.map(shift(_, port)).distinct.sorted.toIndexedSeq)
-    val shiftSelects: IndexedSeq[Field] = (0 to 1).map(port =>
-      Field(log2Ceil(math.max(shifts(port).size, 2)), ops.map(o => residue(o.issue - 1) -> BigInt(shifts(port).indexOf(shift(o, port)))).toMap))
+    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => (residue(o.issue - b.addForwardLead), o.operands(port), shift(o, port)))))
     val subtract: Field = Field.flag(ops.filter(_.subtract).map(o => residue(o.issue - 1)).toSet)
-    /** The shifts and add/subtract come from registers after the table's word ([[control]]): the table holds them a cycle early. */
-    def fields: Seq[Field] = ports.flatMap(_.fields) ++ shiftSelects.map(earlier) :+ earlier(subtract)
+    /** Add or subtract comes from a register after the table's word ([[control]]): the table holds it a cycle early. */
+    def fields: Seq[Field] = ports.flatMap(_.fields) :+ earlier(subtract)
   }
   private val adders = (0 until b.adderUnits).map(new AdderPlan(_))
 
@@ -200,7 +200,9 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
    * sign-extended or cut to `width` (values fit their formats).
    */
   private def operand(src: PortSources, width: Int): SInt = {
-    val options = src.sources.map(s => fit(s.fold({ case (bank, bankPort) => readData(bank)(bankPort) }, bank => out(bank)), width)) ++
+    val options = src.sources.map { case (s, shift) =>
+      (fit(s.fold({ case (bank, bankPort) => readData(bank)(bankPort) }, bank => out(bank)), width) << shift)(width - 1, 0).asSInt
+    } ++
       src.constant.map(c => fit(word(c).asSInt, width))
     lazy val low = control(src.selectLow.get) // one register for every group
     lazy val clears = control(src.groupClears.get)
@@ -242,13 +244,9 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
   adders.zipWithIndex.foreach { case (plan, u) =>
     val width = b.adderWidths(u)
     val subtract = control(plan.subtract).asBool
-    val aligned = (0 to 1).map { port =>
-      val x = FixedHw.delay(operand(plan.ports(port), width), 1)
-      val options = plan.shifts(port).map(sh => (x << sh)(width - 1, 0).asUInt)
-      if (options.size == 1) options.head else VecInit(options)(control(plan.shiftSelects(port)))
-    }
-    // a - b as a + ~b + 1 (FixedHw.addSub's form), with ~b and the carry in registered beside a:
-    // the table's subtract bit then drives no logic ahead of the carry chain.
+    val aligned = (0 to 1).map(port => operand(plan.ports(port), width).asUInt)
+    // a - b as a + ~b + 1 (FixedHw.addSub's form), with ~b (in the select's last LUT) and the carry
+    // in registered beside a: the table's subtract bit then drives no logic ahead of the carry chain.
     val a = FixedHw.delay(aligned(0), 1)
     val bFlipped = FixedHw.delay(aligned(1) ^ Fill(width, subtract), 1)
     val carryIn = FixedHw.delay(subtract.asUInt, 1)

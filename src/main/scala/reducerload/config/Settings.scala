@@ -179,6 +179,10 @@ object Settings {
     new Choice("schedule.list-order", "", "storage memory: the list scheduler's order, by-height (each operation, critical path first, at its " +
       "first free cycle) or by-cycle (each cycle's ready operations, critical path first); auto: both, the shorter latency kept", Nil,
       "auto" +: reducerload.graph.ListOrder.all.map(_.name), _.schedule.listOrder.fold("auto")(_.name)),
+    new Natural("schedule.list-tries", "", "storage memory: by-height schedules tried, the first in the plain order, the others with each " +
+      "priority raised by 0 or 1 (seeded, so the same every run); the shortest kept", Nil, _.schedule.listTries),
+    new Count("schedule.adder-units", "", "storage memory: shared adder units (auto: the fewest that take every addition; " +
+      "more cost logic elements and shorten the latency)", Nil, "auto", _.schedule.adderUnits),
     new PerJoint("numeric.target-error", "N·m", "derived error bound to meet per torque; the datapath's fraction bits become the fewest that meet it " +
       "(none: as set above)", Seq("target-error"), _.targetError, keyword = Some("none")),
     new Switch("monitor.enabled", "", "build the reducer life and limit monitor beside the arm datapath (model rnea; docs/monitor.md)", Nil,
@@ -282,7 +286,7 @@ object Settings {
         schedule = reducerload.graph.ScheduleRequest(count("schedule.clocks-per-sample"), count("schedule.max-multipliers"), count("schedule.cordic-units"),
           reducerload.graph.Storage.all.find(_.name == str("schedule.storage")).get,
           reducerload.graph.ConstantMultiplies.all.find(_.name == str("schedule.constant-multiplies")).get,
-          reducerload.graph.ListOrder.all.find(_.name == str("schedule.list-order"))),
+          reducerload.graph.ListOrder.all.find(_.name == str("schedule.list-order")), count("schedule.adder-units"), int("schedule.list-tries")),
         monitor = MonitorSettings(
           enabled = bool("monitor.enabled"),
           exponent = joints("monitor.exponent"),

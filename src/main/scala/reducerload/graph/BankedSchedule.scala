@@ -120,9 +120,8 @@ private object OperandSource {
  *    `mulForwardLead` clocks (the operand selected among its sources in `selectStages` registered
  *    stages, the last one in the fabric ahead of the multiplier); its product is ready
  *    `base.mulLatency` cycles after the issue (the rounding shift and a capture register included);
- *  - an addition reads `addLead` cycles before its issue (`addForwardLead` after the read: one more
- *    than a multiply, its selected operands are aligned and registered again) and is ready one
- *    cycle after;
+ *  - an addition reads `addLead` cycles before its issue (`addForwardLead` after the read, as a
+ *    multiply: its operands are aligned in the selection) and is ready one cycle after;
  *  - either takes a value off its unit's output register (no read) `mulForwardLead` or
  *    `addForwardLead` cycles after it is ready, when that is its issue: the value's selection
  *    starts in the cycle it is there, then it goes the way a read word goes.
@@ -142,11 +141,13 @@ final class BankedSchedule(val base: Schedule) {
    * Cycles from the start of a value's selection among a unit port's sources (`stages` clocks) to
    * the issue: a multiplier's operand is then registered in the fabric, ahead of the multiplier's
    * own input registers, so the selection's routing to the multiplier blocks gets a clock of its
-   * own; an addition's operand is registered, then aligned (and inverted for a subtraction) and
-   * registered again, so neither step shares a clock with the other or with the carry chain.
+   * own; an addition's operand, aligned in the selection's first stage (wiring) and inverted for a
+   * subtraction in its last, is registered beside the carry in, so the carry chain has a clock of
+   * its own. (Until 2026-11-25 the alignment had a registered stage of its own: one more cycle per
+   * addition, on every path of the schedule.)
    */
   private def mulForwardLeadOf(stages: Int): Int = stages
-  private def addForwardLeadOf(stages: Int): Int = stages + 1
+  private def addForwardLeadOf(stages: Int): Int = stages
 
   private def isConst(x: NodeId) = graph(x).isInstanceOf[Const]
   private def ceilDiv(a: Int, b: Int) = (a + b - 1) / b
@@ -163,8 +164,13 @@ final class BankedSchedule(val base: Schedule) {
     case _                        => false
   })
 
-  /** Adder units: the fewest that take every addition in the slots a unit offers. */
-  val adderUnits: Int = math.max(1, base.unitsFor(additions.size, ii))
+  /** Adder units: as asked, else the fewest that take every addition in the slots a unit offers. */
+  val adderUnits: Int = {
+    val fewest = math.max(1, base.unitsFor(additions.size, ii))
+    base.request.adderUnits.foreach(a => require(a >= fewest,
+      s"schedule.adder-units = $a cannot take ${additions.size} additions in schedule.clocks-per-sample = $ii clocks; use adder-units >= $fewest (or auto)"))
+    base.request.adderUnits.getOrElse(fewest)
+  }
 
   /** Banks: the inputs', then one per multiplier unit, per adder unit, and per CORDIC unit and function. */
   val banks: IndexedSeq[Bank] =
@@ -227,9 +233,12 @@ final class BankedSchedule(val base: Schedule) {
    * residue of its read; among those, the one adding the fewest inputs to the unit's operand
    * multiplexers (most of a shared datapath's logic).
    */
-  private def scheduleWith(stages: Int, order: ListOrder): BankedState = {
+  private def scheduleWith(stages: Int, order: ListOrder, perturbation: Int = 0): BankedState = {
     val kinds = graph.ids.map(kindOf(_, stages))
-    val height = heightOf(kinds)
+    // A perturbed try raises each priority by 0 or 1 (seeded): an operation stays above its users,
+    // which are at least a lead and a latency (>= 2) lower.
+    val raise = new scala.util.Random(perturbation)
+    val height = heightOf(kinds).map(h => if (perturbation == 0) h else h + raise.nextInt(2))
     val start = BankedState(
       ready = graph.ids.map(id => fixed.get(id.index).map(_._1)).toVector,
       bank = graph.ids.map(id => fixed.get(id.index).map(f => bankIndex(f._2))).toVector,
@@ -328,7 +337,11 @@ final class BankedSchedule(val base: Schedule) {
    */
   private val (chosen, orderLatencies) = {
     def schedules(stages: Int): Seq[(ListOrder, Either[IllegalArgumentException, BankedState])] =
-      base.request.listOrder.fold(ListOrder.all)(Seq(_)).map(order => order -> (try Right(scheduleWith(stages, order)) catch { case e: IllegalArgumentException => Left(e) }))
+      base.request.listOrder.fold(ListOrder.all)(Seq(_)).map { order =>
+        val perturbations = if (order == ListOrder.ByHeight) 0 until base.request.listTries else Seq(0)
+        val tries = perturbations.map(k => try Right(scheduleWith(stages, order, k)) catch { case e: IllegalArgumentException => Left(e) })
+        order -> tries.collect { case Right(s) => s }.minByOption(latencyOf).toRight(tries.head.swap.toOption.get)
+      }
     val full = schedules(BankedSchedule.selectStages)
     val (stages, tried) = if (full.exists(_._2.isRight)) (BankedSchedule.selectStages, full) else (1, schedules(1))
     val best = tried.collect { case (order, Right(s)) => (stages, order, s) }.minByOption(c => latencyOf(c._3))

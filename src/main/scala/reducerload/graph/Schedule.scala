@@ -23,16 +23,33 @@ object ConstantMultiplies {
  * @param storage         where values wait between operations ([[Storage]])
  * @param constantMultiplies how a multiply by a robot constant is built ([[ConstantMultiplies]])
  * @param listOrder       the memory-storage list scheduler's order ([[ListOrder]]; None: `auto`, the one with the least latency)
+ * @param adderUnits      memory storage's shared adder units (None: the fewest that take every addition)
+ * @param listTries       memory storage: by-height schedules tried, the first in the plain order, the others with perturbed priorities
  */
 final case class ScheduleRequest(clocksPerSample: Option[Int] = Some(1), maxMultipliers: Option[Int] = None, cordicUnits: Option[Int] = None,
-  storage: Storage = Storage.Registers, constantMultiplies: ConstantMultiplies = ConstantMultiplies.Blocks, listOrder: Option[ListOrder] = None) {
+  storage: Storage = Storage.Registers, constantMultiplies: ConstantMultiplies = ConstantMultiplies.Blocks, listOrder: Option[ListOrder] = None,
+  adderUnits: Option[Int] = None, listTries: Int = ScheduleRequest.defaultListTries) {
   require(listOrder.isEmpty || storage == Storage.Memory,
     s"schedule.list-order = ${listOrder.get} orders the block-RAM schedule: it needs schedule.storage = memory (or list-order auto)")
+  require(adderUnits.isEmpty || storage == Storage.Memory,
+    s"schedule.adder-units = ${adderUnits.get} shares adders between additions: it needs schedule.storage = memory (or adder-units auto)")
+  require(adderUnits.forall(a => a >= 1 && a <= 4096), s"schedule.adder-units must be auto or in 1..4096, got ${adderUnits.get}")
+  require(listTries >= 1 && listTries <= 1024, s"schedule.list-tries must be in 1..1024, got $listTries")
   require(constantMultiplies == ConstantMultiplies.Blocks || storage == Storage.Registers,
     "schedule.constant-multiplies = shift-add needs schedule.storage = registers (block-RAM banks feed shared units only)")
   require(clocksPerSample.forall(c => c >= 1 && c <= 4096), s"schedule.clocks-per-sample must be auto or in 1..4096, got ${clocksPerSample.get}")
   require(maxMultipliers.forall(m => m >= 1 && m <= 100000), s"schedule.max-multipliers must be none or in 1..100000, got ${maxMultipliers.get}")
   require(cordicUnits.forall(c => c >= 1 && c <= 4096), s"schedule.cordic-units must be auto or in 1..4096, got ${cordicUnits.get}")
+}
+
+object ScheduleRequest {
+
+  /**
+   * By-height schedules tried by default: the Panda at 114 clocks per sample with 5 adder units
+   * takes 270 cycles in the plain order and 259 with the best of 32 (a try costs tens of
+   * milliseconds there).
+   */
+  val defaultListTries: Int = 32
 }
 
 /** Operand widths of a multiplier unit, wider operand first: its 18x18 blocks and its pipeline depth follow. */
