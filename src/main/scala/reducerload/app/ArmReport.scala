@@ -65,7 +65,8 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
         s"${counts.additions + counts.negations} adders; ${schedule.heldBits} register bits hold values between cycles")(b =>
         s"storage memory: ${b.adderUnits} adder units for ${counts.additions + counts.negations} additions, ${b.banks.size} banks of block RAM " +
           s"(two read ports each, ${b.memoryBits} bits), latency bound from dependences ${b.dependenceBound} cycles; list order ${b.listOrder} (" +
-          b.latencyByOrder.map { case (order, latency) => s"$order: ${latency.fold("no schedule")(l => s"$l cycles")}" }.mkString(", ") + ")"),
+          b.latencyByOrder.map { case (order, latency) => s"$order: ${latency.fold("no schedule")(l => s"$l cycles")}" }.mkString(", ") +
+          s"; by-height the best of ${schedule.request.listTries} tries)"),
     f"Derived worst-case error bound: ${p.errorBound}%.3e N·m (largest over the torques; vs the double-precision dynamics at the unquantized inputs)",
     s"Fraction bits: velocity ${p.velocityFracBits}, acceleration ${p.accelerationFracBits}, constants ${p.constantFracBits}, " +
       s"products and sums ${p.internalFracBits}, output ${p.outputFracBits} (numeric.target-error, when set, chose them" +
