@@ -206,7 +206,8 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
       src.constant.map(c => fit(word(c).asSInt, width))
     lazy val low = control(src.selectLow.get) // one register for every group
     lazy val clears = control(src.groupClears.get)
-    val grouped = options.grouped(MemoryStorage.selectGroup).toSeq
+    // A unit the schedule left idle (more adder units asked for than it used) has no options.
+    val grouped = if (options.isEmpty) Seq(Seq(0.S(width.W))) else options.grouped(MemoryStorage.selectGroup).toSeq
     val groups = grouped.zipWithIndex.map { case (g, k) =>
       val picked = if (g.size == 1) g.head else VecInit(g)(low(log2Ceil(g.size) - 1, 0))
       FixedHw.delay(if (grouped.size == 1) picked else Mux(clears(k), 0.S, picked), b.selectStages - 1)
