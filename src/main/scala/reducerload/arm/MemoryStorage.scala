@@ -263,14 +263,20 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
     }
   }
 
-  /** Each output's value in cycle `outputsReady`: captured beside its unit's output register, then held. */
+  /**
+   * Each output's value in cycle `outputsReady`: its unit's output register in the cycle it is ready,
+   * copied from there and held if that is earlier. (Captured from the unit's sum, beside the output
+   * register, the route from the adder's carry chain to the capture register by the output stage was
+   * the Panda's critical path.)
+   */
   val outputs: IndexedSeq[SInt] = graph.outputs.map { o =>
     graph(o.node) match {
       case Const(_) => analysis(o.node).raw.get.S(fmt(o.node).width.W)
       case _ =>
         val ready = b.ready(o.node).get
-        val stage0 = RegEnable(fit(next(b.bankOf(o.node).get), fmt(o.node).width), during(ready - 1))
-        held(stage0, ready, Seq(b.outputsReady))(b.outputsReady)
+        val value = fit(out(b.bankOf(o.node).get), fmt(o.node).width)
+        if (ready == b.outputsReady) value
+        else held(RegEnable(value, during(ready)), ready + 1, Seq(b.outputsReady))(b.outputsReady)
     }
   }
 }
