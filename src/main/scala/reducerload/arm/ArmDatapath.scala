@@ -19,8 +19,8 @@ import reducerload.pipeline.{MemoryDelay, MultiplierImpl, PipelinedMultiplier, S
  * registers written at the same phase (at II = 1: a delay line, long ones in block RAM).
  *
  * In cycle 1 the angles are in the input register, and each velocity and acceleration, clamped to its
- * joint's declared range (flagging the joint), in its own. Data registers have no reset; the valid
- * chain and the phase do.
+ * joint's declared range (flagging the joint), in its own (with memory storage in that cycle only).
+ * Data registers have no reset; the valid chain and the phase do.
  */
 class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
   private val schedule = p.schedule
@@ -122,10 +122,15 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
   // Cycle 0: velocities and accelerations clamped to the declared ranges straight from the port, in
   // each joint's own format, into their registers for cycle 1 (a register before the clamp would
-  // hold every one twice).
+  // hold every one twice). Registers storage reads them all interval long: they take the port when
+  // a sample is. Memory storage loads them into its input chain in cycle 1: they take the port every
+  // clock, so the clamp's set and reset of the registers do not wait on the phase (the flag of
+  // residue 0 into the clamp's reset, through a LUT placed far from both, limited the UR5 to 125.1
+  // MHz on the ECP5 proxy).
   private def clamp(x: SInt, limit: BigInt, width: Int): (SInt, Bool) = {
     val (value, outside) = FixedHw.clamp(x, -limit, limit, width)
-    (RegEnable(value, during(0)), RegEnable(outside, during(0)))
+    if (p.banked.isDefined) (RegNext(value), RegNext(outside))
+    else (RegEnable(value, during(0)), RegEnable(outside, during(0)))
   }
   private val velocities = (0 until joints).map(j => clamp(io.in.bits.qd(j), numerics.velocityLimitRaw(j), numerics.velocityFormats(j).width))
   private val accelerations = (0 until joints).map(j => clamp(io.in.bits.qdd(j), numerics.accelerationLimitRaw(j), numerics.accelerationFormats(j).width))

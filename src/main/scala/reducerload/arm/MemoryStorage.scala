@@ -16,8 +16,8 @@ import reducerload.pipeline.{MultiplierImpl, PipelinedMultiplier}
  * multiplexer, shift and unit does in a cycle comes from one table indexed by the phase (a ROM of
  * II words, [[Microcode]]), so no value has a register or multiplexer input of its own.
  *
- * Called while [[ArmDatapath]] elaborates: `signals` are the clamped inputs (valid from
- * `inputCycle` for II cycles), `cordic` the CORDIC units' outputs, `during(c)` is true in cycle c of
+ * Called while [[ArmDatapath]] elaborates: `signals` are the clamped inputs (valid in
+ * `inputCycle` only), `cordic` the CORDIC units' outputs, `during(c)` is true in cycle c of
  * every sample, and `residueCounter(r)` is a new counter of residues modulo II, at `r` in the cycle
  * after reset (the datapath's phase is such a counter at 0). The result is each output node's
  * value, held until `outputsReady`.
@@ -215,17 +215,20 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
     groups.reduce((x, y) => (x.asUInt | y.asUInt).asSInt)
   }
 
-  // Inputs: all loaded into a chain of registers (after the input cycle), then written one per clock
-  // from its head as the chain shifts ([[BankedSchedule.inputLatency]]): no select from the table
-  // (a wide multiplexer ahead of the bank's write port).
+  // Inputs: all loaded into a chain of registers in the input cycle (the only cycle the clamped
+  // values are there: their registers take the port every clock), behind `inputLoadDelay` places
+  // that shift on (they still hold the sample before's last inputs at an interval as short as the
+  // inputs are many), then written one per clock from its head as the chain shifts
+  // ([[BankedSchedule.inputLatency]]): no select from the table (a wide multiplexer ahead of the
+  // bank's write port).
   if (b.signals.nonEmpty) {
     val width = b.unitWidths(bankIndex(Bank.Inputs))
     val values = b.signals.map(signals(_).pad(width))
-    val chain = Reg(Vec(values.size, SInt(width.W)))
-    when(during(p.schedule.inputCycle + BankedSchedule.inputLoadDelay)) {
-      chain := VecInit(values)
-    }.otherwise {
-      chain.init.zip(chain.tail).foreach { case (r, later) => r := later }
+    val ahead = BankedSchedule.inputLoadDelay
+    val chain = Reg(Vec(ahead + values.size, SInt(width.W)))
+    chain.init.zip(chain.tail).foreach { case (r, later) => r := later }
+    when(during(p.schedule.inputCycle)) {
+      values.zipWithIndex.foreach { case (v, k) => chain(ahead + k) := v }
     }
     next(bankIndex(Bank.Inputs)) := chain.head
   }

@@ -465,16 +465,16 @@ object BankedSchedule {
   val selectStages: Int = 2
 
   /**
-   * Cycles after the input cycle at which the inputs are loaded into their chain: the clamped values
-   * stay in their registers for the whole interval, and a sample's first bank write must come after
-   * the microcode table's first word (read [[reducerload.arm.Microcode.ahead]] cycles ahead).
+   * Places ahead of the inputs in their chain (loaded in the input cycle, the one cycle the clamped
+   * values are in their registers): a sample's first bank write must come after the microcode
+   * table's first word (read [[reducerload.arm.Microcode.ahead]] cycles ahead).
    */
   val inputLoadDelay: Int = 1
 
   /**
    * Signal k of the input stage is ready in cycle `inputCycle + inputLatency + k`: all are loaded
-   * into a chain of registers `inputLoadDelay` cycles after the input cycle, and the chain's head is
-   * written one per clock.
+   * into a chain of registers in the input cycle, behind `inputLoadDelay` places, and the chain's
+   * head is written one per clock.
    */
   val inputLatency: Int = inputLoadDelay + 2
 
