@@ -48,17 +48,24 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     counter
   }
 
-  private val phase: UInt = if (ii == 1) 0.U else residueCounter(0)
+  private lazy val phase: UInt = if (ii == 1) 0.U else residueCounter(0)
 
   /**
-   * One flip-flop per residue, high while the phase equals it: the phase compared with the residue
-   * before, a cycle early, so the enables of the many registers written at one phase leave a
-   * flip-flop, not a comparator (that compare and its fan-out were the critical path), and the
-   * compare does not wait for the counter's increment. Residues nothing uses are removed.
+   * One flip-flop per residue, high while the phase equals it, so the enables of the many registers
+   * written at one phase leave a flip-flop, not a comparator (that compare and its fan-out were the
+   * critical path). Registers storage compares the phase with the residue before, a cycle early (the
+   * compare does not wait for the counter's increment; residues nothing uses are removed). Memory
+   * storage passes one token around a ring of II flip-flops instead: no counter, so no compare
+   * shared between the counter's wrap and the flag of residue 0 pulled between the counter and that
+   * flag's loads (the UR5's critical path at 125.9 MHz).
    */
   private val phaseIs: IndexedSeq[Bool] =
     if (ii == 1) IndexedSeq(true.B)
-    else (0 until ii).map(r => RegNext(phase === ((r + ii - 1) % ii).U, (r == 0).B))
+    else if (p.banked.isDefined) {
+      val ring = (0 until ii).map(r => RegInit((r == 0).B))
+      ring.indices.foreach(r => ring(r) := ring((r + ii - 1) % ii))
+      ring
+    } else (0 until ii).map(r => RegNext(phase === ((r + ii - 1) % ii).U, (r == 0).B))
   /**
    * The entry of the current phase: a multiplexer tree indexed by the phase. Residues no operation
    * uses repeat the entry before them (any value would do; a repeat lets synthesis merge inputs).
