@@ -55,13 +55,13 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
    * written at one phase leave a flip-flop, not a comparator (that compare and its fan-out were the
    * critical path). Registers storage compares the phase with the residue before, a cycle early (the
    * compare does not wait for the counter's increment; residues nothing uses are removed). Memory
-   * storage passes one token around a ring of II flip-flops instead: no counter, so no compare
-   * shared between the counter's wrap and the flag of residue 0 pulled between the counter and that
-   * flag's loads (the UR5's critical path at 125.9 MHz).
+   * storage at up to [[ArmDatapath.ringMaxInterval]] clocks passes one token around a ring of II
+   * flip-flops instead: no counter, so no compare shared between the counter's wrap and the flag of
+   * residue 0 pulled between the counter and that flag's loads (the UR5's critical path at 125.9 MHz).
    */
   private val phaseIs: IndexedSeq[Bool] =
     if (ii == 1) IndexedSeq(true.B)
-    else if (p.banked.isDefined) {
+    else if (p.banked.isDefined && ii <= ArmDatapath.ringMaxInterval) {
       val ring = (0 until ii).map(r => RegInit((r == 0).B))
       ring.indices.foreach(r => ring(r) := ring((r + ii - 1) % ii))
       ring
@@ -264,6 +264,13 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 }
 
 object ArmDatapath {
+
+  /**
+   * Longest interval whose phase flags come from a ring: a ring costs II flip-flops, a logic element
+   * each (at 512 clocks 569 of the UR5's 4,784 estimated LEs), against the counter's compares; the
+   * designs whose clock the flags limit run at tens of clocks per sample.
+   */
+  val ringMaxInterval: Int = 128
 
   /** Cycle at which the clamped velocities and accelerations are in registers. */
   val inputCycle: Int = 1
