@@ -3,7 +3,7 @@ package reducerload.arm
 import chisel3._
 import chisel3.util._
 import reducerload.cordic.CordicSinCos
-import reducerload.fixedpoint.{FixedHw, Rounding}
+import reducerload.fixedpoint.{Clamped, FixedHw, Rounding}
 import reducerload.graph._
 import reducerload.pipeline.{MemoryDelay, MultiplierImpl, PipelinedMultiplier, ShiftAddMultiplier}
 
@@ -143,10 +143,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   private val accelerations = (0 until joints).map(j => clamp(io.in.bits.qdd(j), numerics.accelerationLimitRaw(j), numerics.accelerationFormats(j).width))
   require(schedule.inputCycle == ArmDatapath.inputCycle, "the input stage above is one register deep")
   // Cycle 1: one flag per joint (the two compares were registered apart: they were the critical path).
-  private val jointFlags = (0 until joints).map { j =>
-    val flag = RegEnable(velocities(j)._2 || accelerations(j)._2, during(ArmDatapath.inputCycle))
-    held(flag, ArmDatapath.flagCycle, Seq(p.outputsReady))(p.outputsReady)
-  }
+  private val jointFlagRegisters = (0 until joints).map(j => RegEnable(velocities(j)._2 || accelerations(j)._2, during(ArmDatapath.inputCycle)))
 
   // Angles: each joint's code from the input register, at the cycles its sums are issued.
   private val angleTaps = (0 until joints).map(j => held(angles(j), 1, schedule.angleReads(j)))
@@ -244,22 +241,38 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     graph.outputs.map(o => values(o.node.index)(outAt))
   }
 
-  // Output stage, two registers deep (Schedule.outputStages): first each torque on its own, rounded
-  // half up to the output format and saturated (the saturation decided beside the rounding adder,
-  // FixedHw.roundSaturate), registered with its flag and its joint's input flag; then every joint's
-  // flag ORs in the saturation of any torque, from registers. Rounding, saturation and that OR across
-  // the joints in one clock were the UR5's critical path.
-  require(p.latency == outAt + ArmDatapath.outputStages, s"ArmDatapath: latency ${p.latency} is not the output stage's ${ArmDatapath.outputStages} cycles after cycle $outAt")
-  private val results = graph.outputs.zip(analysis.outputs).zip(outputValues).map { case ((o, info), v) =>
-    val (code, saturated) = FixedHw.roundSaturate(v, analysis.outputDrop(o), info.format)
-    (RegEnable(code.pad(analysis.outputPortFormat.width), during(outAt)), RegEnable(saturated, during(outAt)))
+  // Output stage: each torque rounded half up to the output format and saturated, the saturation
+  // decided on the unrounded value beside the rounding adder (FixedHw.roundSaturateDecision); then
+  // every joint's flag ORs in the saturation of any torque. Registers storage: two registers deep
+  // (Schedule.outputStages), the bound multiplexer before the first (rounding, saturation and the
+  // OR across the joints in one clock were the UR5's critical path). Memory storage: three
+  // (BankedSchedule.outputStages), the compares registered before the multiplexer and the OR
+  // registered before the flags: each was the UR5's critical path at 136.5 and 140.9 MHz.
+  private val outputStages = p.banked.fold(Schedule.outputStages)(_ => BankedSchedule.outputStages)
+  require(p.latency == outAt + outputStages, s"ArmDatapath: latency ${p.latency} is not the output stage's $outputStages cycles after cycle $outAt")
+  private val decisions = graph.outputs.zip(analysis.outputs).zip(outputValues).map { case ((o, info), v) =>
+    FixedHw.roundSaturateDecision(v, analysis.outputDrop(o), info.format)
   }
-  private val flagged = jointFlags.map(RegEnable(_, during(outAt)))
-  private val anySaturated = results.map(_._2).reduce(_ || _)
-  private val outBits = Wire(new ArmOutput(p))
-  outBits.tau := VecInit(results.map(_._1))
-  outBits.outOfRange := VecInit(flagged.map(_ || anySaturated))
-  io.out.bits := RegEnable(outBits, during(outAt + 1))
+  private def portCode(decided: Clamped): SInt = decided.value.pad(analysis.outputPortFormat.width)
+  /** Each joint's input flag as read in cycle `cycle` of the output stage. */
+  private def jointFlags(cycle: Int): Seq[Bool] = jointFlagRegisters.map(flag => held(flag, ArmDatapath.flagCycle, Seq(cycle))(cycle))
+  private val outBits = Reg(new ArmOutput(p)) // data: no reset; `valid` says when it counts
+  if (p.banked.isEmpty) {
+    val results = decisions.map(d => (RegEnable(portCode(d), during(outAt)), RegEnable(d.outside, during(outAt))))
+    val flagged = jointFlags(outAt).map(RegEnable(_, during(outAt)))
+    val anySaturated = results.map(_._2).reduce(_ || _)
+    when(during(outAt + 1)) {
+      outBits.tau := VecInit(results.map(_._1))
+      outBits.outOfRange := VecInit(flagged.map(_ || anySaturated))
+    }
+  } else {
+    // The torques' port registers are loaded a cycle before the flags' and held (II >= 2) until then.
+    val registered = decisions.map(_.registered(during(outAt)))
+    val anySaturated = RegEnable(registered.map(_.outside).reduce(_ || _), during(outAt + 1))
+    when(during(outAt + 1))(outBits.tau := VecInit(registered.map(portCode)))
+    when(during(outAt + 2))(outBits.outOfRange := VecInit(jointFlags(outAt + 2).map(_ || anySaturated)))
+  }
+  io.out.bits := outBits
   io.out.valid := ShiftRegister(accept, p.latency, false.B, true.B)
 }
 
@@ -277,7 +290,4 @@ object ArmDatapath {
 
   /** Cycle at which each joint's out-of-range flag is in its register. */
   val flagCycle: Int = inputCycle + 1
-
-  /** Registers from the outputs' values to the output port: rounded and saturated per torque, then the flags combined. */
-  val outputStages: Int = reducerload.graph.Schedule.outputStages
 }

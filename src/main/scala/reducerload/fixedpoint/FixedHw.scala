@@ -77,20 +77,22 @@ object FixedHw {
    * Clamp `x` to [min, max] (saturation, never wrap-around): (value in `width` bits, out-of-range
    * flag). `min` and `max` must fit `width` bits; in range, `x`'s low `width` bits are the value.
    */
-  def clamp(x: SInt, min: BigInt, max: BigInt, width: Int): (SInt, Bool) = {
+  def clamp(x: SInt, min: BigInt, max: BigInt, width: Int): (SInt, Bool) = clampDecision(x, min, max, width).result
+
+  /** [[clamp]] before its multiplexer (see [[Clamped]]). */
+  def clampDecision(x: SInt, min: BigInt, max: BigInt, width: Int): Clamped = {
     val (lo, hi) = (-(BigInt(1) << (width - 1)), (BigInt(1) << (width - 1)) - 1)
     require(lo <= min && min <= max && max <= hi, s"clamp: [$min, $max] does not fit $width signed bits")
-    val high = greaterThan(x, max)
-    val low = lessThan(x, min)
     val inRange = if (x.getWidth <= width) x.pad(width) else x(width - 1, 0).asSInt
-    val value = Wire(SInt(width.W)) // a typed width, which delay and callers' width checks can read
-    value := Mux(high, max.S(width.W), Mux(low, min.S(width.W), inRange))
-    (value, high || low)
+    Clamped(inRange, greaterThan(x, max), lessThan(x, min), min, max)
   }
 
   /** Clamp `x` into `to`: (value in `to`'s width, out-of-range flag). */
-  def saturate(x: SInt, to: FixedFormat): (SInt, Bool) =
-    if (x.getWidth <= to.width) (x.pad(to.width), false.B) else clamp(x, to.minRaw, to.maxRaw, to.width)
+  def saturate(x: SInt, to: FixedFormat): (SInt, Bool) = saturateDecision(x, to).result
+
+  private def saturateDecision(x: SInt, to: FixedFormat): Clamped =
+    if (x.getWidth <= to.width) Clamped(x.pad(to.width), false.B, false.B, to.minRaw, to.maxRaw)
+    else clampDecision(x, to.minRaw, to.maxRaw, to.width)
 
   /**
    * `saturate(rescale(x, drop, HalfUp), to)`, with the saturation decided on `x` itself, beside the
@@ -98,16 +100,17 @@ object FixedHw {
    * value floor((x + h) / 2^d) is above `to.maxRaw` exactly when x > (maxRaw + 1) 2^d - h - 1 and
    * below `to.minRaw` exactly when x < minRaw 2^d - h. Only the final multiplexer follows the adder.
    */
-  def roundSaturate(x: SInt, drop: Int, to: FixedFormat): (SInt, Bool) = {
+  def roundSaturate(x: SInt, drop: Int, to: FixedFormat): (SInt, Bool) = roundSaturateDecision(x, drop, to).result
+
+  /** [[roundSaturate]] before its final multiplexer (see [[Clamped]]). */
+  def roundSaturateDecision(x: SInt, drop: Int, to: FixedFormat): Clamped = {
     val rounded = rescale(x, drop, Rounding.HalfUp)
-    if (drop <= 0 || rounded.getWidth <= to.width) saturate(rounded, to) // no rounding adder, or nothing to clamp
+    if (drop <= 0 || rounded.getWidth <= to.width) saturateDecision(rounded, to) // no rounding adder, or nothing to clamp
     else {
       val half = BigInt(1) << (drop - 1)
       val high = greaterThan(x, ((to.maxRaw + 1) << drop) - half - 1)
       val low = lessThan(x, (to.minRaw << drop) - half)
-      val value = Wire(SInt(to.width.W))
-      value := Mux(high, to.maxRaw.S(to.width.W), Mux(low, to.minRaw.S(to.width.W), rounded(to.width - 1, 0).asSInt))
-      (value, high || low)
+      Clamped(rounded(to.width - 1, 0).asSInt, high, low, to.minRaw, to.maxRaw)
     }
   }
 
@@ -124,4 +127,28 @@ object FixedHw {
     val sum = Cat(a.asUInt, 1.U(1.W)) + Cat(bExt, subtract)
     sum(w, 1).asSInt
   }
+}
+
+/**
+ * A value clamped to [min, max], before the multiplexer that picks a bound: `inRange` (the value's
+ * low bits, right when neither compare holds) and whether it is above `max` or below `min`. Kept
+ * apart so a design can register the compares and put the multiplexer in the next clock.
+ */
+final case class Clamped(inRange: SInt, high: Bool, low: Bool, min: BigInt, max: BigInt) {
+  /** The clamped value, in `inRange`'s width. */
+  def value: SInt = {
+    val width = inRange.getWidth
+    val v = Wire(SInt(width.W)) // a typed width, which delay and callers' width checks can read
+    v := Mux(high, max.S(width.W), Mux(low, min.S(width.W), inRange))
+    v
+  }
+
+  /** Out of range: the value saturated at a bound. */
+  def outside: Bool = high || low
+
+  /** (value, out-of-range flag). */
+  def result: (SInt, Bool) = (value, outside)
+
+  /** The decision in registers loaded when `enable` is high (no reset: data). */
+  def registered(enable: Bool): Clamped = copy(inRange = RegEnable(inRange, enable), high = RegEnable(high, enable), low = RegEnable(low, enable))
 }

@@ -341,7 +341,8 @@ object Schedule {
 
   /**
    * Registers of the output stage, after every output is ready: each torque rounded and saturated
-   * on its own, then every joint's flag combined with every torque's saturation.
+   * on its own, then every joint's flag combined with every torque's saturation (memory storage
+   * has one more: [[BankedSchedule.outputStages]]).
    */
   val outputStages: Int = 2
 }

@@ -97,7 +97,7 @@ class BankedScheduleSpec extends AnyFlatSpec {
       }
     }
     assert(b.reads.forall(r => b.values(r.bank).contains(r.node)), "a value is read from a bank that does not keep it")
-    assert(b.latency == g.outputs.map(o => readyOf(o.node)).max + Schedule.outputStages)
+    assert(b.latency == g.outputs.map(o => readyOf(o.node)).max + BankedSchedule.outputStages)
     assert(b.latency >= b.dependenceBound, s"latency ${b.latency} below the dependence bound ${b.dependenceBound}")
     b
   }
