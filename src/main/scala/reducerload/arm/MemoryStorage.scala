@@ -122,8 +122,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
     private def drop(o: PlacedOp) = analysis.productRounding(o.node).drop
     val drops: IndexedSeq[Int] = ops.map(drop).distinct.sorted.toIndexedSeq
     val dropSelect: Field = Field(log2Ceil(math.max(drops.size, 2)), ops.map(o => residue(b.ready(o.node).get - 1) -> BigInt(drops.indexOf(drop(o)))).toMap)
-    /** The rounding shift comes from a register after the table's word ([[control]]): the table holds it a cycle early. */
-    def fields: Seq[Field] = ports.flatMap(_.fields) :+ earlier(dropSelect)
+    def fields: Seq[Field] = ports.flatMap(_.fields) :+ dropSelect
   }
   private val multipliers = (0 until p.schedule.multiplierUnits).map(new MultiplierPlan(_))
 
@@ -242,9 +241,7 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
     val product = FixedHw.delay(PipelinedMultiplier(operands(0), operands(1)), p.multiplierLatency - 1)
     val width = b.unitWidths(bankIndex(Bank.Products(u)))
     val rounded = plan.drops.map(d => fit(FixedHw.shiftRound(product, d, p.productRounding), width))
-    // The rounding shift's select from a register of its own, which the placer can put by the unit
-    // (from the table's word register, its route across the chip was the Panda's critical path).
-    next(bankIndex(Bank.Products(u))) := (if (rounded.size == 1) rounded.head else VecInit(rounded)(control(plan.dropSelect)))
+    next(bankIndex(Bank.Products(u))) := (if (rounded.size == 1) rounded.head else VecInit(rounded)(word(plan.dropSelect)))
   }
 
   // Adder units.
