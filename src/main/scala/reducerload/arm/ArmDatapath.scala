@@ -248,8 +248,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   // OR across the joints in one clock were the UR5's critical path). Memory storage: three
   // (BankedSchedule.outputStages), the compares registered before the multiplexer and the OR
   // registered before the flags: each was the UR5's critical path at 136.5 and 140.9 MHz.
-  private val outputStages = p.banked.fold(Schedule.outputStages)(_ => BankedSchedule.outputStages)
-  require(p.latency == outAt + outputStages, s"ArmDatapath: latency ${p.latency} is not the output stage's $outputStages cycles after cycle $outAt")
+  require(p.latency == outAt + p.outputStages, s"ArmDatapath: latency ${p.latency} is not the output stage's ${p.outputStages} cycles after cycle $outAt")
   private val decisions = graph.outputs.zip(analysis.outputs).zip(outputValues).map { case ((o, info), v) =>
     FixedHw.roundSaturateDecision(v, analysis.outputDrop(o), info.format)
   }
@@ -257,7 +256,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   /** Each joint's input flag as read in cycle `cycle` of the output stage. */
   private def jointFlags(cycle: Int): Seq[Bool] = jointFlagRegisters.map(flag => held(flag, ArmDatapath.flagCycle, Seq(cycle))(cycle))
   private val outBits = Reg(new ArmOutput(p)) // data: no reset; `valid` says when it counts
-  if (p.banked.isEmpty) {
+  if (p.outputStages == Schedule.outputStages) {
     val results = decisions.map(d => (RegEnable(portCode(d), during(outAt)), RegEnable(d.outside, during(outAt))))
     val flagged = jointFlags(outAt).map(RegEnable(_, during(outAt)))
     val anySaturated = results.map(_._2).reduce(_ || _)
@@ -266,6 +265,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       outBits.outOfRange := VecInit(flagged.map(_ || anySaturated))
     }
   } else {
+    require(p.outputStages == BankedSchedule.outputStages && ii >= 2, "ArmDatapath: a three-register output stage holds the torques a cycle: it needs memory storage's II >= 2")
     // The torques' port registers are loaded a cycle before the flags' and held (II >= 2) until then.
     val registered = decisions.map(_.registered(during(outAt)))
     val anySaturated = RegEnable(registered.map(_.outside).reduce(_ || _), during(outAt + 1))
@@ -280,8 +280,8 @@ object ArmDatapath {
 
   /**
    * Longest interval whose phase flags come from a ring: a ring costs II flip-flops, a logic element
-   * each, against the counter's compares (the UR5 at 512 clocks: 4,784 estimated LEs with a ring,
-   * 4,294 without); the designs whose clock the flags limit run at tens of clocks per sample.
+   * each, against the counter's compares (the UR5 at 512 clocks, measured on 6f1a594: 4,784
+   * estimated LEs with a ring, 4,294 without); the designs whose clock the flags limit run at tens of clocks per sample.
    */
   val ringMaxInterval: Int = 128
 

@@ -97,6 +97,9 @@ final case class ArmParams(
   /** Cycle at which every torque is in its register, before the output stage. */
   def outputsReady: Int = banked.fold(schedule.outputsReady)(_.outputsReady)
 
+  /** Registers of the output stage: memory storage has one more ([[BankedSchedule.outputStages]]). */
+  def outputStages: Int = banked.fold(Schedule.outputStages)(_ => BankedSchedule.outputStages)
+
   /** Worst-case |torque - exact double RNEA at the unquantized inputs| per joint, N·m, for inputs in range. */
   def errorBounds: IndexedSeq[Double] = analysis.outputs.map(_.errorBound)
   def errorBound: Double = errorBounds.max
