@@ -8,12 +8,17 @@ import reducerload.monitor.{JointField, MonitorParams}
 import scala.jdk.CollectionConverters._
 
 /**
- * The report of an arm emission (every joint by RNEA), computed from the parameters that built the
- * hardware; with `monitor`, of the arm with its reducer monitor ([[reducerload.arm.MonitoredArm]]):
- * the host ports, the monitor's derivation, 20-year proof and register map too.
+ * The report of an arm emission (every joint by RNEA), computed from the parameters that built the hardware;
+ * with `monitor`, of the arm with its reducer monitor ([[reducerload.arm.MonitoredArm]]): the host ports, the
+ * monitor's derivation, 20-year proof and register map too.
  */
-final case class ArmReport(p: ArmParams, moduleName: String, command: String, estimate: Option[Estimate] = None,
-  monitor: Option[MonitorParams] = None) {
+final case class ArmReport(
+    p: ArmParams,
+    moduleName: String,
+    command: String,
+    estimate: Option[Estimate] = None,
+    monitor: Option[MonitorParams] = None
+) {
   private val n = p.numerics
   private val joints = p.chain.joints
   private val counts = p.graph.counts
@@ -22,27 +27,89 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
   val throughput: String = if (ii == 1) "one sample per clock" else s"one sample every $ii clocks"
 
   /** The torque the datapath computes for joint `i`, if any (a closed form computes one joint's). */
-  private def outputOf(i: Int) = p.analysis.outputs.indices.find(k => p.analysis.outputs(k).name == joints(i).name)
+  private def outputOf(i: Int) =
+    p.analysis.outputs.indices.find(k => p.analysis.outputs(k).name == joints(i).name)
   private def torqueCells(i: Int, fmt: (Double, Double) => String, none: String) =
     outputOf(i).fold(none)(k => fmt(p.analysis.outputs(k).range.maxAbs, p.errorBounds(k)))
 
   /** (port, direction, format description). */
   val ports: Seq[(String, String, String)] =
-    Seq(("clock", "in", "1 bit"), ("reset", "in", "1 bit, synchronous, active high: clears every valid bit"),
-      ("io_in_valid", "in", "1 bit: a sample this cycle"), ("io_in_ready", "out",
-        if (ii == 1) "1 bit: always high (one sample per clock)" else s"1 bit: high one clock in $ii (a sample is taken then; the units are busy with it in between)")) ++
-      joints.indices.map(j => (s"io_in_bits_q_$j", "in", s"unsigned ${n.angleBits} bits, binary angle of ${joints(j).name}: rad = code * 2 pi / 2^${n.angleBits}")) ++
-      joints.indices.map(j => (s"io_in_bits_qd_$j", "in", s"${n.velocityPortFormat.describe}, rad/s, declared |qd${j + 1}| <= ${n.velocityLimits(j)}")) ++
-      joints.indices.map(j => (s"io_in_bits_qdd_$j", "in", s"${n.accelerationPortFormat.describe}, rad/s^2, declared |qdd${j + 1}| <= ${n.accelerationLimits(j)}")) ++
+    Seq(
+      ("clock", "in", "1 bit"),
+      ("reset", "in", "1 bit, synchronous, active high: clears every valid bit"),
+      ("io_in_valid", "in", "1 bit: a sample this cycle"),
+      (
+        "io_in_ready",
+        "out",
+        if (ii == 1) "1 bit: always high (one sample per clock)"
+        else s"1 bit: high one clock in $ii (a sample is taken then; the units are busy with it in between)"
+      )
+    ) ++
+      joints.indices.map(j =>
+        (
+          s"io_in_bits_q_$j",
+          "in",
+          s"unsigned ${n.angleBits} bits, binary angle of ${joints(j).name}: rad = code * 2 pi / 2^${n.angleBits}"
+        )
+      ) ++
+      joints.indices.map(j =>
+        (
+          s"io_in_bits_qd_$j",
+          "in",
+          s"${n.velocityPortFormat.describe}, rad/s, declared |qd${j + 1}| <= ${n.velocityLimits(j)}"
+        )
+      ) ++
+      joints.indices.map(j =>
+        (
+          s"io_in_bits_qdd_$j",
+          "in",
+          s"${n.accelerationPortFormat.describe}, rad/s^2, declared |qdd${j + 1}| <= ${n.accelerationLimits(j)}"
+        )
+      ) ++
       Seq(("io_out_valid", "out", s"1 bit: the torques of the sample given ${p.latency} cycles earlier")) ++
-      p.analysis.outputs.indices.map(j => (s"io_out_bits_tau_$j", "out", s"${p.analysis.outputPortFormat.describe}, N·m, torque of ${p.analysis.outputs(j).name}")) ++
-      joints.indices.map(j => (s"io_out_bits_outOfRange_$j", "out", s"1 bit: qd${j + 1} or qdd${j + 1} of this sample was beyond its declared range (clamped)")) ++
-      monitor.toSeq.flatMap(m => Seq(
-        ("io_host_snapshot", "in", s"1 bit, pulse: copy every joint's live monitor state into the shadow bank (samples whose torques left io_out before this cycle)"),
-        ("io_host_clear", "in", "1 bit, pulse: reset the live monitor state (the torques on io_out in this cycle are the first of the new period)"),
-        ("io_host_snapshotDone", "out", s"1 bit: the shadow bank holds the snapshot (${m.snapshotLatency} cycles after the pulse)"),
-        ("io_host_readAddress", "in", s"unsigned ${m.addressBits} bits: word address into the shadow bank (register map below)"),
-        ("io_host_readData", "out", "32 bits: the word at the previous cycle's address (read latency 1, no side effects)")))
+      p.analysis.outputs.indices.map(j =>
+        (
+          s"io_out_bits_tau_$j",
+          "out",
+          s"${p.analysis.outputPortFormat.describe}, N·m, torque of ${p.analysis.outputs(j).name}"
+        )
+      ) ++
+      joints.indices.map(j =>
+        (
+          s"io_out_bits_outOfRange_$j",
+          "out",
+          s"1 bit: qd${j + 1} or qdd${j + 1} of this sample was beyond its declared range (clamped)"
+        )
+      ) ++
+      monitor.toSeq.flatMap(m =>
+        Seq(
+          (
+            "io_host_snapshot",
+            "in",
+            s"1 bit, pulse: copy every joint's live monitor state into the shadow bank (samples whose torques left io_out before this cycle)"
+          ),
+          (
+            "io_host_clear",
+            "in",
+            "1 bit, pulse: reset the live monitor state (the torques on io_out in this cycle are the first of the new period)"
+          ),
+          (
+            "io_host_snapshotDone",
+            "out",
+            s"1 bit: the shadow bank holds the snapshot (${m.snapshotLatency} cycles after the pulse)"
+          ),
+          (
+            "io_host_readAddress",
+            "in",
+            s"unsigned ${m.addressBits} bits: word address into the shadow bank (register map below)"
+          ),
+          (
+            "io_host_readData",
+            "out",
+            "32 bits: the word at the previous cycle's address (read latency 1, no side effects)"
+          )
+        )
+      )
 
   def portLines: Seq[String] = "Ports:" +: ports.map { case (name, d, f) => f"  $name%-26s $d%-3s $f" }
 
@@ -50,35 +117,49 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
     val a = j.axis
     f"  ${i + 1}%d ${j.name}%-24s ${j.kind}%-10s axis (${a.x}%.4f, ${a.y}%.4f, ${a.z}%.4f), body ${j.body.mass}%.4f kg; " +
       f"|qd| <= ${n.velocityLimits(i)} rad/s, |qdd| <= ${n.accelerationLimits(i)} rad/s^2" +
-      torqueCells(i, (range, bound) => f"; torque range $range%.3f N·m, error bound $bound%.3e N·m", "; no torque computed")
+      torqueCells(
+        i,
+        (range, bound) => f"; torque range $range%.3f N·m, error bound $bound%.3e N·m",
+        "; no torque computed"
+      )
   }
 
   def summaryLines: Seq[String] = estimate.toSeq.flatMap(_.lines) ++ Seq(
     s"Computes: ${p.dynamics.description}",
     s"Robot: ${p.chain.name}, ${joints.size} moving joints (numbered from the base), gravity ${p.chain.gravity.toSeq.mkString("(", ", ", ")")} m/s^2",
-    "Joints kept:") ++ jointLines ++ Seq(
+    "Joints kept:"
+  ) ++ jointLines ++ Seq(
     s"Operations after constant folding and sharing: ${counts.multiplications} multiplications (${counts.constantMultiplications} by a constant), " +
       s"${counts.additions} additions/subtractions, ${counts.negations} negations, ${counts.sinCos} sin/cos pairs (CORDIC units)",
     s"Schedule: $throughput, latency ${p.latency} cycles; multiplier units: ${schedule.unitSummary} (operand bits)" +
       s", ${schedule.multiplierBlocks} 18x18 blocks${schedule.request.maxMultipliers.fold("")(b => s" (budget $b)")}; " +
       s"${schedule.cordicUnits} CORDIC units for ${counts.sinCos} angles; " + p.banked.fold(
-        s"${counts.additions + counts.negations} adders; ${schedule.heldBits} register bits hold values between cycles")(b =>
+        s"${counts.additions + counts.negations} adders; ${schedule.heldBits} register bits hold values between cycles"
+      )(b =>
         s"storage memory: ${b.adderUnits} adder units for ${counts.additions + counts.negations} additions, ${b.banks.size} banks of block RAM " +
           s"(two read ports each, ${b.memoryBits} bits), latency bound from dependences ${b.dependenceBound} cycles; list order ${b.listOrder} (" +
-          b.latencyByOrder.map { case (order, latency) => s"$order: ${latency.fold("no schedule")(l => s"$l cycles")}" }.mkString(", ") +
-          s"; by-height the best of ${schedule.request.listTries} tries)"),
+          b.latencyByOrder
+            .map { case (order, latency) => s"$order: ${latency.fold("no schedule")(l => s"$l cycles")}" }
+            .mkString(", ") +
+          s"; by-height the best of ${schedule.request.listTries} tries)"
+      ),
     f"Derived worst-case error bound: ${p.errorBound}%.3e N·m (largest over the torques; vs the double-precision dynamics at the unquantized inputs)",
     s"Fraction bits: velocity ${p.velocityFracBits}, acceleration ${p.accelerationFracBits}, constants ${p.constantFracBits}, " +
       s"products and sums ${p.internalFracBits}, output ${p.outputFracBits} (numeric.target-error, when set, chose them" +
-      (if (p.fracBitLimits.isEmpty) ")" else s"; ${p.fracBitLimits.byNode.size} constants and products have fewer, see every node's format)"),
+      (if (p.fracBitLimits.isEmpty) ")"
+       else s"; ${p.fracBitLimits.byNode.size} constants and products have fewer, see every node's format)"),
     s"Output format: ${p.analysis.outputPortFormat}; widest internal node: ${p.analysis.widest._2.format}"
   ) ++ p.cordic.report.linesIterator.toSeq ++ monitorLines
 
   /** The monitor's derivation, 20-year proof and register map (plain text, for the emitted header). */
   private def monitorLines: Seq[String] = monitor.toSeq.flatMap { m =>
     Seq("", "Reducer life and limit monitor (docs/monitor.md):") ++ m.summaryLines.map("  " + _) ++
-      Seq(s"Register map (word address; byte address = 4 x word; multi-word values least significant word first):") ++
-      m.registerMap.entries.map(e => f"  ${e.address}%4d  ${e.name}%-40s ${e.width}%3d bits${if (e.signed) " signed" else ""}%-7s ${e.meaning}")
+      Seq(
+        s"Register map (word address; byte address = 4 x word; multi-word values least significant word first):"
+      ) ++
+      m.registerMap.entries.map(e =>
+        f"  ${e.address}%4d  ${e.name}%-40s ${e.width}%3d bits${if (e.signed) " signed" else ""}%-7s ${e.meaning}"
+      )
   }
 
   def markdown: String = (Seq(
@@ -91,72 +172,134 @@ final case class ArmReport(p: ArmParams, moduleName: String, command: String, es
     "## Ports",
     "",
     "| port | dir | format |",
-    "| --- | --- | --- |") ++ ports.map { case (name, d, f) => s"| `$name` | $d | $f |" } ++ Seq(
+    "| --- | --- | --- |"
+  ) ++ ports.map { case (name, d, f) => s"| `$name` | $d | $f |" } ++ Seq(
     "",
     "## Joints",
     "",
     "| # | joint | type | axis | max velocity (rad/s) | max acceleration (rad/s^2) | torque range (N·m) | error bound (N·m) |",
-    "| --- | --- | --- | --- | --- | --- | --- | --- |") ++ joints.indices.map { i =>
+    "| --- | --- | --- | --- | --- | --- | --- | --- |"
+  ) ++ joints.indices.map { i =>
     val j = joints(i)
     f"| ${i + 1} | ${j.name} | ${j.kind} | (${j.axis.x}%.4f, ${j.axis.y}%.4f, ${j.axis.z}%.4f) | ${n.velocityLimits(i)} | ${n.accelerationLimits(i)} | " +
       torqueCells(i, (range, bound) => f"$range%.3f | $bound%.3e |", "- | - |")
-  } ++ monitor.toSeq.flatMap(m => Seq("", "## Reducer monitor register map", "",
-    s"${m.registerMap.words} words of 32 bits, read on io_host_readAddress / io_host_readData (docs/monitor.md, \"Host interface\").", "") ++
-    m.registerMap.markdown) ++ Seq("", "## Details", "", "```") ++ summaryLines ++ Seq("```") ++ Seq("",
-    "## Every node (derived from the declared ranges)", "",
-    "Range: the exact value's interval over the declared inputs; error: the derived worst case of the datapath's value; format: Q(integer.fraction) bits, sign included.", "",
-    "| node | range | error | format | width |", "| --- | --- | --- | --- | --- |") ++ p.graph.ids.map { id =>
+  } ++ monitor.toSeq.flatMap(m =>
+    Seq(
+      "",
+      "## Reducer monitor register map",
+      "",
+      s"${m.registerMap.words} words of 32 bits, read on io_host_readAddress / io_host_readData (docs/monitor.md, \"Host interface\").",
+      ""
+    ) ++
+      m.registerMap.markdown
+  ) ++ Seq("", "## Details", "", "```") ++ summaryLines ++ Seq("```") ++ Seq(
+    "",
+    "## Every node (derived from the declared ranges)",
+    "",
+    "Range: the exact value's interval over the declared inputs; error: the derived worst case of the datapath's value; format: Q(integer.fraction) bits, sign included.",
+    "",
+    "| node | range | error | format | width |",
+    "| --- | --- | --- | --- | --- |"
+  ) ++ p.graph.ids.map { id =>
     val a = p.analysis(id)
     f"| `${p.graph.describe(id)}` | [${a.range.lo}%.4g, ${a.range.hi}%.4g] | ${a.error}%.3e | ${a.format} | ${a.format.width} |"
   }).mkString("", "\n", "\n")
 
   def json: String = {
-    def fmt(f: FixedFormat) = Map("int_bits" -> f.intBits, "frac_bits" -> f.fracBits, "width" -> f.width).asJava
+    def fmt(f: FixedFormat) =
+      Map("int_bits" -> f.intBits, "frac_bits" -> f.fracBits, "width" -> f.width).asJava
     val m = Map[String, Any](
       "top" -> moduleName,
       "latency_cycles" -> p.latency,
       "clocks_per_sample" -> ii,
-      "schedule" -> Map[String, Any]("clocks_per_sample" -> ii, "multiplier_units" -> schedule.multiplierUnits,
+      "schedule" -> Map[String, Any](
+        "clocks_per_sample" -> ii,
+        "multiplier_units" -> schedule.multiplierUnits,
         "multiplier_unit_shapes" -> schedule.unitSummary,
-        "multiplier_blocks" -> schedule.multiplierBlocks, "max_multipliers" -> schedule.request.maxMultipliers.map(Int.box).orNull,
-        "cordic_units" -> schedule.cordicUnits, "storage" -> schedule.request.storage.name,
+        "multiplier_blocks" -> schedule.multiplierBlocks,
+        "max_multipliers" -> schedule.request.maxMultipliers.map(Int.box).orNull,
+        "cordic_units" -> schedule.cordicUnits,
+        "storage" -> schedule.request.storage.name,
         "held_register_bits" -> p.banked.fold(schedule.heldBits)(_ => 0L),
         "adder_units" -> p.banked.fold(counts.additions + counts.negations)(_.adderUnits),
-        "bank_memory_bits" -> p.banked.fold(0L)(_.memoryBits)).asJava,
+        "bank_memory_bits" -> p.banked.fold(0L)(_.memoryBits)
+      ).asJava,
       "command" -> command,
       "model" -> p.dynamics.name,
       "robot" -> p.chain.name,
-      "joints" -> joints.indices.map { i =>
-        val j = joints(i)
-        Map[String, Any]("name" -> j.name, "type" -> j.kind.name, "axis" -> j.axis.toSeq.map(Double.box).asJava,
-          "max_velocity" -> n.velocityLimits(i), "max_acceleration" -> n.accelerationLimits(i)) ++
-          outputOf(i).map(k => Map("torque_range_nm" -> p.analysis.outputs(k).range.maxAbs, "error_bound_nm" -> p.errorBounds(k))).getOrElse(Map.empty)
-      }.map(_.asJava).asJava,
-      "outputs" -> p.analysis.outputs.map(o => Map[String, Any]("name" -> o.name, "range_nm" -> o.range.maxAbs, "error_bound_nm" -> o.errorBound,
-        "format" -> fmt(o.format)).asJava).asJava,
-      "operations" -> Map("multiplications" -> counts.multiplications, "constant_multiplications" -> counts.constantMultiplications,
-        "additions" -> counts.additions, "negations" -> counts.negations, "sin_cos" -> counts.sinCos).asJava,
+      "joints" -> joints.indices
+        .map { i =>
+          val j = joints(i)
+          Map[String, Any](
+            "name" -> j.name,
+            "type" -> j.kind.name,
+            "axis" -> j.axis.toSeq.map(Double.box).asJava,
+            "max_velocity" -> n.velocityLimits(i),
+            "max_acceleration" -> n.accelerationLimits(i)
+          ) ++
+            outputOf(i)
+              .map(k =>
+                Map(
+                  "torque_range_nm" -> p.analysis.outputs(k).range.maxAbs,
+                  "error_bound_nm" -> p.errorBounds(k)
+                )
+              )
+              .getOrElse(Map.empty)
+        }
+        .map(_.asJava)
+        .asJava,
+      "outputs" -> p.analysis.outputs
+        .map(o =>
+          Map[String, Any](
+            "name" -> o.name,
+            "range_nm" -> o.range.maxAbs,
+            "error_bound_nm" -> o.errorBound,
+            "format" -> fmt(o.format)
+          ).asJava
+        )
+        .asJava,
+      "operations" -> Map(
+        "multiplications" -> counts.multiplications,
+        "constant_multiplications" -> counts.constantMultiplications,
+        "additions" -> counts.additions,
+        "negations" -> counts.negations,
+        "sin_cos" -> counts.sinCos
+      ).asJava,
       "multiplier_blocks" -> schedule.multiplierBlocks,
       "error_bound_nm" -> p.errorBound,
-      "frac_bits" -> Map("velocity" -> p.velocityFracBits, "acceleration" -> p.accelerationFracBits, "constant" -> p.constantFracBits,
-        "internal" -> p.internalFracBits, "output" -> p.outputFracBits).asJava,
+      "frac_bits" -> Map(
+        "velocity" -> p.velocityFracBits,
+        "acceleration" -> p.accelerationFracBits,
+        "constant" -> p.constantFracBits,
+        "internal" -> p.internalFracBits,
+        "output" -> p.outputFracBits
+      ).asJava,
       "frac_bit_capped_nodes" -> p.fracBitLimits.byNode.size,
       "angle_bits" -> n.angleBits,
       "velocity_format" -> fmt(n.velocityPortFormat),
       "acceleration_format" -> fmt(n.accelerationPortFormat),
       "output_format" -> fmt(p.analysis.outputPortFormat),
-      "cordic" -> Map("tag" -> p.cordic.tag, "latency_cycles" -> p.cordic.latency, "error_bound" -> p.cordic.errorBound).asJava,
+      "cordic" -> Map(
+        "tag" -> p.cordic.tag,
+        "latency_cycles" -> p.cordic.latency,
+        "error_bound" -> p.cordic.errorBound
+      ).asJava,
       "estimate" -> estimate.map(_.toMap.asJava).orNull
     ) ++ monitor.map(m => "monitor" -> ArmReport.monitorJson(m).asJava)
-    ConfigValueFactory.fromMap(m.asJava).render(ConfigRenderOptions.concise().setJson(true).setFormatted(true)) + "\n"
+    ConfigValueFactory
+      .fromMap(m.asJava)
+      .render(ConfigRenderOptions.concise().setJson(true).setFormatted(true)) + "\n"
   }
 }
 
 object ArmReport {
 
-  /** The monitor's parameters, accumulator widths with their 20-year proof, and register map, for report.json. */
+  /**
+   * The monitor's parameters, accumulator widths with their 20-year proof, and register map, for report.json.
+   */
   def monitorJson(m: MonitorParams): Map[String, Any] = {
-    def fmt(f: FixedFormat) = Map("int_bits" -> f.intBits, "frac_bits" -> f.fracBits, "width" -> f.width).asJava
+    def fmt(f: FixedFormat) =
+      Map("int_bits" -> f.intBits, "frac_bits" -> f.fracBits, "width" -> f.width).asJava
     Map[String, Any](
       "sample_period_s" -> m.samplePeriodS,
       "target_years" -> m.targetYears,
@@ -184,15 +327,26 @@ object ArmReport {
           "power_value_frac_bits" -> m.powerTables(j).valueFracBits,
           "multiplier_blocks" -> m.multiplierBlocks(j),
           "accumulators" -> m.provenAccumulators.map { f =>
-            Map[String, Any]("name" -> f.name, "bits" -> m.accumulatorBits(j, f), "max_increment" -> m.maxIncrement(j, f).toString,
-              "worst_case" -> (m.maxIncrement(j, f) * m.sampleBudget).toString).asJava
+            Map[String, Any](
+              "name" -> f.name,
+              "bits" -> m.accumulatorBits(j, f),
+              "max_increment" -> m.maxIncrement(j, f).toString,
+              "worst_case" -> (m.maxIncrement(j, f) * m.sampleBudget).toString
+            ).asJava
           }.asJava,
           "histogram_counter_bits" -> m.fieldWidth(j, JointField.HistogramBin(0))
         ).asJava
       }.asJava,
       "registers" -> m.registerMap.entries.map { e =>
-        Map[String, Any]("word" -> e.address, "byte" -> 4 * e.address, "name" -> e.name, "bits" -> e.width, "words" -> e.words,
-          "signed" -> e.signed, "meaning" -> e.meaning).asJava
+        Map[String, Any](
+          "word" -> e.address,
+          "byte" -> 4 * e.address,
+          "name" -> e.name,
+          "bits" -> e.width,
+          "words" -> e.words,
+          "signed" -> e.signed,
+          "meaning" -> e.meaning
+        ).asJava
       }.asJava
     )
   }

@@ -12,7 +12,12 @@ import scala.util.Try
 final case class Opt(name: String, arg: String, help: String, default: String = "")
 
 /** Parsed command line: the command word, option values, and the setting overrides in order. */
-final case class Cli(command: String, options: Map[String, String], overrides: Seq[(String, String)], args: Seq[String]) {
+final case class Cli(
+    command: String,
+    options: Map[String, String],
+    overrides: Seq[(String, String)],
+    args: Seq[String]
+) {
   def get(name: String): Option[String] = options.get(name)
   def has(name: String): Boolean = options.contains(name)
 
@@ -20,32 +25,43 @@ final case class Cli(command: String, options: Map[String, String], overrides: S
 
   /** The design parameters: a preset or a complete config file, then flag overrides. */
   def params: LoadParams = {
-    if (has("preset") && has("config")) throw new InputError("command line: --preset and --config are exclusive (a config file is complete)")
+    if (has("preset") && has("config"))
+      throw new InputError("command line: --preset and --config are exclusive (a config file is complete)")
     val (base, source) = get("config") match {
       case Some(file) =>
         val p = Paths.get(file)
         if (!Files.isRegularFile(p)) throw new InputError(s"$file: no such configuration file")
-        val parsed = Try(ConfigFactory.parseFile(p.toFile, Cli.strictParse)).recover { case e: com.typesafe.config.ConfigException =>
-          throw new InputError(s"$file: not a valid HOCON/JSON configuration: ${e.getMessage.split('\n').head}")
+        val parsed = Try(ConfigFactory.parseFile(p.toFile, Cli.strictParse)).recover {
+          case e: com.typesafe.config.ConfigException =>
+            throw new InputError(
+              s"$file: not a valid HOCON/JSON configuration: ${e.getMessage.split('\n').head}"
+            )
         }.get
         (parsed, file)
       case None =>
         // Every joint of a robot starts from the arm preset, unless told otherwise.
         val name = get("preset").getOrElse(if (overrides.exists(_._1 == "robot.source")) "arm" else "default")
-        val preset = LoadParams.allPresets.getOrElse(name,
-          throw new InputError(s"command line: --preset '$name' is not a preset (${LoadParams.allPresets.keys.toSeq.sorted.mkString(", ")})"))
+        val preset = LoadParams.allPresets.getOrElse(
+          name,
+          throw new InputError(
+            s"command line: --preset '$name' is not a preset (${LoadParams.allPresets.keys.toSeq.sorted.mkString(", ")})"
+          )
+        )
         (ConfigFactory.parseString(Settings.render(preset, Nil)), s"preset $name")
     }
     val merged = Cli.robotDefaults(overrides).foldLeft(base: Config) { case (c, (key, value)) =>
       val setting = Settings.byKey(key)
       val text = setting match {
-        case _: reducerload.config.Setting.PerJoint if value.contains(",") && !value.trim.startsWith("[") => s"[$value]"
+        case _: reducerload.config.Setting.PerJoint if value.contains(",") && !value.trim.startsWith("[") =>
+          s"[$value]"
         case _: reducerload.config.Setting.Choice => "\"" + value.replace("\"", "") + "\""
-        case _: reducerload.config.Setting.Text   => com.typesafe.config.ConfigValueFactory.fromAnyRef(value).render()
+        case _: reducerload.config.Setting.Text =>
+          com.typesafe.config.ConfigValueFactory.fromAnyRef(value).render()
         case _ => value
       }
       val one = Try(ConfigFactory.parseString(s"$key = $text")).getOrElse(
-        throw new InputError(s"command line: --$key: '$value' is not a valid value (${setting.typeName})"))
+        throw new InputError(s"command line: --$key: '$value' is not a valid value (${setting.typeName})")
+      )
       setting.read(one, s"command line --$key")
       one.withFallback(c)
     }
@@ -57,9 +73,9 @@ final case class Cli(command: String, options: Map[String, String], overrides: S
 object Cli {
 
   /**
-   * `--robot X` on the command line means every joint of X: model rnea (unless --model is given),
-   * the URDF's velocity limits (unless --max-velocity is given), and no tip carried over from the
-   * preset; a URDF has no acceleration limits, so --max-acceleration must be given.
+   * `--robot X` on the command line means every joint of X: model rnea (unless --model is given), the URDF's
+   * velocity limits (unless --max-velocity is given), and no tip carried over from the preset; a URDF has no
+   * acceleration limits, so --max-acceleration must be given.
    */
   def robotDefaults(overrides: Seq[(String, String)]): Seq[(String, String)] = {
     val keys = overrides.map(_._1).toSet
@@ -68,9 +84,13 @@ object Cli {
       case Some(robot) =>
         val planar = robot == reducerload.load.RobotParams.planar3
         if (!planar && !keys("robot.max-acceleration"))
-          throw new InputError(s"command line: --robot $robot: declare --max-acceleration A or [a1, ..., aN] in rad/s^2 (a URDF has no acceleration limits)")
+          throw new InputError(
+            s"command line: --robot $robot: declare --max-acceleration A or [a1, ..., aN] in rad/s^2 (a URDF has no acceleration limits)"
+          )
         val implied = Seq("model" -> "rnea") ++
-          (if (planar) Nil else Seq("robot.max-velocity" -> "urdf", "robot.tip" -> "")).filterNot(kv => keys(kv._1))
+          (if (planar) Nil else Seq("robot.max-velocity" -> "urdf", "robot.tip" -> "")).filterNot(kv =>
+            keys(kv._1)
+          )
         implied ++ overrides
     }
   }
@@ -80,15 +100,35 @@ object Cli {
 
   /** Options every design-building command accepts. */
   val designOptions: Seq[Opt] = Seq(
-    Opt("preset", "NAME", s"start from a shipped preset: ${LoadParams.allPresets.keys.toSeq.sorted.mkString(", ")}", "default; arm with --robot"),
-    Opt("config", "FILE", "a complete configuration file (HOCON or JSON, see configs/); exclusive with --preset")
+    Opt(
+      "preset",
+      "NAME",
+      s"start from a shipped preset: ${LoadParams.allPresets.keys.toSeq.sorted.mkString(", ")}",
+      "default; arm with --robot"
+    ),
+    Opt(
+      "config",
+      "FILE",
+      "a complete configuration file (HOCON or JSON, see configs/); exclusive with --preset"
+    )
   )
 
   /** Parse `args` for `command`, accepting its own options, the design options and the settings flags. */
-  def parse(command: String, args: Seq[String], own: Seq[Opt], flags: Seq[String] = Nil, design: Boolean = true): Cli = {
+  def parse(
+      command: String,
+      args: Seq[String],
+      own: Seq[Opt],
+      flags: Seq[String] = Nil,
+      design: Boolean = true
+  ): Cli = {
     val valued = (own ++ (if (design) designOptions else Nil)).map(o => o.name -> o).toMap
     @annotation.tailrec
-    def loop(rest: List[String], opts: Map[String, String], ovr: Vector[(String, String)], pos: Vector[String]): Cli = rest match {
+    def loop(
+        rest: List[String],
+        opts: Map[String, String],
+        ovr: Vector[(String, String)],
+        pos: Vector[String]
+    ): Cli = rest match {
       case Nil => Cli(command, opts, ovr, pos)
       case flag :: tail if flag.startsWith("--") =>
         val (name, inline) = flag.drop(2).split("=", 2) match {
@@ -100,7 +140,7 @@ object Cli {
           case None =>
             tail match {
               case v :: t if !v.startsWith("--") => (v, t)
-              case _                             => throw new InputError(s"command line: --$name needs a value")
+              case _ => throw new InputError(s"command line: --$name needs a value")
             }
         }
         if (flags.contains(name)) loop(tail, opts + (name -> "true"), ovr, pos)
@@ -110,8 +150,14 @@ object Cli {
           loop(t, opts, ovr :+ (Settings.byFlag(name).key -> v), pos)
         } else if (design && Settings.retired.contains(name))
           throw new InputError(s"command line: --$name is retired: ${Settings.retired(name)}")
-        else throw new InputError(s"command line: unknown option --$name for '$command' (see: ./sbt \"run --help\")")
-      case word :: _ => throw new InputError(s"command line: unexpected argument '$word' for '$command' (see: ./sbt \"run --help\")")
+        else
+          throw new InputError(
+            s"command line: unknown option --$name for '$command' (see: ./sbt \"run --help\")"
+          )
+      case word :: _ =>
+        throw new InputError(
+          s"command line: unexpected argument '$word' for '$command' (see: ./sbt \"run --help\")"
+        )
     }
     loop(args.toList, Map.empty, Vector.empty, Vector.empty)
   }

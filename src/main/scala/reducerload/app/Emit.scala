@@ -21,14 +21,20 @@ object Top {
 }
 
 /** What an emission produced, in memory until written. */
-final case class Emission(topModule: String, verilog: String, reportMd: String, reportJson: String, config: String)
+final case class Emission(
+    topModule: String,
+    verilog: String,
+    reportMd: String,
+    reportJson: String,
+    config: String
+)
 
 object Emit {
 
   /**
-   * firtool options for Quartus on Cyclone IV: no randomization or `ifdef` initial blocks, no
-   * SystemVerilog local variables in always blocks, no packed arrays, no source locator comments
-   * (byte-identical output from any checkout path).
+   * firtool options for Quartus on Cyclone IV: no randomization or `ifdef` initial blocks, no SystemVerilog
+   * local variables in always blocks, no packed arrays, no source locator comments (byte-identical output
+   * from any checkout path).
    */
   val firtoolOpts: Array[String] = Array(
     "-disable-all-randomization",
@@ -38,7 +44,12 @@ object Emit {
 
   val options: Seq[Opt] = Seq(
     Opt("target-dir", "DIR", "where the Verilog and reports go", "generated"),
-    Opt("top", "load|sincos", "emit the datapath (every torque the model computes) or one CORDIC sin/cos unit", "load")
+    Opt(
+      "top",
+      "load|sincos",
+      "emit the datapath (every torque the model computes) or one CORDIC sin/cos unit",
+      "load"
+    )
   )
   val flags: Seq[String] = Seq("estimate", "fmax")
   val flagHelp: Map[String, String] = Map(
@@ -48,27 +59,40 @@ object Emit {
 
   def top(cli: Cli): Top = {
     val name = cli.get("top").getOrElse("load")
-    Top.all.find(_.name == name).getOrElse(throw new InputError(s"command line: --top must be load or sincos, got '$name'"))
+    Top.all
+      .find(_.name == name)
+      .getOrElse(throw new InputError(s"command line: --top must be load or sincos, got '$name'"))
   }
 
   private val fileMarker = """(?m)^// ----- 8< ----- FILE "([^"]*)" ----- 8< -----$""".r
 
   /**
-   * `emitSystemVerilog` returns the design followed by the inline black boxes' Verilog, each after a
-   * `// ----- 8< ----- FILE "name"` marker, and a file list (`.f`) for file-based flows. Drop the file
-   * list so the one .sv file is the whole design and nothing else.
+   * `emitSystemVerilog` returns the design followed by the inline black boxes' Verilog, each after a `//
+   * ----- 8< ----- FILE "name"` marker, and a file list (`.f`) for file-based flows. Drop the file list so
+   * the one .sv file is the whole design and nothing else.
    */
   def withBlackBoxes(emitted: String): String = {
     val starts = fileMarker.findAllMatchIn(emitted).toSeq
     val ends = starts.drop(1).map(_.start) :+ emitted.length
     val fileLists = starts.zip(ends).filter { case (m, _) => m.group(1).endsWith(".f") }
-    fileLists.reverse.foldLeft(emitted) { case (text, (m, end)) => text.substring(0, m.start) + text.substring(end) }
+    fileLists.reverse.foldLeft(emitted) { case (text, (m, end)) =>
+      text.substring(0, m.start) + text.substring(end)
+    }
   }
 
   /** Elaborate and emit in memory; nothing touches the disk. */
-  def emit(p: LoadParams, top: Top, command: String, estimate: Boolean = false, fmax: Boolean = false): Emission = {
-    def verilog(gen: => RawModule) = withBlackBoxes(ChiselStage.emitSystemVerilog(gen, Array.empty[String], firtoolOpts))
-    def est(body: String, module: String) = if (estimate || fmax) Some(Estimate.run(body, module, fmax)) else None
+  def emit(
+      p: LoadParams,
+      top: Top,
+      command: String,
+      estimate: Boolean = false,
+      fmax: Boolean = false
+  ): Emission = {
+    def verilog(gen: => RawModule) = withBlackBoxes(
+      ChiselStage.emitSystemVerilog(gen, Array.empty[String], firtoolOpts)
+    )
+    def est(body: String, module: String) =
+      if (estimate || fmax) Some(Estimate.run(body, module, fmax)) else None
     val (moduleName, body, latency, throughput, portLines, summaryLines, markdown, json) = top match {
       case Top.Load if p.monitor.enabled =>
         // LoadParams refuses the monitor for the joint-3 closed forms: here the model is rnea.
@@ -94,22 +118,38 @@ object Emit {
       s"  $command",
       s"Top module: $moduleName, latency $latency cycles, $throughput.",
       ""
-    ) ++ portLines ++ Seq("") ++ summaryLines).map(l => if (l.isEmpty) "//" else s"// $l").mkString("", "\n", "\n\n")
-    val config = Settings.render(p, Seq("Effective configuration of this emission; regenerate with:", s"  $command"))
+    ) ++ portLines ++ Seq("") ++ summaryLines)
+      .map(l => if (l.isEmpty) "//" else s"// $l")
+      .mkString("", "\n", "\n\n")
+    val config =
+      Settings.render(p, Seq("Effective configuration of this emission; regenerate with:", s"  $command"))
     Emission(moduleName, header + body, markdown, json, config)
   }
 
   /** Write all files or none: stage them in a sibling temp dir, then move them in. */
   def write(e: Emission, dir: Path): Seq[Path] = {
     val abs = dir.toAbsolutePath.normalize
-    if (Files.exists(abs) && !Files.isDirectory(abs)) throw new InputError(s"$dir: exists and is not a directory")
+    if (Files.exists(abs) && !Files.isDirectory(abs))
+      throw new InputError(s"$dir: exists and is not a directory")
     Files.createDirectories(abs)
     val stage = Files.createTempDirectory(abs, ".emit-")
     try {
-      val files = Seq(s"${e.topModule}.sv" -> e.verilog, "report.md" -> e.reportMd, "report.json" -> e.reportJson, "config.conf" -> e.config)
-      files.foreach { case (name, text) => Files.write(stage.resolve(name), text.getBytes(StandardCharsets.UTF_8)) }
+      val files = Seq(
+        s"${e.topModule}.sv" -> e.verilog,
+        "report.md" -> e.reportMd,
+        "report.json" -> e.reportJson,
+        "config.conf" -> e.config
+      )
+      files.foreach { case (name, text) =>
+        Files.write(stage.resolve(name), text.getBytes(StandardCharsets.UTF_8))
+      }
       files.map { case (name, _) =>
-        Files.move(stage.resolve(name), abs.resolve(name), StandardCopyOption.REPLACE_EXISTING, StandardCopyOption.ATOMIC_MOVE)
+        Files.move(
+          stage.resolve(name),
+          abs.resolve(name),
+          StandardCopyOption.REPLACE_EXISTING,
+          StandardCopyOption.ATOMIC_MOVE
+        )
       }
     } finally {
       Files.list(stage).forEach(f => Files.deleteIfExists(f))

@@ -4,10 +4,9 @@ import reducerload.cordic.{CordicArchitecture, CordicParams}
 import reducerload.load.LoadParams
 
 /**
- * The README's preset table, made from the presets themselves: architecture, rate, latency, the
- * derived error bound and the max error measured on the golden traces (bit-accurate model, which
- * the RTL tests prove equal to the hardware). `./sbt --error "run presets-table"` prints it;
- * ReadmeSpec checks the README carries it.
+ * The README's preset table, made from the presets themselves: architecture, rate, latency, the derived error
+ * bound and the max error measured on the golden traces (bit-accurate model, which the RTL tests prove equal
+ * to the hardware). `./sbt --error "run presets-table"` prints it; ReadmeSpec checks the README carries it.
  */
 object PresetsTable {
 
@@ -16,7 +15,8 @@ object PresetsTable {
     val table = if (c.tableBits > 0) Seq(s"table 2^${c.tableBits}") else Nil
     val stages = c.iterations - c.firstIteration
     val shiftAdd = if (stages > 0) Seq(s"$stages shift-add stage${if (stages == 1) "" else "s"}") else Nil
-    val residual = if (c.architecture == CordicArchitecture.ResidualRotation) Seq("residual rotation") else Nil
+    val residual =
+      if (c.architecture == CordicArchitecture.ResidualRotation) Seq("residual rotation") else Nil
     val classic = if (c.architecture == CordicArchitecture.Classic && c.tableBits == 0) "classic, " else ""
     classic + (table ++ shiftAdd ++ residual).mkString(" + ") + s", ${c.angleBits} / ${c.outputBits} bits"
   }
@@ -27,12 +27,29 @@ object PresetsTable {
   }
 
   def header: Seq[String] =
-    Seq("preset", "model", "CORDIC (angle / output bits)", "CORDIC units", "one sample", "latency", "derived bound", "max error, golden traces")
+    Seq(
+      "preset",
+      "model",
+      "CORDIC (angle / output bits)",
+      "CORDIC units",
+      "one sample",
+      "latency",
+      "derived bound",
+      "max error, golden traces"
+    )
 
   def markdown: String = {
     val rows = LoadParams.presets.toSeq.map { case (name, p) =>
-      Seq(s"`$name`", p.model.name, cordicSummary(p.cordic), p.arm.schedule.cordicUnits.toString, rate(p), s"${p.arm.latency} cycles",
-        f"${p.errorBound}%.2e N·m", f"${Sweep.goldenError(p)}%.2e N·m")
+      Seq(
+        s"`$name`",
+        p.model.name,
+        cordicSummary(p.cordic),
+        p.arm.schedule.cordicUnits.toString,
+        rate(p),
+        s"${p.arm.latency} cycles",
+        f"${p.errorBound}%.2e N·m",
+        f"${Sweep.goldenError(p)}%.2e N·m"
+      )
     }
     (header +: header.map(_ => "---") +: rows).map(_.mkString("| ", " | ", " |")).mkString("\n")
   }

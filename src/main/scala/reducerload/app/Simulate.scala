@@ -15,24 +15,49 @@ import scala.sys.process._
 import scala.util.Try
 
 /**
- * `run simulate`: a user's trajectory through the emitted RTL on a compiled Verilator harness (or,
- * with `--engine model`, through the bit-accurate model), in chunks on `--jobs` threads, written as
- * one CSV line per sample with the double-precision reference and the error.
+ * `run simulate`: a user's trajectory through the emitted RTL on a compiled Verilator harness (or, with
+ * `--engine model`, through the bit-accurate model), in chunks on `--jobs` threads, written as one CSV line
+ * per sample with the double-precision reference and the error.
  */
 object Simulate {
   val options: Seq[Opt] = Seq(
-    Opt("input", "FILE", "trajectory CSV: header t1,t2,t3,d1,d2,d3,dd1,dd2,dd3 (joint 3), or q1..qN,qd1..qdN,qdd1..qddN (model rnea); rad, rad/s, rad/s^2"),
-    Opt("output", "FILE", "result CSV: idx,load_hw,load_ref,error,out_of_range, or idx,tauJ_hw,tauJ_ref,tauJ_error...,out_of_range (N·m; _hw: the output codes as exact decimals)"),
-    Opt("engine", "rtl|model", "rtl: the emitted Verilog on a compiled Verilator harness; model: the bit-accurate model (same file)", "rtl"),
-    Opt("jobs", "N", "chunks of the trajectory run in parallel (harness processes or model threads)", "the number of processors"),
-    Opt("summary", "FILE", "model rnea: the reducer monitor's figures per joint (monitor.* settings), from the bit-accurate models, beside the reference's (JSON)")
+    Opt(
+      "input",
+      "FILE",
+      "trajectory CSV: header t1,t2,t3,d1,d2,d3,dd1,dd2,dd3 (joint 3), or q1..qN,qd1..qdN,qdd1..qddN (model rnea); rad, rad/s, rad/s^2"
+    ),
+    Opt(
+      "output",
+      "FILE",
+      "result CSV: idx,load_hw,load_ref,error,out_of_range, or idx,tauJ_hw,tauJ_ref,tauJ_error...,out_of_range (N·m; _hw: the output codes as exact decimals)"
+    ),
+    Opt(
+      "engine",
+      "rtl|model",
+      "rtl: the emitted Verilog on a compiled Verilator harness; model: the bit-accurate model (same file)",
+      "rtl"
+    ),
+    Opt(
+      "jobs",
+      "N",
+      "chunks of the trajectory run in parallel (harness processes or model threads)",
+      "the number of processors"
+    ),
+    Opt(
+      "summary",
+      "FILE",
+      "model rnea: the reducer monitor's figures per joint (monitor.* settings), from the bit-accurate models, beside the reference's (JSON)"
+    )
   )
   val flags: Seq[String] = Seq("saturate")
   val flagHelp: Map[String, String] = Map(
     "saturate" -> "accept values beyond the declared ranges: the hardware clamps them and flags the sample; count them"
   )
 
-  /** The emitted file's header names a regeneration command; a fixed one keeps the harness cache key independent of file names. */
+  /**
+   * The emitted file's header names a regeneration command; a fixed one keeps the harness cache key
+   * independent of file names.
+   */
   val emitCommand = "./sbt \"run emit\" with the configuration of this simulation"
 
   private val maxJobs = 256
@@ -42,13 +67,20 @@ object Simulate {
 
   private def jobs(cli: Cli): Int = cli.get("jobs") match {
     case None => Runtime.getRuntime.availableProcessors.max(1)
-    case Some(v) => Try(v.toInt).toOption.filter(n => n >= 1 && n <= maxJobs)
-      .getOrElse(throw new InputError(s"command line: --jobs must be an integer from 1 to $maxJobs, got '$v'"))
+    case Some(v) =>
+      Try(v.toInt).toOption
+        .filter(n => n >= 1 && n <= maxJobs)
+        .getOrElse(
+          throw new InputError(s"command line: --jobs must be an integer from 1 to $maxJobs, got '$v'")
+        )
   }
 
   private def engine(cli: Cli): String = {
     val name = cli.get("engine").getOrElse("rtl")
-    if (!ReplayEngine.names.contains(name)) throw new InputError(s"command line: --engine must be ${ReplayEngine.names.mkString(" or ")}, got '$name'")
+    if (!ReplayEngine.names.contains(name))
+      throw new InputError(
+        s"command line: --engine must be ${ReplayEngine.names.mkString(" or ")}, got '$name'"
+      )
     name
   }
 
@@ -63,7 +95,8 @@ object Simulate {
     val engineName = engine(cli)
     val jobCount = jobs(cli)
     val parent = output.toAbsolutePath.normalize.getParent
-    if (parent != null && !Files.isDirectory(parent)) throw new InputError(s"$output: directory $parent does not exist")
+    if (parent != null && !Files.isDirectory(parent))
+      throw new InputError(s"$output: directory $parent does not exist")
     val params = cli.params
     val d = design(params)
     val table = TraceCsv.read(input, d.columns)
@@ -102,38 +135,58 @@ object Simulate {
         val (i, k) = (first / limits.length, first % limits.length)
         val (c, limit) = (columns(k), limits(k))
         val col = d.columns(c)
-        throw new InputError(s"$input:${table.lines(i)}: column '$col': ${values(i * width + c)} is beyond the declared range |$col| <= $limit " +
-          s"($count value(s) in all; --saturate clamps and counts them, or widen the range)")
+        throw new InputError(
+          s"$input:${table.lines(i)}: column '$col': ${values(i * width + c)} is beyond the declared range |$col| <= $limit " +
+            s"($count value(s) in all; --saturate clamps and counts them, or widen the range)"
+        )
       }
     }
     if (engineName == "rtl" && !VerilatorHarness.available)
-      throw new InputError("simulate needs Verilator on the PATH (Debian: apt-get install verilator), or --engine model")
+      throw new InputError(
+        "simulate needs Verilator on the PATH (Debian: apt-get install verilator), or --engine model"
+      )
     SimulateRequest(params, d, rows, output, engineName, jobCount)
   }
 
-  /** The compiled harness of the design, from exactly the Verilog `emit` writes (cached per design by its hash). */
+  /**
+   * The compiled harness of the design, from exactly the Verilog `emit` writes (cached per design by its
+   * hash).
+   */
   def harness(request: SimulateRequest[_, _], elaborated: Option[Future[Emission]]): CompiledHarness = {
-    val emission = elaborated.map(Await.result(_, Duration.Inf)).getOrElse(Emit.emit(request.params, Top.Load, emitCommand))
+    val emission = elaborated
+      .map(Await.result(_, Duration.Inf))
+      .getOrElse(Emit.emit(request.params, Top.Load, emitCommand))
     val start = System.nanoTime()
     val h = VerilatorHarness.compile(emission.verilog, emission.topModule, request.design.ports)
     val seconds = (System.nanoTime() - start) / 1e9
-    println(if (h.fromCache) s"harness: ${emission.topModule}, cached build ${h.directory}"
-            else f"harness: ${emission.topModule}, built in $seconds%.0f s (cached for the next run) in ${h.directory}")
+    println(
+      if (h.fromCache) s"harness: ${emission.topModule}, cached build ${h.directory}"
+      else
+        f"harness: ${emission.topModule}, built in $seconds%.0f s (cached for the next run) in ${h.directory}"
+    )
     h
   }
 
   def run(cli: Cli): Unit = {
     // Elaborate while the trajectory is read and checked (seconds each, on different cores); only
     // in memory: the harness is built after every check. A bad command line fails here the same way.
-    val elaborated = if (cli.get("engine").forall(_ == "rtl")) Some(Future(Emit.emit(cli.params, Top.Load, emitCommand))(ExecutionContext.global)) else None
+    val elaborated =
+      if (cli.get("engine").forall(_ == "rtl"))
+        Some(Future(Emit.emit(cli.params, Top.Load, emitCommand))(ExecutionContext.global))
+      else None
     val readStart = System.nanoTime()
     val request = prepare(cli)
-    println(f"input: ${request.rows.size} rows read and checked in ${(System.nanoTime() - readStart) / 1e9}%.1f s")
+    println(
+      f"input: ${request.rows.size} rows read and checked in ${(System.nanoTime() - readStart) / 1e9}%.1f s"
+    )
     val monitor = cli.path("summary").map { path =>
       if (request.params.model.closedForm)
-        throw new InputError("command line: --summary needs model rnea (the monitor watches every joint of an arm; use --robot)")
+        throw new InputError(
+          "command line: --summary needs model rnea (the monitor watches every joint of an arm; use --robot)"
+        )
       val parent = path.toAbsolutePath.normalize.getParent
-      if (parent != null && !Files.isDirectory(parent)) throw new InputError(s"$path: directory $parent does not exist")
+      if (parent != null && !Files.isDirectory(parent))
+        throw new InputError(s"$path: directory $parent does not exist")
       val arm = ArmConfig(request.params)
       (path, arm, MonitorConfig(arm, request.params.monitor))
     }
@@ -142,45 +195,71 @@ object Simulate {
   }
 
   /**
-   * The monitor's summary of the trajectory: the arm datapath's and the monitor's bit-accurate models
-   * (which the RTL tests prove equal to `MonitoredArm` bit for bit) against the double reference,
-   * every figure checked against its derived bound.
+   * The monitor's summary of the trajectory: the arm datapath's and the monitor's bit-accurate models (which
+   * the RTL tests prove equal to `MonitoredArm` bit for bit) against the double reference, every figure
+   * checked against its derived bound.
    */
-  private def writeSummary(path: Path, request: SimulateRequest[_, _], arm: ArmParams, mp: MonitorParams): Unit = {
+  private def writeSummary(
+      path: Path,
+      request: SimulateRequest[_, _],
+      arm: ArmParams,
+      mp: MonitorParams
+  ): Unit = {
     val n = arm.chain.size
     val samples = (0 until request.rows.size).map { i =>
       val r = request.rows.row(i)
       ArmSample(r.slice(0, n), r.slice(n, 2 * n), r.slice(2 * n, 3 * n))
     }
-    val summary = MonitorSummary.fromTrajectory(arm, mp, samples, MonitorConfig.rated(arm, request.params.monitor))
+    val summary =
+      MonitorSummary.fromTrajectory(arm, mp, samples, MonitorConfig.rated(arm, request.params.monitor))
     writeAtomically(path)(_.write(summary.json))
-    println(s"wrote $path: reducer monitor summary of ${samples.size} samples, ${n} joints (exponent ${mp.lifeExponents.distinct.mkString("/")})")
+    println(
+      s"wrote $path: reducer monitor summary of ${samples.size} samples, ${n} joints (exponent ${mp.lifeExponents.distinct.mkString("/")})"
+    )
     summary.violations.headOption.foreach(v => throw new IllegalStateException(s"monitor summary: $v"))
   }
 
   /** Run a checked request: write the output file (all of it or nothing) and print the summary. */
-  def execute[In, Out](request: SimulateRequest[In, Out], elaborated: Option[Future[Emission]] = None): ReplaySummary = {
+  def execute[In, Out](
+      request: SimulateRequest[In, Out],
+      elaborated: Option[Future[Emission]] = None
+  ): ReplaySummary = {
     val d = request.design
-    val engine = if (request.engine == "rtl") ReplayEngine.Rtl(harness(request, elaborated)) else ReplayEngine.Model
+    val engine =
+      if (request.engine == "rtl") ReplayEngine.Rtl(harness(request, elaborated)) else ReplayEngine.Model
     val progress = ProgressLine.onTerminal(request.rows.size.toLong, s"simulate (${request.engine})")
-    val summary = writeBytesAtomically(request.output)(out => Replay.run(d, engine, request.rows, request.jobs, out, progress))
-    println(s"wrote ${request.output}: ${summary.samples} samples, ${d.description}, engine ${request.engine}, ${request.jobs} job(s)")
+    val summary = writeBytesAtomically(request.output)(out =>
+      Replay.run(d, engine, request.rows, request.jobs, out, progress)
+    )
+    println(
+      s"wrote ${request.output}: ${summary.samples} samples, ${d.description}, engine ${request.engine}, ${request.jobs} job(s)"
+    )
     val worst = d.errorLabels.indices.map { j =>
-      println(f"  max |error| over in-range samples, ${d.errorLabels(j)}%-24s ${summary.maxErrors(j)}%.3e N·m (derived bound ${d.errorBounds(j)}%.3e N·m)")
+      println(
+        f"  max |error| over in-range samples, ${d.errorLabels(j)}%-24s ${summary.maxErrors(j)}%.3e N·m (derived bound ${d.errorBounds(j)}%.3e N·m)"
+      )
       (summary.maxErrors(j), d.errorBounds(j))
     }
     println(s"out-of-range samples (clamped, flagged): ${summary.outOfRange}")
     val how = engine match {
-      case ReplayEngine.Rtl(_) => f"Verilator harness, ${d.throughput}, latency ${d.latency} cycles; " +
+      case ReplayEngine.Rtl(_) =>
+        f"Verilator harness, ${d.throughput}, latency ${d.latency} cycles; " +
           f"${summary.cyclesPerHarnessSecond}%.0f clock cycles/s per harness process (${summary.cyclesPerHarnessCpuSecond}%.0f per CPU second)"
       case ReplayEngine.Model => "bit-accurate model"
     }
-    println(f"simulation rate: ${summary.samplesPerSecond}%.0f samples/s ($how; JVM side ${summary.samplesPerCpuSecond}%.0f samples per CPU second)")
+    println(
+      f"simulation rate: ${summary.samplesPerSecond}%.0f samples/s ($how; JVM side ${summary.samplesPerCpuSecond}%.0f samples per CPU second)"
+    )
     summary.phases.foreach { p =>
       def us(seconds: Double) = seconds / summary.samples.max(1) * 1e6
-      val engineName = engine match { case ReplayEngine.Rtl(_) => "harness process and its files"; case ReplayEngine.Model => "bit-accurate model" }
-      println(f"replay per sample, wall clock summed over jobs: input codes ${us(p.codes)}%.2f us, engine ${us(p.engine)}%.2f us " +
-        f"(${summary.samples / p.engine.max(1e-9)}%.0f samples/s per job: $engineName), result lines ${us(p.lines)}%.2f us (reference and text)")
+      val engineName = engine match {
+        case ReplayEngine.Rtl(_) => "harness process and its files";
+        case ReplayEngine.Model  => "bit-accurate model"
+      }
+      println(
+        f"replay per sample, wall clock summed over jobs: input codes ${us(p.codes)}%.2f us, engine ${us(p.engine)}%.2f us " +
+          f"(${summary.samples / p.engine.max(1e-9)}%.0f samples/s per job: $engineName), result lines ${us(p.lines)}%.2f us (reference and text)"
+      )
     }
     worst.zipWithIndex.find { case ((e, b), _) => e > b }.foreach { case ((e, b), j) =>
       throw new IllegalStateException(s"${d.errorLabels(j)}: max error $e exceeds the derived bound $b")
@@ -200,11 +279,14 @@ object Simulate {
   def writeBytesAtomically[T](path: Path)(body: OutputStream => T): T = {
     val abs = path.toAbsolutePath.normalize
     val parent = abs.getParent
-    if (parent != null && !Files.isDirectory(parent)) throw new InputError(s"$path: directory $parent does not exist")
+    if (parent != null && !Files.isDirectory(parent))
+      throw new InputError(s"$path: directory $parent does not exist")
     val tmp = Files.createTempFile(parent, ".partial-", ".csv")
     try {
       val out = new BufferedOutputStream(Files.newOutputStream(tmp), 1 << 20)
-      val result = try body(out) finally out.close()
+      val result =
+        try body(out)
+        finally out.close()
       Files.move(tmp, abs, StandardCopyOption.REPLACE_EXISTING, StandardCopyOption.ATOMIC_MOVE)
       result
     } finally Files.deleteIfExists(tmp)

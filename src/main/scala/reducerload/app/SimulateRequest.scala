@@ -9,5 +9,11 @@ import java.nio.file.Path
  * A `run simulate` command line with every check done: the design, the trajectory's rows (values in
  * `design.columns` order, flat), the output file, the engine name and the job count.
  */
-final case class SimulateRequest[In, Out](params: LoadParams, design: ReplayDesign[In, Out], rows: SampleRows,
-  output: Path, engine: String, jobs: Int)
+final case class SimulateRequest[In, Out](
+    params: LoadParams,
+    design: ReplayDesign[In, Out],
+    rows: SampleRows,
+    output: Path,
+    engine: String,
+    jobs: Int
+)

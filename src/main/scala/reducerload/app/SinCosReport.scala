@@ -7,7 +7,12 @@ import reducerload.fixedpoint.FixedFormat
 import scala.jdk.CollectionConverters._
 
 /** The report of a lone CORDIC sin/cos unit's emission (`--top sincos`); datapaths have [[ArmReport]]. */
-final case class SinCosReport(c: CordicParams, moduleName: String, command: String, estimate: Option[Estimate] = None) {
+final case class SinCosReport(
+    c: CordicParams,
+    moduleName: String,
+    command: String,
+    estimate: Option[Estimate] = None
+) {
   val throughput: String = "one angle per clock"
 
   /** (port, direction, format description). */
@@ -36,11 +41,17 @@ final case class SinCosReport(c: CordicParams, moduleName: String, command: Stri
     "",
     "| port | dir | format |",
     "| --- | --- | --- |"
-  ) ++ ports.map { case (n, d, f) => s"| `$n` | $d | $f |" } ++ Seq("", "## Details", "", "```") ++ summaryLines ++ Seq("```"))
+  ) ++ ports.map { case (n, d, f) => s"| `$n` | $d | $f |" } ++ Seq(
+    "",
+    "## Details",
+    "",
+    "```"
+  ) ++ summaryLines ++ Seq("```"))
     .mkString("", "\n", "\n")
 
   def json: String = {
-    def fmt(f: FixedFormat) = Map("int_bits" -> f.intBits, "frac_bits" -> f.fracBits, "width" -> f.width).asJava
+    def fmt(f: FixedFormat) =
+      Map("int_bits" -> f.intBits, "frac_bits" -> f.fracBits, "width" -> f.width).asJava
     val fields = Map[String, Any](
       "top" -> moduleName,
       "latency_cycles" -> c.latency,
@@ -57,7 +68,10 @@ final case class SinCosReport(c: CordicParams, moduleName: String, command: Stri
         "error_bound" -> c.errorBound,
         "atan_table_hex" -> c.atanTable.map(_.toString(16)).asJava
       ).asJava,
-      "estimate" -> estimate.map(_.toMap.asJava).orNull)
-    ConfigValueFactory.fromMap(fields.asJava).render(ConfigRenderOptions.concise().setJson(true).setFormatted(true)) + "\n"
+      "estimate" -> estimate.map(_.toMap.asJava).orNull
+    )
+    ConfigValueFactory
+      .fromMap(fields.asJava)
+      .render(ConfigRenderOptions.concise().setJson(true).setFormatted(true)) + "\n"
   }
 }

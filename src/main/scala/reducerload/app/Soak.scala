@@ -22,9 +22,19 @@ object Soak {
     Opt("resets", "N", "resets at random points of the stream", "5")
   )
 
-  final case class Result(samples: Long, cycles: Long, checked: Long, mismatches: Long, examples: Seq[String], seconds: Double)
+  final case class Result(
+      samples: Long,
+      cycles: Long,
+      checked: Long,
+      mismatches: Long,
+      examples: Seq[String],
+      seconds: Double
+  )
 
-  /** Random samples: 1 in 16 with one velocity or acceleration beyond its declared range; bubbles 1 in 8 cycles; `resets` resets. */
+  /**
+   * Random samples: 1 in 16 with one velocity or acceleration beyond its declared range; bubbles 1 in 8
+   * cycles; `resets` resets.
+   */
   def stimulus(p: ArmParams, samples: Long, resets: Int, rng: Random): Iterator[Cycle[SampleCodes]] = {
     val model = new ArmModel(p)
     val n = p.numerics
@@ -37,7 +47,8 @@ object Soak {
       val qdd = Array.tabulate(joints)(j => within(n.accelerationLimits(j)))
       if (rng.nextInt(16) == 0) {
         val j = rng.nextInt(joints)
-        if (rng.nextBoolean()) qd(j) = 1.5 * n.velocityLimits(j) * qd(j).sign else qdd(j) = 1.5 * n.accelerationLimits(j) * qdd(j).sign
+        if (rng.nextBoolean()) qd(j) = 1.5 * n.velocityLimits(j) * qd(j).sign
+        else qdd(j) = 1.5 * n.accelerationLimits(j) * qdd(j).sign
       }
       ArmSample(q, qd.toIndexedSeq, qdd.toIndexedSeq)
     }
@@ -54,34 +65,65 @@ object Soak {
     val rng = new Random(seed)
     val scratch = Paths.get("target", "soak")
     Files.createDirectories(scratch)
-    val dir = Paths.get("").toAbsolutePath.relativize(Files.createTempDirectory(scratch.toAbsolutePath, "run-"))
+    val dir =
+      Paths.get("").toAbsolutePath.relativize(Files.createTempDirectory(scratch.toAbsolutePath, "run-"))
     var result: Option[Result] = None // set once, inside the simulator callback
-    try {
-      RawTester.test(new ArmDatapath(p), Seq(VerilatorBackendAnnotation, firrtl2.options.TargetDirAnnotation(dir.toString))) { dut =>
+    try
+      RawTester.test(
+        new ArmDatapath(p),
+        Seq(VerilatorBackendAnnotation, firrtl2.options.TargetDirAnnotation(dir.toString))
+      ) { dut =>
         // Samples wait while the datapath is busy (ready low between its one-in-II input clocks).
         val stim = stimulus(p, samples, resets, rng) ++ Iterator.fill(p.latency + 2)(Cycle.Bubble)
         val start = System.nanoTime()
-        val cycles = ArmDriver.run(dut, stim, (cycle, out) => checker.observe(cycle, out), (cycle, c) => checker.drive(cycle, c), holdUntilReady = true)
-        result = Some(Result(samples, cycles, checker.checked, checker.mismatches, checker.examples, (System.nanoTime() - start) / 1e9))
+        val cycles = ArmDriver.run(
+          dut,
+          stim,
+          (cycle, out) => checker.observe(cycle, out),
+          (cycle, c) => checker.drive(cycle, c),
+          holdUntilReady = true
+        )
+        result = Some(
+          Result(
+            samples,
+            cycles,
+            checker.checked,
+            checker.mismatches,
+            checker.examples,
+            (System.nanoTime() - start) / 1e9
+          )
+        )
       }
-    } finally Try(Seq("rm", "-rf", dir.toString).!)
+    finally Try(Seq("rm", "-rf", dir.toString).!)
     result.get
   }
 
   def main(cli: Cli): Unit = {
-    def number(name: String, default: Long): Long = cli.get(name).map { v =>
-      Try(v.toLong).filter(_ >= 0).getOrElse(throw new InputError(s"command line: --$name must be a non-negative integer, got '$v'"))
-    }.getOrElse(default)
+    def number(name: String, default: Long): Long = cli
+      .get(name)
+      .map { v =>
+        Try(v.toLong)
+          .filter(_ >= 0)
+          .getOrElse(throw new InputError(s"command line: --$name must be a non-negative integer, got '$v'"))
+      }
+      .getOrElse(default)
     val samples = number("samples", 1000000L)
     val seed = number("seed", 1L)
     val resets = number("resets", 5L).toInt
     if (!reducerload.sim.VerilatorHarness.available)
       throw new InputError("soak needs Verilator on the PATH (Debian: apt-get install verilator)")
     val p = cli.params
-    println(s"soak: $samples samples, seed $seed, $resets resets, bubbles 1 in 8, 1 in 16 samples beyond the declared ranges")
+    println(
+      s"soak: $samples samples, seed $seed, $resets resets, bubbles 1 in 8, 1 in 16 samples beyond the declared ranges"
+    )
     val r = run(p.arm, samples, seed, resets)
-    println(f"soak: ${r.checked} outputs checked bit-exact against the model over ${r.cycles} cycles, ${r.mismatches} mismatches, " +
-      f"${r.samples / r.seconds}%.0f samples/s (Verilator)")
-    if (r.mismatches > 0) throw new IllegalStateException(r.examples.mkString(s"soak: ${r.mismatches} mismatches, first ones:\n", "\n", ""))
+    println(
+      f"soak: ${r.checked} outputs checked bit-exact against the model over ${r.cycles} cycles, ${r.mismatches} mismatches, " +
+        f"${r.samples / r.seconds}%.0f samples/s (Verilator)"
+    )
+    if (r.mismatches > 0)
+      throw new IllegalStateException(
+        r.examples.mkString(s"soak: ${r.mismatches} mismatches, first ones:\n", "\n", "")
+      )
   }
 }

@@ -13,40 +13,63 @@ import scala.jdk.CollectionConverters._
 import scala.sys.process._
 
 /**
- * `run sweep`: a design-space benchmark. Elaborates a grid of configurations and measures, for each,
- * the max load error over the golden traces (bit-accurate model; the RTL equals it bit for bit, as
- * the tests check), the derived bound, latency, and the open-tool resource estimate (and the ECP5
- * Fmax proxy with --fmax). Writes sweep.csv, sweep.md and, with Python + matplotlib, PNG plots.
+ * `run sweep`: a design-space benchmark. Elaborates a grid of configurations and measures, for each, the max
+ * load error over the golden traces (bit-accurate model; the RTL equals it bit for bit, as the tests check),
+ * the derived bound, latency, and the open-tool resource estimate (and the ECP5 Fmax proxy with --fmax).
+ * Writes sweep.csv, sweep.md and, with Python + matplotlib, PNG plots.
  */
 object Sweep {
   val options: Seq[Opt] = Seq(
     Opt("out", "DIR", "where sweep.csv, sweep.md and the plots go", "sweep"),
-    Opt("jobs", "N", "estimates run at once (1..16; each place and route uses one core)", "the number of cores"))
+    Opt(
+      "jobs",
+      "N",
+      "estimates run at once (1..16; each place and route uses one core)",
+      "the number of cores"
+    )
+  )
   val flags: Seq[String] = Seq("fmax", "arms")
-  val flagHelp: Map[String, String] = Map("fmax" -> "place and route every point on ECP5 for the Fmax proxy (1 to 5 minutes each)",
-    "arms" -> "sweep every joint of planar3, the UR5 and the Panda over the schedule (clocks per sample, multiplier budget) instead of the joint-3 grid")
+  val flagHelp: Map[String, String] = Map(
+    "fmax" -> "place and route every point on ECP5 for the Fmax proxy (1 to 5 minutes each)",
+    "arms" -> "sweep every joint of planar3, the UR5 and the Panda over the schedule (clocks per sample, multiplier budget) instead of the joint-3 grid"
+  )
 
   /** The grid: named points, each a complete configuration. */
   def grid: Seq[(String, LoadParams)] = {
     def point(arch: CordicArchitecture, bits: Int, iterations: Int, frac: Int, table: Int = 0) = LoadParams(
-      cordic = CordicParams(angleBits = bits, outputBits = bits, iterations = iterations, guardBits = if (bits >= 24) 5 else 3,
-        angleGuardBits = if (bits >= 24) 5 else 4, architecture = arch, tableBits = table),
-      velocityFracBits = frac, accelerationFracBits = frac, constantFracBits = frac + 4, internalFracBits = frac, outputFracBits = frac)
+      cordic = CordicParams(
+        angleBits = bits,
+        outputBits = bits,
+        iterations = iterations,
+        guardBits = if (bits >= 24) 5 else 3,
+        angleGuardBits = if (bits >= 24) 5 else 4,
+        architecture = arch,
+        tableBits = table
+      ),
+      velocityFracBits = frac,
+      accelerationFracBits = frac,
+      constantFracBits = frac + 4,
+      internalFracBits = frac,
+      outputFracBits = frac
+    )
     val classic = Seq((16, 10, 12), (20, 16, 15), (23, 20, 17), (26, 26, 20)).map { case (b, n, f) =>
       s"classic-b$b-n$n" -> point(CordicArchitecture.Classic, b, n, f)
     }
     val residual = Seq((16, 6, 12), (20, 9, 15), (23, 12, 17), (26, 14, 20)).map { case (b, n, f) =>
       s"residual-b$b-n$n" -> point(CordicArchitecture.ResidualRotation, b, n, f)
     }
-    val tabled = Seq((16, 6, 12, 4), (20, 9, 15, 7), (23, 12, 17, 8), (26, 14, 20, 9)).map { case (b, n, f, t) =>
-      s"table-b$b-n$n-t$t" -> point(CordicArchitecture.ResidualRotation, b, n, f, t)
+    val tabled = Seq((16, 6, 12, 4), (20, 9, 15, 7), (23, 12, 17, 8), (26, 14, 20, 9)).map {
+      case (b, n, f, t) =>
+        s"table-b$b-n$n-t$t" -> point(CordicArchitecture.ResidualRotation, b, n, f, t)
     }
     // Pipeline depth: registers after every r micro-rotations instead of every one.
     val depth = Seq(2, 3).map { r =>
       val p = point(CordicArchitecture.Classic, 26, 26, 20)
       s"classic-b26-n26-r$r" -> p.copy(cordic = p.cordic.copy(iterationsPerStage = r))
     }
-    classic ++ depth ++ residual ++ tabled ++ LoadParams.presets.toSeq.map { case (n, p) => s"preset-$n" -> p }
+    classic ++ depth ++ residual ++ tabled ++ LoadParams.presets.toSeq.map { case (n, p) =>
+      s"preset-$n" -> p
+    }
   }
 
   final case class Row(name: String, p: LoadParams, maxError: Double, estimate: Estimate) {
@@ -54,20 +77,52 @@ object Sweep {
     private def clocksPerSample = p.arm.schedule.clocksPerSample
     def cells: Seq[String] = {
       val fmax = estimate.fmaxEcp5Mhz
-      val arch = p.cordic.architecture.name + (if (p.cordic.tableBits > 0) s"+table${p.cordic.tableBits}" else "") +
-        (if (p.arm.schedule.cordicUnits < p.arm.graph.angles.size) "+shared" else "")
-      Seq(name, p.model.name, arch, p.cordic.outputBits.toString, p.cordic.iterations.toString, p.cordic.iterationsPerStage.toString,
-        f"$maxError%.3e", f"${p.errorBound}%.3e", latency.toString, fmax.map(f => f"${latency * 1000 / f}%.1f").getOrElse(""),
-        fmax.map(f => f"${f * 1e6 / clocksPerSample}%.3g").getOrElse(""), estimate.les.toString, estimate.registers.toString,
-        estimate.mult18x18.toString, estimate.memoryBits.toString, fmax.map(f => f"$f%.1f").getOrElse(""))
+      val arch =
+        p.cordic.architecture.name + (if (p.cordic.tableBits > 0) s"+table${p.cordic.tableBits}" else "") +
+          (if (p.arm.schedule.cordicUnits < p.arm.graph.angles.size) "+shared" else "")
+      Seq(
+        name,
+        p.model.name,
+        arch,
+        p.cordic.outputBits.toString,
+        p.cordic.iterations.toString,
+        p.cordic.iterationsPerStage.toString,
+        f"$maxError%.3e",
+        f"${p.errorBound}%.3e",
+        latency.toString,
+        fmax.map(f => f"${latency * 1000 / f}%.1f").getOrElse(""),
+        fmax.map(f => f"${f * 1e6 / clocksPerSample}%.3g").getOrElse(""),
+        estimate.les.toString,
+        estimate.registers.toString,
+        estimate.mult18x18.toString,
+        estimate.memoryBits.toString,
+        fmax.map(f => f"$f%.1f").getOrElse("")
+      )
     }
   }
-  val header: Seq[String] = Seq("config", "model", "cordic", "sincos_bits", "iterations", "iterations_per_stage", "max_error_nm", "bound_nm", "latency_cycles",
-    "latency_ns", "results_per_s", "est_les", "registers", "mult18x18", "memory_bits", "fmax_ecp5_mhz")
+  val header: Seq[String] = Seq(
+    "config",
+    "model",
+    "cordic",
+    "sincos_bits",
+    "iterations",
+    "iterations_per_stage",
+    "max_error_nm",
+    "bound_nm",
+    "latency_cycles",
+    "latency_ns",
+    "results_per_s",
+    "est_les",
+    "registers",
+    "mult18x18",
+    "memory_bits",
+    "fmax_ecp5_mhz"
+  )
 
   /** Max |model - reference| over every golden trace (reference: the configuration's own formula). */
   def goldenError(p: LoadParams): Double = {
-    val files = Files.list(Paths.get("golden")).iterator().asScala.filter(_.toString.endsWith(".csv")).toSeq.sorted
+    val files =
+      Files.list(Paths.get("golden")).iterator().asScala.filter(_.toString.endsWith(".csv")).toSeq.sorted
     if (files.isEmpty) throw new InputError("golden/: no traces (run from the repository root)")
     val m = new reducerload.arm.ArmModel(p.arm)
     files.map { f =>
@@ -83,12 +138,20 @@ object Sweep {
   def run(cli: Cli): Unit = {
     val out = cli.path("out").getOrElse(Paths.get("sweep"))
     val fmax = cli.has("fmax")
-    val jobs = cli.get("jobs").map { v =>
-      scala.util.Try(v.toInt).filter(j => j >= 1 && j <= 16)
-        .getOrElse(throw new InputError(s"command line: --jobs must be an integer in 1..16, got '$v'"))
-    }.getOrElse(Runtime.getRuntime.availableProcessors.min(16))
+    val jobs = cli
+      .get("jobs")
+      .map { v =>
+        scala.util
+          .Try(v.toInt)
+          .filter(j => j >= 1 && j <= 16)
+          .getOrElse(throw new InputError(s"command line: --jobs must be an integer in 1..16, got '$v'"))
+      }
+      .getOrElse(Runtime.getRuntime.availableProcessors.min(16))
     if (cli.has("arms")) {
-      val command = "./sbt \"run sweep --arms" + cli.path("out").map(d => s" --out $d").getOrElse("") + (if (fmax) " --fmax" else "") + "\""
+      val command =
+        "./sbt \"run sweep --arms" + cli.path("out").map(d => s" --out $d").getOrElse("") + (if (fmax)
+                                                                                               " --fmax"
+                                                                                             else "") + "\""
       return ArmSweep.run(out, fmax, jobs, command)
     }
     // A preset equal to a grid point is measured once (place and route takes minutes). Elaboration
@@ -96,9 +159,18 @@ object Sweep {
     // after the first one alone has set up the tools' virtual environments.
     val distinct = grid.map(_._2).distinct
     val designs = distinct.zipWithIndex.map { case (p, i) =>
-      println(s"sweep: elaborating ${i + 1} of ${distinct.size}: ${grid.filter(_._2 == p).map(_._1).mkString(" = ")}")
-      (p, p.arm.moduleName,
-        Emit.withBlackBoxes(ChiselStage.emitSystemVerilog(new reducerload.arm.ArmDatapath(p.arm), Array.empty[String], Emit.firtoolOpts)), goldenError(p))
+      println(
+        s"sweep: elaborating ${i + 1} of ${distinct.size}: ${grid.filter(_._2 == p).map(_._1).mkString(" = ")}"
+      )
+      (
+        p,
+        p.arm.moduleName,
+        Emit.withBlackBoxes(
+          ChiselStage
+            .emitSystemVerilog(new reducerload.arm.ArmDatapath(p.arm), Array.empty[String], Emit.firtoolOpts)
+        ),
+        goldenError(p)
+      )
     }
     val pool = java.util.concurrent.Executors.newFixedThreadPool(jobs)
     implicit val ec: ExecutionContext = ExecutionContext.fromExecutorService(pool)
@@ -107,7 +179,11 @@ object Sweep {
         def estimate(d: (LoadParams, String, String, Double), i: Int): (LoadParams, (Double, Estimate)) = {
           val (p, top, verilog, error) = d
           val e = Estimate.run(verilog, top, fmax)
-          println(s"sweep: estimated ${i + 1} of ${designs.size}: ${e.les} LEs" + e.fmaxEcp5Mhz.map(f => f", $f%.1f MHz").getOrElse(""))
+          println(
+            s"sweep: estimated ${i + 1} of ${designs.size}: ${e.les} LEs" + e.fmaxEcp5Mhz
+              .map(f => f", $f%.1f MHz")
+              .getOrElse("")
+          )
           p -> (error, e)
         }
         val first = designs.headOption.map(estimate(_, 0)).toSeq
@@ -124,7 +200,8 @@ object Sweep {
     val csv = (header +: rows.map(_.cells)).map(_.mkString(",")).mkString("", "\n", "\n")
     Files.write(out.resolve("sweep.csv"), csv.getBytes(StandardCharsets.UTF_8))
     val md = (Seq(
-      "Design-space sweep: " + (if (fmax) "with" else "without") + " the ECP5 Fmax proxy. Regenerate: `./sbt \"run sweep" +
+      "Design-space sweep: " + (if (fmax) "with"
+                                else "without") + " the ECP5 Fmax proxy. Regenerate: `./sbt \"run sweep" +
         cli.path("out").map(d => s" --out $d").getOrElse("") + (if (fmax) " --fmax" else "") + "\"`.",
       "Errors: max |load - formula| over the golden traces (bit-accurate model, equal to the RTL); bound: derived worst case.",
       "Resources: open-tool Cyclone IV E estimate (tools/estimate/README.md). Paper: 4,330 LEs, 321 registers, 10 stages, < 1e-3 N·m.",

@@ -6,10 +6,10 @@ import java.nio.file.Path
 import scala.util.{Random, Try}
 
 /**
- * `run trajectory`: a seeded random trajectory CSV for a design, every value within its declared
- * range (angles anywhere in [-pi, pi)), in the columns `simulate` reads. For benchmarks of
- * `simulate` (tools/bench-simulate); the values are written as Double.toString writes them, the
- * longest decimal form a CSV of doubles usually has.
+ * `run trajectory`: a seeded random trajectory CSV for a design, every value within its declared range
+ * (angles anywhere in [-pi, pi)), in the columns `simulate` reads. For benchmarks of `simulate`
+ * (tools/bench-simulate); the values are written as Double.toString writes them, the longest decimal form a
+ * CSV of doubles usually has.
  */
 object Trajectory {
   val options: Seq[Opt] = Seq(
@@ -18,15 +18,25 @@ object Trajectory {
     Opt("seed", "S", "random seed (printed; rerun with it)", "1")
   )
 
-  private def number[T](cli: Cli, name: String, default: T, parse: String => T, ok: T => Boolean, what: String): T =
+  private def number[T](
+      cli: Cli,
+      name: String,
+      default: T,
+      parse: String => T,
+      ok: T => Boolean,
+      what: String
+  ): T =
     cli.get(name) match {
       case None => default
-      case Some(v) => Try(parse(v)).toOption.filter(ok)
+      case Some(v) =>
+        Try(parse(v)).toOption
+          .filter(ok)
           .getOrElse(throw new InputError(s"command line: --$name must be $what, got '$v'"))
     }
 
   def run(cli: Cli): Unit = {
-    val output: Path = cli.path("output").getOrElse(throw new InputError("command line: trajectory needs --output FILE"))
+    val output: Path =
+      cli.path("output").getOrElse(throw new InputError("command line: trajectory needs --output FILE"))
     val samples = number[Int](cli, "samples", 1000000, _.toInt, _ >= 1, "an integer >= 1")
     val seed = number[Long](cli, "seed", 1L, _.toLong, _ => true, "an integer")
     val design = Simulate.design(cli.params)
@@ -50,6 +60,8 @@ object Trajectory {
         i += 1
       }
     }
-    println(s"wrote $output: $samples samples, seed $seed, columns ${design.columns.mkString(",")}, within the declared ranges")
+    println(
+      s"wrote $output: $samples samples, seed $seed, columns ${design.columns.mkString(",")}, within the declared ranges"
+    )
   }
 }

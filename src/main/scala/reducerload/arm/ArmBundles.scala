@@ -3,8 +3,8 @@ package reducerload.arm
 import chisel3._
 
 /**
- * One sample: per joint a binary angle (full turn = 2^angleBits; any code is in range), a velocity
- * and an acceleration as raw codes of the port formats (every joint in the widest joint's format).
+ * One sample: per joint a binary angle (full turn = 2^angleBits; any code is in range), a velocity and an
+ * acceleration as raw codes of the port formats (every joint in the widest joint's format).
  */
 class ArmInput(p: ArmParams) extends Bundle {
   val q = Vec(p.chain.size, UInt(p.numerics.angleBits.W))
@@ -12,7 +12,10 @@ class ArmInput(p: ArmParams) extends Bundle {
   val qdd = Vec(p.chain.size, SInt(p.numerics.accelerationPortFormat.width.W))
 }
 
-/** Every joint torque (N·m, raw codes of the output port format) and, per joint, whether its inputs were beyond the declared ranges. */
+/**
+ * Every joint torque (N·m, raw codes of the output port format) and, per joint, whether its inputs were
+ * beyond the declared ranges.
+ */
 class ArmOutput(p: ArmParams) extends Bundle {
   val tau = Vec(p.graph.outputs.size, SInt(p.analysis.outputPortFormat.width.W))
   val outOfRange = Vec(p.chain.size, Bool())

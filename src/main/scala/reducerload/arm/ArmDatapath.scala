@@ -8,19 +8,19 @@ import reducerload.graph._
 import reducerload.pipeline.{MemoryDelay, MultiplierImpl, PipelinedMultiplier, ShiftAddMultiplier}
 
 /**
- * Every joint torque of a serial arm: the hardware interpretation of the graph in `p.graph` at the
- * cycles and on the units of `p.schedule`. A sample is taken on `io.in` when `ready` is high (every
- * `II = p.schedule.clocksPerSample` clocks; always at II = 1) and its torques leave on `io.out`
- * exactly `p.latency` cycles later.
+ * Every joint torque of a serial arm: the hardware interpretation of the graph in `p.graph` at the cycles and
+ * on the units of `p.schedule`. A sample is taken on `io.in` when `ready` is high (every `II =
+ * p.schedule.clocksPerSample` clocks; always at II = 1) and its torques leave on `io.out` exactly `p.latency`
+ * cycles later.
  *
- * A counter gives the cycle of the sample that entered last, modulo II (the phase); a shared unit's
- * operand multiplexers select by it, and every value is written once per sample, at the phase of the
- * cycle it is computed in. A value read k cycles after it is ready passes through floor(k / II) more
- * registers written at the same phase (at II = 1: a delay line, long ones in block RAM).
+ * A counter gives the cycle of the sample that entered last, modulo II (the phase); a shared unit's operand
+ * multiplexers select by it, and every value is written once per sample, at the phase of the cycle it is
+ * computed in. A value read k cycles after it is ready passes through floor(k / II) more registers written at
+ * the same phase (at II = 1: a delay line, long ones in block RAM).
  *
- * In cycle 1 the angles are in the input register, and each velocity and acceleration, clamped to its
- * joint's declared range (flagging the joint), in its own (with memory storage in that cycle only).
- * Data registers have no reset; the valid chain and the phase do.
+ * In cycle 1 the angles are in the input register, and each velocity and acceleration, clamped to its joint's
+ * declared range (flagging the joint), in its own (with memory storage in that cycle only). Data registers
+ * have no reset; the valid chain and the phase do.
  */
 class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
   private val schedule = p.schedule
@@ -37,10 +37,10 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   private val joints = p.chain.size
 
   /**
-   * A register counting residues modulo II, at `start` in the cycle after reset. Each group of loads
-   * (the phase flags, the table's address, a registered select) has a counter of its own: one
-   * counter read by all of them fanned out across the chip, and the route from it to its own
-   * increment was the Panda's critical path.
+   * A register counting residues modulo II, at `start` in the cycle after reset. Each group of loads (the
+   * phase flags, the table's address, a registered select) has a counter of its own: one counter read by all
+   * of them fanned out across the chip, and the route from it to its own increment was the Panda's critical
+   * path.
    */
   private def residueCounter(start: Int): UInt = {
     val counter = RegInit((start % ii).U(log2Ceil(ii).W))
@@ -51,13 +51,13 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   private lazy val phase: UInt = if (ii == 1) 0.U else residueCounter(0)
 
   /**
-   * One flip-flop per residue, high while the phase equals it, so the enables of the many registers
-   * written at one phase leave a flip-flop, not a comparator (that compare and its fan-out were the
-   * critical path). Registers storage compares the phase with the residue before, a cycle early (the
-   * compare does not wait for the counter's increment; residues nothing uses are removed). Memory
-   * storage at up to [[ArmDatapath.ringMaxInterval]] clocks passes one token around a ring of II
-   * flip-flops instead: no counter, so no compare shared between the counter's wrap and the flag of
-   * residue 0 pulled between the counter and that flag's loads (the UR5's critical path at 125.9 MHz).
+   * One flip-flop per residue, high while the phase equals it, so the enables of the many registers written
+   * at one phase leave a flip-flop, not a comparator (that compare and its fan-out were the critical path).
+   * Registers storage compares the phase with the residue before, a cycle early (the compare does not wait
+   * for the counter's increment; residues nothing uses are removed). Memory storage at up to
+   * [[ArmDatapath.ringMaxInterval]] clocks passes one token around a ring of II flip-flops instead: no
+   * counter, so no compare shared between the counter's wrap and the flag of residue 0 pulled between the
+   * counter and that flag's loads (the UR5's critical path at 125.9 MHz).
    */
   private val phaseIs: IndexedSeq[Bool] =
     if (ii == 1) IndexedSeq(true.B)
@@ -66,27 +66,31 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       ring.indices.foreach(r => ring(r) := ring((r + ii - 1) % ii))
       ring
     } else (0 until ii).map(r => RegNext(phase === ((r + ii - 1) % ii).U, (r == 0).B))
+
   /**
-   * The entry of the current phase: a multiplexer tree indexed by the phase. Residues no operation
-   * uses repeat the entry before them (any value would do; a repeat lets synthesis merge inputs).
+   * The entry of the current phase: a multiplexer tree indexed by the phase. Residues no operation uses
+   * repeat the entry before them (any value would do; a repeat lets synthesis merge inputs).
    */
   private def byPhase[T <: Data](entries: Seq[(Int, T)]): T =
     if (entries.size == 1) entries.head._2
     else {
       val table = entries.toMap
       val first = entries.minBy(_._1)._2
-      val filled = (0 until ii).scanLeft(Option.empty[T])((prev, r) => table.get(r).orElse(prev)).tail.map(_.getOrElse(first))
+      val filled = (0 until ii)
+        .scanLeft(Option.empty[T])((prev, r) => table.get(r).orElse(prev))
+        .tail
+        .map(_.getOrElse(first))
       VecInit(filled)(phase)
     }
 
   /**
-   * The entry of the current phase through a multiplexer whose select is a register: which entry
-   * is looked up from a counter [[selectAhead]] cycles ahead of the phase, then registered that
-   * many times, so the lookup sits between two flip-flops of its own and the select's route to the
-   * multiplexer is a register-to-register hop. For a select that reaches far (a CORDIC unit's input
-   * among the angle sums: the phase decode and its routes were the UR5's critical path, and then,
-   * decoded from the phase a cycle early, again at 129.8 MHz). In the first cycles after reset the
-   * select is 0: those cycles' CORDIC inputs belong to samples taken before the reset.
+   * The entry of the current phase through a multiplexer whose select is a register: which entry is looked up
+   * from a counter [[selectAhead]] cycles ahead of the phase, then registered that many times, so the lookup
+   * sits between two flip-flops of its own and the select's route to the multiplexer is a
+   * register-to-register hop. For a select that reaches far (a CORDIC unit's input among the angle sums: the
+   * phase decode and its routes were the UR5's critical path, and then, decoded from the phase a cycle early,
+   * again at 129.8 MHz). In the first cycles after reset the select is 0: those cycles' CORDIC inputs belong
+   * to samples taken before the reset.
    */
   private def byPhaseRegistered[T <: Data](entries: Seq[(Int, T)]): T =
     if (entries.size == 1) entries.head._2
@@ -95,7 +99,10 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       // The index of the entry at each residue; residues nothing uses repeat the one before.
       val index = (0 until ii).map(r => sorted.lastIndexWhere(_._1 <= r).max(0))
       val ahead = residueCounter(selectAhead)
-      val select = (0 until selectAhead).foldLeft(VecInit(index.map(_.U(log2Ceil(sorted.size).W)))(ahead))((v, _) => RegNext(v, 0.U))
+      val select =
+        (0 until selectAhead).foldLeft(VecInit(index.map(_.U(log2Ceil(sorted.size).W)))(ahead))((v, _) =>
+          RegNext(v, 0.U)
+        )
       VecInit(sorted.map(_._2))(select)
     }
 
@@ -106,16 +113,21 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   private def during(cycle: Int): Bool = phaseIs(cycle % ii)
 
   /**
-   * `stage0`, a register written at the end of cycle `ready - 1` of every sample, as seen in each
-   * cycle of `reads`: one delay line at II = 1, else a chain of registers written at the same phase.
+   * `stage0`, a register written at the end of cycle `ready - 1` of every sample, as seen in each cycle of
+   * `reads`: one delay line at II = 1, else a chain of registers written at the same phase.
    */
   private def held[T <: Data](stage0: T, ready: Int, reads: Seq[Int]): Map[Int, T] = {
-    require(reads.forall(_ >= ready), s"ArmDatapath: a value ready in cycle $ready is read earlier, in ${reads.min}")
+    require(
+      reads.forall(_ >= ready),
+      s"ArmDatapath: a value ready in cycle $ready is read earlier, in ${reads.min}"
+    )
     if (ii == 1)
-      reads.distinct.sorted.foldLeft((Map.empty[Int, T], stage0, ready)) { case ((taps, v, t), r) =>
-        val d = MemoryDelay.balanced(v, r - t, p.memoryDelayMinCycles)
-        (taps + (r -> d), d, r)
-      }._1
+      reads.distinct.sorted
+        .foldLeft((Map.empty[Int, T], stage0, ready)) { case ((taps, v, t), r) =>
+          val d = MemoryDelay.balanced(v, r - t, p.memoryDelayMinCycles)
+          (taps + (r -> d), d, r)
+        }
+        ._1
     else {
       val depth = reads.map(r => (r - ready) / ii).maxOption.getOrElse(0)
       val stages = (1 to depth).scanLeft(stage0)((prev, _) => RegEnable(prev, during(ready - 1)))
@@ -139,22 +151,32 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     if (p.banked.isDefined) (RegNext(value), RegNext(outside))
     else (RegEnable(value, during(0)), RegEnable(outside, during(0)))
   }
-  private val velocities = (0 until joints).map(j => clamp(io.in.bits.qd(j), numerics.velocityLimitRaw(j), numerics.velocityFormats(j).width))
-  private val accelerations = (0 until joints).map(j => clamp(io.in.bits.qdd(j), numerics.accelerationLimitRaw(j), numerics.accelerationFormats(j).width))
+  private val velocities = (0 until joints).map(j =>
+    clamp(io.in.bits.qd(j), numerics.velocityLimitRaw(j), numerics.velocityFormats(j).width)
+  )
+  private val accelerations = (0 until joints).map(j =>
+    clamp(io.in.bits.qdd(j), numerics.accelerationLimitRaw(j), numerics.accelerationFormats(j).width)
+  )
   require(schedule.inputCycle == ArmDatapath.inputCycle, "the input stage above is one register deep")
   // Cycle 1: one flag per joint (the two compares were registered apart: they were the critical path).
-  private val jointFlagRegisters = (0 until joints).map(j => RegEnable(velocities(j)._2 || accelerations(j)._2, during(ArmDatapath.inputCycle)))
+  private val jointFlagRegisters = (0 until joints).map(j =>
+    RegEnable(velocities(j)._2 || accelerations(j)._2, during(ArmDatapath.inputCycle))
+  )
 
   // Angles: each joint's code from the input register, at the cycles its sums are issued.
   private val angleTaps = (0 until joints).map(j => held(angles(j), 1, schedule.angleReads(j)))
   private def angleSum(angle: AngleSum, cycle: Int): UInt =
     angle.terms.foldLeft(0.U(numerics.angleBits.W)) { case (acc, (j, k)) =>
       // binary angles wrap modulo one turn, as angles do
-      (0 until k.abs).foldLeft(acc)((a, _) => if (k > 0) a +% angleTaps(j)(cycle) else a -% angleTaps(j)(cycle))
+      (0 until k.abs).foldLeft(acc)((a, _) =>
+        if (k > 0) a +% angleTaps(j)(cycle) else a -% angleTaps(j)(cycle)
+      )
     }
   private val cordicOutputs = schedule.cordicBindings.map { bound =>
     val unit = Module(new CordicSinCos(p.cordic))
-    val sums = bound.map { case (residue, angle) => residue -> angleSum(angle, schedule.angleSlot(angle).issue) }
+    val sums = bound.map { case (residue, angle) =>
+      residue -> angleSum(angle, schedule.angleSlot(angle).issue)
+    }
     unit.io.in.valid := true.B // no data register waits on valid; the datapath's own valid chain says which samples count
     // Memory storage: the select registered (the UR5's critical path); registers storage keeps the
     // phase-decoded one, measured fast enough there (162 MHz on the joint-3 shared preset).
@@ -171,15 +193,17 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
   /** Each output's value in cycle `outAt`, from the storage the schedule asks for. */
   private val outputValues: IndexedSeq[SInt] = p.banked match {
-    case Some(banked) => new MemoryStorage(p, banked, residueCounter, during, held[SInt], signal, cordicOutputs).outputs
-    case None         => registerStorage()
+    case Some(banked) =>
+      new MemoryStorage(p, banked, residueCounter, during, held[SInt], signal, cordicOutputs).outputs
+    case None => registerStorage()
   }
 
   /** Every value in its own registers, each unit operand selected among them by the phase. */
   private def registerStorage(): IndexedSeq[SInt] = {
     // Multiplier units: products wired in after every operand exists.
     def shapeOfUnit(u: Int): MulShape = schedule.unitShape(u)
-    val products = schedule.mulBindings.indices.map(u => Wire(SInt((shapeOfUnit(u).wide + shapeOfUnit(u).narrow).W)))
+    val products =
+      schedule.mulBindings.indices.map(u => Wire(SInt((shapeOfUnit(u).wide + shapeOfUnit(u).narrow).W)))
 
     // The graph, node by node: each value's register and the taps its readers use.
     val values: Vector[Map[Int, SInt]] = graph.ids.foldLeft(Vector.empty[Map[Int, SInt]]) { (done, id) =>
@@ -188,12 +212,15 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
         case Const(_) => analysis(x).raw.get.S(analysis(x).format.width.W)
         case _        => done(x.index)(cycle)
       }
+
       /** Operand `x` in cycle `t`, its fraction bits raised to `f`'s, sign-extended to `f`'s width. */
-      def aligned(x: NodeId, t: Int): SInt = (tap(x, t) << (f.fracBits - analysis(x).format.fracBits)).asSInt.pad(f.width)
+      def aligned(x: NodeId, t: Int): SInt =
+        (tap(x, t) << (f.fracBits - analysis(x).format.fracBits)).asSInt.pad(f.width)
       def fit(v: SInt): SInt = FixedHw.fitWidth(v, f.width)
       val ready = schedule(id)
       def issue = schedule.slot(id).get.issue
       def register(v: SInt, cycle: Int): SInt = RegEnable(fit(v), during(cycle))
+
       /** The value's register, seen by its readers. */
       def kept(stage0: SInt): Map[Int, SInt] = held(stage0, ready.get, schedule.reads(id.index))
       val taps: Map[Int, SInt] = graph(id) match {
@@ -216,7 +243,8 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
             } else products(schedule.slot(id).get.unit.get)
           val rounded = fit(FixedHw.shiftRound(product, rule.drop, rule.rounding))
           val captured = !schedule.dedicated || rule.rounding != Rounding.Truncate
-          if (schedule.forwarded(id)) Map(ready.get - 1 -> rounded) // its one reader takes it off the unit's output
+          if (schedule.forwarded(id))
+            Map(ready.get - 1 -> rounded) // its one reader takes it off the unit's output
           else kept(if (captured) RegEnable(rounded, during(ready.get - 1)) else rounded)
       }
       done :+ taps
@@ -231,10 +259,13 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
           case Const(_) => analysis(x).raw.get.S(analysis(x).format.width.W)
           case _        => values(x.index)(r)
         }
-        val (wide, narrow) = if (analysis(a).format.width >= analysis(b).format.width) (tap(a), tap(b)) else (tap(b), tap(a))
+        val (wide, narrow) =
+          if (analysis(a).format.width >= analysis(b).format.width) (tap(a), tap(b)) else (tap(b), tap(a))
         (wide.pad(shape.wide), narrow.pad(shape.narrow))
       }
-      def select(pick: ((SInt, SInt)) => SInt): SInt = byPhase(bound.map { case (r, id) => r -> pick(operands(id)) })
+      def select(pick: ((SInt, SInt)) => SInt): SInt = byPhase(bound.map { case (r, id) =>
+        r -> pick(operands(id))
+      })
       val product = PipelinedMultiplier(select(_._1), select(_._2))
       products(u) := FixedHw.delay(product, p.multiplierLatency - 1)
     }
@@ -248,16 +279,22 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   // OR across the joints in one clock were the UR5's critical path). Memory storage: three
   // (BankedSchedule.outputStages), the compares registered before the multiplexer and the OR
   // registered before the flags: each was the UR5's critical path at 136.5 and 140.9 MHz.
-  require(p.latency == outAt + p.outputStages, s"ArmDatapath: latency ${p.latency} is not the output stage's ${p.outputStages} cycles after cycle $outAt")
+  require(
+    p.latency == outAt + p.outputStages,
+    s"ArmDatapath: latency ${p.latency} is not the output stage's ${p.outputStages} cycles after cycle $outAt"
+  )
   private val decisions = graph.outputs.zip(analysis.outputs).zip(outputValues).map { case ((o, info), v) =>
     FixedHw.roundSaturateDecision(v, analysis.outputDrop(o), info.format)
   }
   private def portCode(decided: Clamped): SInt = decided.value.pad(analysis.outputPortFormat.width)
+
   /** Each joint's input flag as read in cycle `cycle` of the output stage. */
-  private def jointFlags(cycle: Int): Seq[Bool] = jointFlagRegisters.map(flag => held(flag, ArmDatapath.flagCycle, Seq(cycle))(cycle))
+  private def jointFlags(cycle: Int): Seq[Bool] =
+    jointFlagRegisters.map(flag => held(flag, ArmDatapath.flagCycle, Seq(cycle))(cycle))
   private val outBits = Reg(new ArmOutput(p)) // data: no reset; `valid` says when it counts
   if (p.outputStages == Schedule.outputStages) {
-    val results = decisions.map(d => (RegEnable(portCode(d), during(outAt)), RegEnable(d.outside, during(outAt))))
+    val results =
+      decisions.map(d => (RegEnable(portCode(d), during(outAt)), RegEnable(d.outside, during(outAt))))
     val flagged = jointFlags(outAt).map(RegEnable(_, during(outAt)))
     val anySaturated = results.map(_._2).reduce(_ || _)
     when(during(outAt + 1)) {
@@ -265,7 +302,10 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       outBits.outOfRange := VecInit(flagged.map(_ || anySaturated))
     }
   } else {
-    require(p.outputStages == BankedSchedule.outputStages && ii >= 2, "ArmDatapath: a three-register output stage holds the torques a cycle: it needs memory storage's II >= 2")
+    require(
+      p.outputStages == BankedSchedule.outputStages && ii >= 2,
+      "ArmDatapath: a three-register output stage holds the torques a cycle: it needs memory storage's II >= 2"
+    )
     // The torques' port registers are loaded a cycle before the flags' and held (II >= 2) until then.
     val registered = decisions.map(_.registered(during(outAt)))
     val anySaturated = RegEnable(registered.map(_.outside).reduce(_ || _), during(outAt + 1))
@@ -279,9 +319,9 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 object ArmDatapath {
 
   /**
-   * Longest interval whose phase flags come from a ring: a ring costs II flip-flops, a logic element
-   * each, against the counter's compares (the UR5 at 512 clocks, measured on 6f1a594: 4,784
-   * estimated LEs with a ring, 4,294 without); the designs whose clock the flags limit run at tens of clocks per sample.
+   * Longest interval whose phase flags come from a ring: a ring costs II flip-flops, a logic element each,
+   * against the counter's compares (the UR5 at 512 clocks, measured on 6f1a594: 4,784 estimated LEs with a
+   * ring, 4,294 without); the designs whose clock the flags limit run at tens of clocks per sample.
    */
   val ringMaxInterval: Int = 128
 

@@ -3,18 +3,33 @@ package reducerload.arm
 import reducerload.fixedpoint.{FixedFormat, Rounding}
 import reducerload.graph.{GraphModel, SampleCodes}
 
-/** One sample of joint state in SI units: angles (rad), velocities (rad/s), accelerations (rad/s^2), one each per joint. */
+/**
+ * One sample of joint state in SI units: angles (rad), velocities (rad/s), accelerations (rad/s^2), one each
+ * per joint.
+ */
 final case class ArmSample(q: IndexedSeq[Double], qd: IndexedSeq[Double], qdd: IndexedSeq[Double]) {
-  require(q.size == qd.size && q.size == qdd.size, s"ArmSample: ${q.size} angles, ${qd.size} velocities, ${qdd.size} accelerations")
+  require(
+    q.size == qd.size && q.size == qdd.size,
+    s"ArmSample: ${q.size} angles, ${qd.size} velocities, ${qdd.size} accelerations"
+  )
+
   /** Angles, then velocities, then accelerations: a trajectory row's order. */
   def toSeq: IndexedSeq[Double] = q ++ qd ++ qdd
 }
 object ArmSample {
+
   /** A sample from a row of angles, velocities and accelerations (n each, in that order). */
   def fromRow(row: Seq[Double]): ArmSample = {
-    require(row.size % 3 == 0, s"ArmSample: a row of ${row.size} values is not n angles, n velocities and n accelerations")
+    require(
+      row.size % 3 == 0,
+      s"ArmSample: a row of ${row.size} values is not n angles, n velocities and n accelerations"
+    )
     val n = row.size / 3
-    ArmSample(row.slice(0, n).toIndexedSeq, row.slice(n, 2 * n).toIndexedSeq, row.slice(2 * n, 3 * n).toIndexedSeq)
+    ArmSample(
+      row.slice(0, n).toIndexedSeq,
+      row.slice(n, 2 * n).toIndexedSeq,
+      row.slice(2 * n, 3 * n).toIndexedSeq
+    )
   }
 }
 
@@ -31,7 +46,8 @@ final class ArmModel(val p: ArmParams) {
   def evaluate(in: SampleCodes): ArmOutputCodes = {
     def clamp(x: BigInt, limit: BigInt) = FixedFormat.clamp(x, -limit, limit)
     val (qd, qdFlags) = in.velocities.zip(numerics.velocityLimitRaw).map { case (x, l) => clamp(x, l) }.unzip
-    val (qdd, qddFlags) = in.accelerations.zip(numerics.accelerationLimitRaw).map { case (x, l) => clamp(x, l) }.unzip
+    val (qdd, qddFlags) =
+      in.accelerations.zip(numerics.accelerationLimitRaw).map { case (x, l) => clamp(x, l) }.unzip
     val out = graphModel.outputs(SampleCodes(in.angles, qd, qdd))
     val saturated = out.exists(_._2)
     ArmOutputCodes(out.map(_._1), qdFlags.zip(qddFlags).map { case (a, b) => a || b || saturated })
@@ -46,9 +62,16 @@ final class ArmModel(val p: ArmParams) {
 
   /** Port codes of a sample (round to nearest); values beyond the port format saturate at it. */
   def encode(s: ArmSample): SampleCodes = {
-    require(s.q.size == p.chain.size, s"a sample of ${s.q.size} joints for the ${p.chain.size}-joint ${p.chain.name}")
+    require(
+      s.q.size == p.chain.size,
+      s"a sample of ${s.q.size} joints for the ${p.chain.size}-joint ${p.chain.name}"
+    )
     def code(x: Double, f: FixedFormat) = f.fromDouble(x, Rounding.HalfUp)._1
-    SampleCodes(s.q.map(angleCode), s.qd.map(code(_, numerics.velocityPortFormat)), s.qdd.map(code(_, numerics.accelerationPortFormat)))
+    SampleCodes(
+      s.q.map(angleCode),
+      s.qd.map(code(_, numerics.velocityPortFormat)),
+      s.qdd.map(code(_, numerics.accelerationPortFormat))
+    )
   }
 
   /** Torques in N·m. */

@@ -9,26 +9,33 @@ import reducerload.pipeline.{MultiplierImpl, PipelinedMultiplier}
 
 /**
  * The memory-storage body of [[ArmDatapath]] (`schedule.storage = memory`): the hardware of a
- * [[BankedSchedule]]. Every unit (the input stage, each multiplier, adder and CORDIC unit) writes
- * its result into the unit's bank through one register ([[BankedSchedule.writeDelay]]); units
- * read their operands from the banks' two read ports (port 0 for first operands, port 1 for
- * second), through a multiplexer over the banks that port actually reads. What each bank port,
- * multiplexer, shift and unit does in a cycle comes from one table indexed by the phase (a ROM of
- * II words, [[Microcode]]), so no value has a register or multiplexer input of its own.
+ * [[BankedSchedule]]. Every unit (the input stage, each multiplier, adder and CORDIC unit) writes its result
+ * into the unit's bank through one register ([[BankedSchedule.writeDelay]]); units read their operands from
+ * the banks' two read ports (port 0 for first operands, port 1 for second), through a multiplexer over the
+ * banks that port actually reads. What each bank port, multiplexer, shift and unit does in a cycle comes from
+ * one table indexed by the phase (a ROM of II words, [[Microcode]]), so no value has a register or
+ * multiplexer input of its own.
  *
- * Called while [[ArmDatapath]] elaborates: `signals` are the clamped inputs (valid in
- * `inputCycle` only), `cordic` the CORDIC units' outputs, `during(c)` is true in cycle c of
- * every sample, and `residueCounter(r)` is a new counter of residues modulo II, at `r` in the cycle
- * after reset (the datapath's phase is such a counter at 0). The result is each output node's
- * value, held until `outputsReady`.
+ * Called while [[ArmDatapath]] elaborates: `signals` are the clamped inputs (valid in `inputCycle` only),
+ * `cordic` the CORDIC units' outputs, `during(c)` is true in cycle c of every sample, and `residueCounter(r)`
+ * is a new counter of residues modulo II, at `r` in the cycle after reset (the datapath's phase is such a
+ * counter at 0). The result is each output node's value, held until `outputsReady`.
  */
-final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int => UInt, during: Int => Bool,
-  held: (SInt, Int, Seq[Int]) => Map[Int, SInt], signals: Signal => SInt, cordic: IndexedSeq[SinCos])(implicit multiplierImpl: MultiplierImpl) {
+final class MemoryStorage(
+    p: ArmParams,
+    b: BankedSchedule,
+    residueCounter: Int => UInt,
+    during: Int => Bool,
+    held: (SInt, Int, Seq[Int]) => Map[Int, SInt],
+    signals: Signal => SInt,
+    cordic: IndexedSeq[SinCos]
+)(implicit multiplierImpl: MultiplierImpl) {
   import Op._
   private val analysis = p.analysis
   private val graph = p.graph
   private val ii = b.clocksPerSample
   private def residue(cycle: Int) = Math.floorMod(cycle, ii)
+
   /** A field's values a cycle early, for a register after the table's. */
   private def earlier(f: Field) = Field(f.width, f.values.map { case (r, v) => residue(r - 1) -> v })
   private def fmt(x: NodeId) = analysis(x).format
@@ -51,131 +58,211 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
     val copyBits: Int = log2Ceil(b.copies(bank))
     val depth: Int = 1 << (slotBits + copyBits)
     val width: Int = math.max(1, slotBits + copyBits)
-    /** The table entry of an access to `node` in `cycle`: its slot, and the whole intervals since its sample's cycle 0. */
-    def entry(node: NodeId, cycle: Int): BigInt = (BigInt(b.intervalsBefore(cycle) % b.copies(bank)) << slotBits) | b.slot(node)
+
+    /**
+     * The table entry of an access to `node` in `cycle`: its slot, and the whole intervals since its sample's
+     * cycle 0.
+     */
+    def entry(node: NodeId, cycle: Int): BigInt =
+      (BigInt(b.intervalsBefore(cycle) % b.copies(bank)) << slotBits) | b.slot(node)
+
     /** The address from an entry: the copy is the slot counter less the intervals (modulo the copies). */
     def address(entry: UInt): UInt = {
-      val copy = if (copyBits == 0) None else Some((slotCounter - entry(slotBits + copyBits - 1, slotBits))(copyBits - 1, 0))
+      val copy =
+        if (copyBits == 0) None
+        else Some((slotCounter - entry(slotBits + copyBits - 1, slotBits))(copyBits - 1, 0))
       val slot = if (slotBits == 0) None else Some(entry(slotBits - 1, 0))
       (copy.toSeq ++ slot.toSeq).reduceOption(Cat(_, _)).getOrElse(0.U(1.W))
     }
     // A value leaves its unit in the cycle before it is ready; the table addresses its write then (registered with the data).
-    val write: Field = Field(width, b.values(bank).map(v => residue(b.ready(v).get - 1) -> entry(v, b.ready(v).get - 1)).toMap)
+    val write: Field =
+      Field(width, b.values(bank).map(v => residue(b.ready(v).get - 1) -> entry(v, b.ready(v).get - 1)).toMap)
     val writeEnable: Field = Field.flag(b.values(bank).map(v => residue(b.ready(v).get - 1)).toSet)
     val reads: IndexedSeq[Field] = (0 to 1).map(port =>
-      Field(width, b.reads.filter(r => r.bank == bank && r.port == port).map(r => residue(r.cycle) -> entry(r.node, r.cycle)).toMap))
+      Field(
+        width,
+        b.reads
+          .filter(r => r.bank == bank && r.port == port)
+          .map(r => residue(r.cycle) -> entry(r.node, r.cycle))
+          .toMap
+      )
+    )
   }
   private val addressing = b.banks.indices.map(new BankAddressing(_))
 
   /**
-   * A unit port's sources (`operands` by the residue of the cycle their selection starts, each with
-   * the bits it is shifted left by: an addition aligns its operands' fraction bits here, in the
-   * wiring of the first stage's inputs, so no stage of its own does): the banks it reads (once per
-   * shift), then a constant (or zero) if any. The selection takes `b.selectStages` clocks (two,
-   * or one at a tight interval): in the first, each group of [[MemoryStorage.selectGroup]] options
-   * picks by the low bits of the option's index (the same bits for every group) and is registered,
-   * cleared unless its group holds the option (one clear bit per group, set for the other groups,
-   * so that it drives the registers' synchronous reset with no inverter between); in the second,
-   * the groups are ORed. A port with 30 options then has eight 4-way multiplexers in one clock and
-   * an 8-input OR in the next instead of a 32-way multiplexer in one, and the second clock needs no
-   * select (a select register driving every bit of a wide multiplexer across the chip was the
-   * Panda's critical path).
+   * A unit port's sources (`operands` by the residue of the cycle their selection starts, each with the bits
+   * it is shifted left by: an addition aligns its operands' fraction bits here, in the wiring of the first
+   * stage's inputs, so no stage of its own does): the banks it reads (once per shift), then a constant (or
+   * zero) if any. The selection takes `b.selectStages` clocks (two, or one at a tight interval): in the
+   * first, each group of [[MemoryStorage.selectGroup]] options picks by the low bits of the option's index
+   * (the same bits for every group) and is registered, cleared unless its group holds the option (one clear
+   * bit per group, set for the other groups, so that it drives the registers' synchronous reset with no
+   * inverter between); in the second, the groups are ORed. A port with 30 options then has eight 4-way
+   * multiplexers in one clock and an 8-input OR in the next instead of a 32-way multiplexer in one, and the
+   * second clock needs no select (a select register driving every bit of a wide multiplexer across the chip
+   * was the Panda's critical path).
    */
   private final class PortSources(operands: Seq[(Int, Operand, Int)]) {
-    /** Sources: a bank's read port (Left: bank, port) or a unit's output register (Right: bank), and the shift. */
+
+    /**
+     * Sources: a bank's read port (Left: bank, port) or a unit's output register (Right: bank), and the
+     * shift.
+     */
     private def sourceOf(o: Operand, shift: Int): Option[(Either[(Int, Int), Int], Int)] = o match {
       case Operand.Stored(x, bankPort) => Some((Left((b.bankOf(x).get, bankPort)), shift))
       case Operand.Forwarded(x)        => Some((Right(b.bankOf(x).get), shift))
       case _                           => None
     }
-    val sources: IndexedSeq[(Either[(Int, Int), Int], Int)] = operands.flatMap(o => sourceOf(o._2, o._3)).distinct.sortBy(_.toString).toIndexedSeq
+    val sources: IndexedSeq[(Either[(Int, Int), Int], Int)] =
+      operands.flatMap(o => sourceOf(o._2, o._3)).distinct.sortBy(_.toString).toIndexedSeq
     // The table holds each constant shifted already.
     private val constants: Map[Int, (BigInt, Int)] = operands.collect {
       case (r, Operand.Constant(x), shift) => r -> (analysis(x).raw.get << shift, fmt(x).width + shift)
       case (r, Operand.Zero, _)            => r -> (BigInt(0), 1)
     }.toMap
     private val constantWidth = constants.values.map(_._2).maxOption.getOrElse(1)
-    private val index: Seq[(Int, Int)] = operands.map { case (r, o, shift) => r -> sourceOf(o, shift).fold(sources.size)(sources.indexOf) }
+    private val index: Seq[(Int, Int)] = operands.map { case (r, o, shift) =>
+      r -> sourceOf(o, shift).fold(sources.size)(sources.indexOf)
+    }
+
     /** Options: the sources, then the constant field if any. */
     private val options: Int = sources.size + (if (constants.isEmpty) 0 else 1)
     private val group = MemoryStorage.selectGroup
     private val groups: Int = (options + group - 1) / group
+
     /** The index within its group, in the first stage's cycle (None: one option). */
     val selectLow: Option[Field] =
-      if (options <= 1) None else Some(Field(log2Ceil(math.min(options, group)), index.map { case (r, i) => r -> BigInt(i % group) }.toMap))
-    /** One clear bit per group, set for every group but the option's, in the first stage's cycle (None: one group). */
+      if (options <= 1) None
+      else
+        Some(
+          Field(log2Ceil(math.min(options, group)), index.map { case (r, i) => r -> BigInt(i % group) }.toMap)
+        )
+
+    /**
+     * One clear bit per group, set for every group but the option's, in the first stage's cycle (None: one
+     * group).
+     */
     val groupClears: Option[Field] =
-      if (groups <= 1) None else Some(Field(groups, index.map { case (r, i) => r -> (((BigInt(1) << groups) - 1) ^ (BigInt(1) << (i / group))) }.toMap))
+      if (groups <= 1) None
+      else
+        Some(
+          Field(
+            groups,
+            index.map { case (r, i) => r -> (((BigInt(1) << groups) - 1) ^ (BigInt(1) << (i / group))) }.toMap
+          )
+        )
+
     /** Two's complement codes of the constants, in the constant field's width. */
     val constant: Option[Field] =
-      if (constants.isEmpty) None else Some(Field(constantWidth, constants.map { case (r, (c, _)) => r -> (c & ((BigInt(1) << constantWidth) - 1)) }))
-    /** The selects come from registers after the table's word ([[control]]): the table holds them a cycle early. */
+      if (constants.isEmpty) None
+      else
+        Some(
+          Field(
+            constantWidth,
+            constants.map { case (r, (c, _)) => r -> (c & ((BigInt(1) << constantWidth) - 1)) }
+          )
+        )
+
+    /**
+     * The selects come from registers after the table's word ([[control]]): the table holds them a cycle
+     * early.
+     */
     def fields: Seq[Field] = selectLow.map(earlier).toSeq ++ groupClears.map(earlier).toSeq ++ constant.toSeq
   }
 
   private def opsOn(kind: UnitKind, unit: Int) = b.ops.filter(o => o.kind == kind && o.unit == unit)
 
-  /** A multiplier unit: sources the cycle before the issue (operands registered), each product's dropped bits the cycle before it is ready. */
+  /**
+   * A multiplier unit: sources the cycle before the issue (operands registered), each product's dropped bits
+   * the cycle before it is ready.
+   */
   private final class MultiplierPlan(u: Int) {
     private val ops = opsOn(UnitKind.Multiplier, u)
-    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => (residue(o.issue - b.mulForwardLead), o.operands(port), 0))))
+    val ports: IndexedSeq[PortSources] = (0 to 1).map(port =>
+      new PortSources(ops.map(o => (residue(o.issue - b.mulForwardLead), o.operands(port), 0)))
+    )
     private def drop(o: PlacedOp) = analysis.productRounding(o.node).drop
     val drops: IndexedSeq[Int] = ops.map(drop).distinct.sorted.toIndexedSeq
-    val dropSelect: Field = Field(log2Ceil(math.max(drops.size, 2)), ops.map(o => residue(b.ready(o.node).get - 1) -> BigInt(drops.indexOf(drop(o)))).toMap)
+    val dropSelect: Field = Field(
+      log2Ceil(math.max(drops.size, 2)),
+      ops.map(o => residue(b.ready(o.node).get - 1) -> BigInt(drops.indexOf(drop(o)))).toMap
+    )
     def fields: Seq[Field] = ports.flatMap(_.fields) :+ dropSelect
   }
   private val multipliers = (0 until p.schedule.multiplierUnits).map(new MultiplierPlan(_))
 
-  /** An adder unit: sources (aligned) `addForwardLead` cycles before the issue, add or subtract one cycle before (each step registered). */
+  /**
+   * An adder unit: sources (aligned) `addForwardLead` cycles before the issue, add or subtract one cycle
+   * before (each step registered).
+   */
   private final class AdderPlan(u: Int) {
     private val ops = opsOn(UnitKind.Adder, u)
-    /** Fraction bits an operand gains to reach its sum's (the analysis's rule for exact sums); zero needs none. */
-    private def shift(o: PlacedOp, port: Int) = o.operands(port).carried.fold(0)(x => fmt(o.node).fracBits - fmt(x).fracBits)
-    val ports: IndexedSeq[PortSources] = (0 to 1).map(port => new PortSources(ops.map(o => (residue(o.issue - b.addForwardLead), o.operands(port), shift(o, port)))))
+
+    /**
+     * Fraction bits an operand gains to reach its sum's (the analysis's rule for exact sums); zero needs
+     * none.
+     */
+    private def shift(o: PlacedOp, port: Int) =
+      o.operands(port).carried.fold(0)(x => fmt(o.node).fracBits - fmt(x).fracBits)
+    val ports: IndexedSeq[PortSources] = (0 to 1).map(port =>
+      new PortSources(ops.map(o => (residue(o.issue - b.addForwardLead), o.operands(port), shift(o, port))))
+    )
     val subtract: Field = Field.flag(ops.filter(_.subtract).map(o => residue(o.issue - 1)).toSet)
-    /** Add or subtract comes from a register after the table's word ([[control]]): the table holds it a cycle early. */
+
+    /**
+     * Add or subtract comes from a register after the table's word ([[control]]): the table holds it a cycle
+     * early.
+     */
     def fields: Seq[Field] = ports.flatMap(_.fields) :+ earlier(subtract)
   }
   private val adders = (0 until b.adderUnits).map(new AdderPlan(_))
 
   // ---- Hardware. ----
-  require(Microcode.ahead <= p.schedule.inputCycle + BankedSchedule.inputLatency - 1,
-    s"MemoryStorage: the table's first word comes ${Microcode.ahead} cycles after reset, after a sample's first write")
-  private val word = new Microcode(ii, addressing.flatMap(a => Seq(a.write, a.writeEnable) ++ a.reads) ++ multipliers.flatMap(_.fields) ++
-    adders.flatMap(_.fields), residueCounter(0))
+  require(
+    Microcode.ahead <= p.schedule.inputCycle + BankedSchedule.inputLatency - 1,
+    s"MemoryStorage: the table's first word comes ${Microcode.ahead} cycles after reset, after a sample's first write"
+  )
+  private val word = new Microcode(
+    ii,
+    addressing.flatMap(a => Seq(a.write, a.writeEnable) ++ a.reads) ++ multipliers.flatMap(_.fields) ++
+      adders.flatMap(_.fields),
+    residueCounter(0)
+  )
 
   private def bankIndex(bank: Bank) = b.banks.indexOf(bank)
 
   /**
-   * A control field in the cycle of its use, from a register of its own after the table's word (the
-   * table holds it a cycle early), which the placer can put near the unit it drives. (Copies of it
-   * per 9-bit slice of the unit, kept apart, were emitted before; synthesis merged them back into
-   * one register, which is what every clock figure was measured on.)
+   * A control field in the cycle of its use, from a register of its own after the table's word (the table
+   * holds it a cycle early), which the placer can put near the unit it drives. (Copies of it per 9-bit slice
+   * of the unit, kept apart, were emitted before; synthesis merged them back into one register, which is what
+   * every clock figure was measured on.)
    */
   private def control(f: Field): UInt = FixedHw.delay(word(earlier(f)), 1)
   private def fit(v: SInt, width: Int): SInt = FixedHw.fitWidth(v, width)
 
-  /** Each unit's result, written into its bank (block RAM registers its write port), and its output register (forwarding). */
+  /**
+   * Each unit's result, written into its bank (block RAM registers its write port), and its output register
+   * (forwarding).
+   */
   private val next: IndexedSeq[SInt] = b.banks.indices.map(bank => Wire(SInt(b.unitWidths(bank).W)))
   private val out: IndexedSeq[SInt] = next.map(FixedHw.delay(_, 1))
 
   /**
-   * Each bank's two read ports: the word a cycle before it is in the registers of the unit ports
-   * that take it (`readLatency` cycles after its address, [[operand]]). The address is registered,
-   * read, and the word registered twice. Yosys maps the address register to the fabric, the first
-   * word register to the block RAM's synchronous read and the second to its output register, whose
-   * pin then drives each unit port's copy (without those copies it drove the operand multiplexers
-   * and was the UR5's critical path at 140.7 and 148.2 MHz; keeping the output register in the
-   * fabric measured no better).
+   * Each bank's two read ports: the word a cycle before it is in the registers of the unit ports that take it
+   * (`readLatency` cycles after its address, [[operand]]). The address is registered, read, and the word
+   * registered twice. Yosys maps the address register to the fabric, the first word register to the block
+   * RAM's synchronous read and the second to its output register, whose pin then drives each unit port's copy
+   * (without those copies it drove the operand multiplexers and was the UR5's critical path at 140.7 and
+   * 148.2 MHz; keeping the output register in the fabric measured no better).
    *
-   * The word is registered after the read (read-first), not read at a registered address
-   * (write-first): the schedule never reads a word in the cycle it is written (a value is read
-   * after it is ready, and overwritten only after the last cycle its array is read, see
-   * [[BankedSchedule.copies]]), so either order gives the same
-   * words. Synthesis must still honour whatever order the RTL states for such a collision, and the
-   * RAM blocks serve neither across their ports, so it would add a bypass after the RAM output.
-   * The read is therefore enabled only when it does not collide (a disabled read returns an
-   * undefined word): Yosys recognizes that as "don't care on collision" and maps the bare RAM.
+   * The word is registered after the read (read-first), not read at a registered address (write-first): the
+   * schedule never reads a word in the cycle it is written (a value is read after it is ready, and
+   * overwritten only after the last cycle its array is read, see [[BankedSchedule.copies]]), so either order
+   * gives the same words. Synthesis must still honour whatever order the RTL states for such a collision, and
+   * the RAM blocks serve neither across their ports, so it would add a bypass after the RAM output. The read
+   * is therefore enabled only when it does not collide (a disabled read returns an undefined word): Yosys
+   * recognizes that as "don't care on collision" and maps the bare RAM.
    */
   private val readData: IndexedSeq[IndexedSeq[SInt]] = b.banks.indices.map { bank =>
     val a = addressing(bank)
@@ -196,18 +283,22 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
 
   /**
    * A unit port's operand, selected from the options of the cycle its selection starts and out of the
-   * multiplexer `b.selectStages` - 1 cycles later (to be registered by the unit),
-   * sign-extended or cut to `width` (values fit their formats).
+   * multiplexer `b.selectStages` - 1 cycles later (to be registered by the unit), sign-extended or cut to
+   * `width` (values fit their formats).
    */
   private def operand(src: PortSources, width: Int): SInt = {
     val options = src.sources.map { case (s, shift) =>
-      (fit(s.fold({ case (bank, bankPort) => readData(bank)(bankPort) }, bank => out(bank)), width) << shift)(width - 1, 0).asSInt
+      (fit(s.fold({ case (bank, bankPort) => readData(bank)(bankPort) }, bank => out(bank)), width) << shift)(
+        width - 1,
+        0
+      ).asSInt
     } ++
       src.constant.map(c => fit(word(c).asSInt, width))
     lazy val low = control(src.selectLow.get) // one register for every group
     lazy val clears = control(src.groupClears.get)
     // A unit the schedule left idle (more adder units asked for than it used) has no options.
-    val grouped = if (options.isEmpty) Seq(Seq(0.S(width.W))) else options.grouped(MemoryStorage.selectGroup).toSeq
+    val grouped =
+      if (options.isEmpty) Seq(Seq(0.S(width.W))) else options.grouped(MemoryStorage.selectGroup).toSeq
     val groups = grouped.zipWithIndex.map { case (g, k) =>
       val picked = if (g.size == 1) g.head else VecInit(g)(low(log2Ceil(g.size) - 1, 0))
       FixedHw.delay(if (grouped.size == 1) picked else Mux(clears(k), 0.S, picked), b.selectStages - 1)
@@ -237,11 +328,13 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
   multipliers.zipWithIndex.foreach { case (plan, u) =>
     val shape = p.schedule.unitShape(u)
     // Operands registered in the fabric: the selection's long routes to the multiplier blocks get a clock of their own.
-    val operands = Seq(operand(plan.ports(0), shape.wide), operand(plan.ports(1), shape.narrow)).map(FixedHw.delay(_, 1))
+    val operands =
+      Seq(operand(plan.ports(0), shape.wide), operand(plan.ports(1), shape.narrow)).map(FixedHw.delay(_, 1))
     val product = FixedHw.delay(PipelinedMultiplier(operands(0), operands(1)), p.multiplierLatency - 1)
     val width = b.unitWidths(bankIndex(Bank.Products(u)))
     val rounded = plan.drops.map(d => fit(FixedHw.shiftRound(product, d, p.productRounding), width))
-    next(bankIndex(Bank.Products(u))) := (if (rounded.size == 1) rounded.head else VecInit(rounded)(word(plan.dropSelect)))
+    next(bankIndex(Bank.Products(u))) := (if (rounded.size == 1) rounded.head
+                                          else VecInit(rounded)(word(plan.dropSelect)))
   }
 
   // Adder units.
@@ -267,10 +360,10 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
   }
 
   /**
-   * Each output's value in cycle `outputsReady`: its unit's output register in the cycle it is ready,
-   * copied from there and held if that is earlier. (Captured from the unit's sum, beside the output
-   * register, the route from the adder's carry chain to the capture register by the output stage was
-   * the Panda's critical path.)
+   * Each output's value in cycle `outputsReady`: its unit's output register in the cycle it is ready, copied
+   * from there and held if that is earlier. (Captured from the unit's sum, beside the output register, the
+   * route from the adder's carry chain to the capture register by the output stage was the Panda's critical
+   * path.)
    */
   val outputs: IndexedSeq[SInt] = graph.outputs.map { o =>
     graph(o.node) match {
@@ -287,35 +380,43 @@ final class MemoryStorage(p: ArmParams, b: BankedSchedule, residueCounter: Int =
 /** A control field: `width` bits with a value for some residues (the others read 0, a don't-care). */
 final case class Field(width: Int, values: Map[Int, BigInt]) {
   require(width >= 1, s"Field: $width bits")
-  values.foreach { case (r, v) => require(v >= 0 && v.bitLength <= width, s"Field: $v does not fit $width bits at residue $r") }
+  values.foreach { case (r, v) =>
+    require(v >= 0 && v.bitLength <= width, s"Field: $v does not fit $width bits at residue $r")
+  }
 }
 object Field {
+
   /** A one-bit field set at `residues`. */
   def flag(residues: Set[Int]): Field = Field(1, residues.map(_ -> BigInt(1)).toMap)
 }
 
 /**
- * Control fields packed into one ROM word per residue, read [[Microcode.ahead]] cycles ahead at
- * `address`, a counter of its own that equals the phase (so the phase counter does not also drive
- * the ROM's address pins across the chip). Equal fields share their bits.
+ * Control fields packed into one ROM word per residue, read [[Microcode.ahead]] cycles ahead at `address`, a
+ * counter of its own that equals the phase (so the phase counter does not also drive the ROM's address pins
+ * across the chip). Equal fields share their bits.
  */
 final class Microcode(ii: Int, fields: Seq[Field], address: UInt) {
   private val distinct = fields.distinct
-  distinct.foreach(f => require(f.values.keys.forall(r => r >= 0 && r < ii), s"Microcode: a residue outside 0..${ii - 1}"))
+  distinct.foreach(f =>
+    require(f.values.keys.forall(r => r >= 0 && r < ii), s"Microcode: a residue outside 0..${ii - 1}")
+  )
   private val offsets: Map[Field, Int] = distinct.zip(distinct.map(_.width).scanLeft(0)(_ + _)).toMap
   val width: Int = distinct.map(_.width).sum
+
   /**
-   * The word of the current residue, from registers: the ROM holds each residue's word
-   * [[Microcode.ahead]] residues earlier and is read at the phase that many cycles ahead, through
-   * three registers (the block RAM's address and output registers, then one in the fabric), so
-   * every control signal leaves a flip-flop the placer can put near its loads, not a block-RAM read
-   * or the block RAM's own output register (the word's bits fan out to every unit from one place:
-   * that route was the UR5's critical path). In the first `ahead` cycles after reset the registers
-   * hold no word; every action of those cycles belongs to samples taken before the reset (a
-   * sample's first action, its input bank's first write, comes `ahead` cycles after it is taken).
+   * The word of the current residue, from registers: the ROM holds each residue's word [[Microcode.ahead]]
+   * residues earlier and is read at the phase that many cycles ahead, through three registers (the block
+   * RAM's address and output registers, then one in the fabric), so every control signal leaves a flip-flop
+   * the placer can put near its loads, not a block-RAM read or the block RAM's own output register (the
+   * word's bits fan out to every unit from one place: that route was the UR5's critical path). In the first
+   * `ahead` cycles after reset the registers hold no word; every action of those cycles belongs to samples
+   * taken before the reset (a sample's first action, its input bank's first write, comes `ahead` cycles after
+   * it is taken).
    */
   private val bits: UInt = {
-    val words = (0 until ii).map(r => distinct.foldLeft(BigInt(0))((acc, f) => acc | (f.values.getOrElse(r, BigInt(0)) << offsets(f))))
+    val words = (0 until ii).map(r =>
+      distinct.foldLeft(BigInt(0))((acc, f) => acc | (f.values.getOrElse(r, BigInt(0)) << offsets(f)))
+    )
     val rom = VecInit((0 until ii).map(r => words((r + Microcode.ahead) % ii).U(math.max(width, 1).W)))
     FixedHw.delay(rom(address), Microcode.ahead)
   }
@@ -326,7 +427,10 @@ final class Microcode(ii: Int, fields: Seq[Field], address: UInt) {
 
 object MemoryStorage {
 
-  /** Options a unit port selects among in the first select stage, per group: a 4-way multiplexer is one LUT level on ECP5 (two LUTs and a PFUMX). */
+  /**
+   * Options a unit port selects among in the first select stage, per group: a 4-way multiplexer is one LUT
+   * level on ECP5 (two LUTs and a PFUMX).
+   */
   val selectGroup: Int = 4
 }
 

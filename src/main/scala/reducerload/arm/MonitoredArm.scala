@@ -8,21 +8,22 @@ import reducerload.pipeline.{MemoryDelay, MultiplierImpl}
 import reducerload.monitor.{MonitorHostPort, MonitorParams, MonitorSample, MonitorSampleCodes, ReducerMonitor}
 
 /**
- * Every joint torque of an arm ([[ArmDatapath]]) and, beside it, the reducer life and limit
- * monitor ([[ReducerMonitor]]) fed from the datapath's output: each sample's torques, its
- * velocities clamped to the declared ranges (re-derived from the input codes exactly as the
- * datapath clamps them, and delayed to meet the torques), and the sample's out-of-range flag on
- * every joint (flagged samples are counted, not accumulated). The datapath flags the joint whose
- * qd or qdd was clamped, but every joint's torque depends on every joint's motion (RNEA: the inner
- * joints carry the outer bodies, the outer joints move on the inner ones), so a clamped input makes
- * every torque of that sample a torque of other inputs: none of them is load to accumulate.
+ * Every joint torque of an arm ([[ArmDatapath]]) and, beside it, the reducer life and limit monitor
+ * ([[ReducerMonitor]]) fed from the datapath's output: each sample's torques, its velocities clamped to the
+ * declared ranges (re-derived from the input codes exactly as the datapath clamps them, and delayed to meet
+ * the torques), and the sample's out-of-range flag on every joint (flagged samples are counted, not
+ * accumulated). The datapath flags the joint whose qd or qdd was clamped, but every joint's torque depends on
+ * every joint's motion (RNEA: the inner joints carry the outer bodies, the outer joints move on the inner
+ * ones), so a clamped input makes every torque of that sample a torque of other inputs: none of them is load
+ * to accumulate.
  *
- * `io.in` and `io.out` are the datapath's ports; `io.host` is the monitor's (snapshot, clear, read
- * port). Host pulses act in the monitor's input cycles, which are the datapath's output cycles: a
- * snapshot pulsed in cycle t holds the samples whose torques left `io.out` before cycle t, i.e. the
- * samples given on `io.in` before cycle t - `p.latency`.
+ * `io.in` and `io.out` are the datapath's ports; `io.host` is the monitor's (snapshot, clear, read port).
+ * Host pulses act in the monitor's input cycles, which are the datapath's output cycles: a snapshot pulsed in
+ * cycle t holds the samples whose torques left `io.out` before cycle t, i.e. the samples given on `io.in`
+ * before cycle t - `p.latency`.
  */
-class MonitoredArm(val p: ArmParams, val monitor: MonitorParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
+class MonitoredArm(val p: ArmParams, val monitor: MonitorParams)(implicit multiplierImpl: MultiplierImpl)
+    extends Module {
   MonitoredArm.check(p, monitor)
   override def desiredName = s"MonitoredArm_${p.tag}"
   val io = IO(new Bundle {
@@ -42,7 +43,11 @@ class MonitoredArm(val p: ArmParams, val monitor: MonitorParams)(implicit multip
   private val velocities = (0 until joints).map { j =>
     val limit = numerics.velocityLimitRaw(j)
     val (clamped, _) = FixedHw.clamp(io.in.bits.qd(j), -limit, limit, numerics.velocityFormats(j).width)
-    MemoryDelay.balanced(FixedHw.delay(clamped, ArmDatapath.inputCycle), p.latency - ArmDatapath.inputCycle, p.memoryDelayMinCycles)
+    MemoryDelay.balanced(
+      FixedHw.delay(clamped, ArmDatapath.inputCycle),
+      p.latency - ArmDatapath.inputCycle,
+      p.memoryDelayMinCycles
+    )
   }
 
   private val sampleOutOfRange = datapath.io.out.bits.outOfRange.asUInt.orR
@@ -65,20 +70,35 @@ object MonitoredArm {
 
   /** The monitor must read the datapath's codes as they are: same joints, fraction bits, velocity formats. */
   def check(p: ArmParams, m: MonitorParams): Unit = {
-    require(m.joints == p.chain.size, s"MonitoredArm: a ${m.joints}-joint monitor for the ${p.chain.size}-joint ${p.chain.name}")
+    require(
+      m.joints == p.chain.size,
+      s"MonitoredArm: a ${m.joints}-joint monitor for the ${p.chain.size}-joint ${p.chain.name}"
+    )
     (0 until m.joints).foreach { j =>
       val out = p.analysis.outputs(j).format
       val tf = m.torqueFormats(j)
-      require(tf.fracBits == out.fracBits && tf.intBits >= out.intBits,
-        s"MonitoredArm: joint ${j + 1}: monitor torque format $tf cannot hold the datapath's $out codes")
-      require(m.velocityFormats(j) == p.numerics.velocityFormats(j),
-        s"MonitoredArm: joint ${j + 1}: monitor velocity format ${m.velocityFormats(j)} differs from the datapath's ${p.numerics.velocityFormats(j)}")
+      require(
+        tf.fracBits == out.fracBits && tf.intBits >= out.intBits,
+        s"MonitoredArm: joint ${j + 1}: monitor torque format $tf cannot hold the datapath's $out codes"
+      )
+      require(
+        m.velocityFormats(j) == p.numerics.velocityFormats(j),
+        s"MonitoredArm: joint ${j + 1}: monitor velocity format ${m.velocityFormats(j)} differs from the datapath's ${p.numerics.velocityFormats(j)}"
+      )
     }
   }
 
-  /** What the monitor receives for one sample: the model's torques, the clamped velocity codes, the sample's flag on every joint. */
+  /**
+   * What the monitor receives for one sample: the model's torques, the clamped velocity codes, the sample's
+   * flag on every joint.
+   */
   def monitorSample(p: ArmParams, in: SampleCodes, out: ArmOutputCodes): MonitorSampleCodes = {
-    val velocities = in.velocities.zip(p.numerics.velocityLimitRaw).map { case (x, l) => FixedFormat.clamp(x, -l, l)._1 }
-    MonitorSampleCodes(out.tau, velocities.toIndexedSeq, IndexedSeq.fill(p.chain.size)(out.outOfRange.exists(identity)))
+    val velocities =
+      in.velocities.zip(p.numerics.velocityLimitRaw).map { case (x, l) => FixedFormat.clamp(x, -l, l)._1 }
+    MonitorSampleCodes(
+      out.tau,
+      velocities.toIndexedSeq,
+      IndexedSeq.fill(p.chain.size)(out.outOfRange.exists(identity))
+    )
   }
 }

@@ -6,9 +6,9 @@ import reducerload.fixedpoint.FixedFormat
 final case class CordicState(x: BigInt, y: BigInt, z: BigInt, quadrant: Int)
 
 /**
- * Bit-accurate integer model of [[CordicSinCos]]: same operations, same order, same widths.
- * Every intermediate is checked against the range the hardware format was derived from, so a
- * wrong range proof fails a test instead of wrapping silently.
+ * Bit-accurate integer model of [[CordicSinCos]]: same operations, same order, same widths. Every
+ * intermediate is checked against the range the hardware format was derived from, so a wrong range proof
+ * fails a test instead of wrapping silently.
  */
 final class CordicModel(val p: CordicParams) {
 
@@ -18,11 +18,14 @@ final class CordicModel(val p: CordicParams) {
   }
 
   /**
-   * Equation (10): split the binary angle into quadrant, table segment and z = the residual minus
-   * the segment's centre; the start vector is the segment's table entry (45 degrees without a table).
+   * Equation (10): split the binary angle into quadrant, table segment and z = the residual minus the
+   * segment's centre; the start vector is the segment's table entry (45 degrees without a table).
    */
   def preprocess(angle: BigInt): CordicState = {
-    require(angle >= 0 && angle.bitLength <= p.angleBits, s"CordicModel: angle code $angle is not a ${p.angleBits}-bit code")
+    require(
+      angle >= 0 && angle.bitLength <= p.angleBits,
+      s"CordicModel: angle code $angle is not a ${p.angleBits}-bit code"
+    )
     val quadrant = (angle >> p.residualBits).toInt
     val lowBits = p.residualBits - p.tableBits
     val segment = ((angle >> lowBits) & ((BigInt(1) << p.tableBits) - 1)).toInt
@@ -41,17 +44,28 @@ final class CordicModel(val p: CordicParams) {
     val y = if (positive) s.y + dy else s.y - dy
     val z = if (positive) s.z - p.atanTable(i) else s.z + p.atanTable(i)
     val zNext = if (i + 1 <= p.iterations) check(z, p.zFormat(i + 1), s"z after iteration $i") else z
-    CordicState(check(x, p.xyFormat, s"x after iteration $i"), check(y, p.xyFormat, s"y after iteration $i"), zNext, s.quadrant)
+    CordicState(
+      check(x, p.xyFormat, s"x after iteration $i"),
+      check(y, p.xyFormat, s"y after iteration $i"),
+      zNext,
+      s.quadrant
+    )
   }
 
   /** The multiply-based residual rotation (architecture = residual), as [[ResidualRotation]] computes it. */
   def residualRotate(s: CordicState): CordicState = {
-    val zr = check((s.z * p.twoPiRaw) >> (p.zFracBits + p.twoPiFracBits - p.xyFormat.fracBits), p.zrFormat, "zr")
+    val zr =
+      check((s.z * p.twoPiRaw) >> (p.zFracBits + p.twoPiFracBits - p.xyFormat.fracBits), p.zrFormat, "zr")
     val drop = p.xyFormat.fracBits - p.residualOperandFracBits
     val (xt, yt) = (s.x >> drop, s.y >> drop)
     val x = s.x - ((yt * zr) >> p.residualOperandFracBits)
     val y = s.y + ((xt * zr) >> p.residualOperandFracBits)
-    CordicState(check(x, p.xyFormat, "x after the residual rotation"), check(y, p.xyFormat, "y after the residual rotation"), 0, s.quadrant)
+    CordicState(
+      check(x, p.xyFormat, "x after the residual rotation"),
+      check(y, p.xyFormat, "y after the residual rotation"),
+      0,
+      s.quadrant
+    )
   }
 
   /** Equation (11) and output rounding: returns raw (cos, sin) in p.outputFormat. */
@@ -62,7 +76,8 @@ final class CordicModel(val p: CordicParams) {
       case 2 => (-s.x, -s.y)
       case _ => (s.y, -s.x)
     }
-    def round(v: BigInt) = check(FixedFormat.shiftRound(v, p.guardBits, p.outputRounding), p.outputFormat, "output")
+    def round(v: BigInt) =
+      check(FixedFormat.shiftRound(v, p.guardBits, p.outputRounding), p.outputFormat, "output")
     (round(c), round(sn))
   }
 

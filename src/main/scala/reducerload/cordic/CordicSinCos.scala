@@ -5,10 +5,10 @@ import chisel3.util._
 import reducerload.pipeline.MultiplierImpl
 
 /**
- * Pipelined CORDIC sin/cos: a `Valid` binary angle in, a `Valid` (cos, sin) out exactly `latency`
- * cycles later, one angle per clock with no stall. Gain K is folded into the start vector.
- * Stages: input register, table register (with a table), `p.stageIterations.size` rotation stages,
- * the residual rotation (residual architecture), output stage.
+ * Pipelined CORDIC sin/cos: a `Valid` binary angle in, a `Valid` (cos, sin) out exactly `latency` cycles
+ * later, one angle per clock with no stall. Gain K is folded into the start vector. Stages: input register,
+ * table register (with a table), `p.stageIterations.size` rotation stages, the residual rotation (residual
+ * architecture), output stage.
  */
 class CordicSinCos(val p: CordicParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
   override def desiredName = s"CordicSinCos_${p.tag}"

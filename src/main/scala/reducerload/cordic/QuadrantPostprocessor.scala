@@ -5,11 +5,10 @@ import chisel3.util._
 import reducerload.fixedpoint.Rounding
 
 /**
- * Equation (11) plus output rounding, registered. By quadrant:
- * 00 -> (cos, sin) = (x, y); 01 -> (-y, x); 10 -> (-x, -y); 11 -> (y, -x).
- * Negation `~v + 1` and half-up rounding share one adder per output:
- * round(-v) = (~v + (1 + h)) >> g, round(v) = (v + h) >> g, with h half the output LSB
- * (the model's FixedFormat.shiftRound of +-v).
+ * Equation (11) plus output rounding, registered. By quadrant: 00 -> (cos, sin) = (x, y); 01 -> (-y, x); 10
+ * -> (-x, -y); 11 -> (y, -x). Negation `~v + 1` and half-up rounding share one adder per output: round(-v) =
+ * (~v + (1 + h)) >> g, round(v) = (v + h) >> g, with h half the output LSB (the model's
+ * FixedFormat.shiftRound of +-v).
  */
 class QuadrantPostprocessor(p: CordicParams) extends Module {
   override def desiredName = s"QuadrantPostprocessor_${p.tag}"

@@ -4,12 +4,11 @@ import chisel3._
 import chisel3.util._
 
 /**
- * Equation (10): fold a binary angle into its quadrant and a residual in [0, 90) degrees. The
- * residual's top `tableBits` bits pick a segment; z = residual - the segment's centre, and the start
- * vector is the segment's entry of `p.startTable`. Without a table this is the always-positive
- * iteration 0: z = residual - 45 degrees, x = y = K cos 45. Combinational; with a table, the lookup
- * is a case statement that synthesis maps to ROM when its address and output are registered
- * (CordicSinCos registers both).
+ * Equation (10): fold a binary angle into its quadrant and a residual in [0, 90) degrees. The residual's top
+ * `tableBits` bits pick a segment; z = residual - the segment's centre, and the start vector is the segment's
+ * entry of `p.startTable`. Without a table this is the always-positive iteration 0: z = residual - 45
+ * degrees, x = y = K cos 45. Combinational; with a table, the lookup is a case statement that synthesis maps
+ * to ROM when its address and output are registered (CordicSinCos registers both).
  */
 class QuadrantPreprocessor(p: CordicParams) extends Module {
   override def desiredName = s"QuadrantPreprocessor_${p.tag}"

@@ -7,12 +7,11 @@ import reducerload.pipeline.{MemoryDelay, MultiplierImpl, SignedMultiply}
 
 /**
  * The multiply-based end of the residual architecture, three steps:
- * 1. zr = z * 2pi (one 18x18 multiplier; z in turns -> radians on the x/y scale, truncated);
- * 2. x zr and y zr with x, y truncated to the bits that matter against |zr| (one 18x18 each);
- * 3. x' = x - y zr, y' = y + x zr (first order; its gain and angle error are in the error bound).
- * Each multiply is a [[SignedMultiply]] (registered operands and product), the rotation one
- * register; the state waits for the products in a [[MemoryDelay]] (block RAM), the valid bit in
- * registers.
+ *   1. zr = z * 2pi (one 18x18 multiplier; z in turns -> radians on the x/y scale, truncated); 2. x zr and y
+ *      zr with x, y truncated to the bits that matter against |zr| (one 18x18 each); 3. x' = x - y zr, y' = y
+ *      + x zr (first order; its gain and angle error are in the error bound). Each multiply is a
+ *      [[SignedMultiply]] (registered operands and product), the rotation one register; the state waits for
+ *      the products in a [[MemoryDelay]] (block RAM), the valid bit in registers.
  */
 class ResidualRotation(p: CordicParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
   require(p.residual, "ResidualRotation: CordicParams.architecture must be residual")

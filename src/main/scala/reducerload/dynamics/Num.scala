@@ -1,9 +1,9 @@
 package reducerload.dynamics
 
 /**
- * The arithmetic the dynamics are written in. [[Rnea]] is written once against it and instantiated
- * twice: on doubles (the reference) and on expression-graph nodes ([[GraphBuilder]]), from which the
- * bit-accurate model, the analyses and the hardware are all read.
+ * The arithmetic the dynamics are written in. [[Rnea]] is written once against it and instantiated twice: on
+ * doubles (the reference) and on expression-graph nodes ([[GraphBuilder]]), from which the bit-accurate
+ * model, the analyses and the hardware are all read.
  */
 trait Num[T] {
   def const(x: Double): T
@@ -39,16 +39,19 @@ final case class V3[T](x: T, y: T, z: T) {
 
 object V3 {
   import Num.NumOps
-  def const[T](v: reducerload.robot.Vec3)(implicit n: Num[T]): V3[T] = V3(n.const(v.x), n.const(v.y), n.const(v.z))
+  def const[T](v: reducerload.robot.Vec3)(implicit n: Num[T]): V3[T] =
+    V3(n.const(v.x), n.const(v.y), n.const(v.z))
   def zero[T](implicit n: Num[T]): V3[T] = V3(n.zero, n.zero, n.zero)
   def plus[T: Num](a: V3[T], b: V3[T]): V3[T] = V3(a.x + b.x, a.y + b.y, a.z + b.z)
   def scale[T: Num](a: V3[T], k: T): V3[T] = V3(a.x * k, a.y * k, a.z * k)
-  def cross[T: Num](a: V3[T], b: V3[T]): V3[T] = V3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x)
+  def cross[T: Num](a: V3[T], b: V3[T]): V3[T] =
+    V3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x)
   def dot[T: Num](a: V3[T], b: V3[T]): T = a.x * b.x + a.y * b.y + a.z * b.z
 
   /** A constant matrix times a vector: only the non-zero entries cost arithmetic once folded. */
   def mul[T](m: reducerload.robot.Mat3, v: V3[T])(implicit n: Num[T]): V3[T] = {
-    def row(i: Int) = Seq(v.x, v.y, v.z).zipWithIndex.map { case (e, j) => n.times(n.const(m(i, j)), e) }.reduce(n.plus)
+    def row(i: Int) =
+      Seq(v.x, v.y, v.z).zipWithIndex.map { case (e, j) => n.times(n.const(m(i, j)), e) }.reduce(n.plus)
     V3(row(0), row(1), row(2))
   }
 }

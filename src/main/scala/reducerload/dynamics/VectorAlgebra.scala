@@ -3,9 +3,9 @@ package reducerload.dynamics
 import reducerload.robot.{Mat3, Vec3}
 
 /**
- * The vector operations [[Rnea]] is written in. The default derives them from a [[Num]]; an
- * analysis may override them to carry facts only vectors have (a rotation keeps the length,
- * |a x b| <= |a| |b|) that the scalar operations cannot see.
+ * The vector operations [[Rnea]] is written in. The default derives them from a [[Num]]; an analysis may
+ * override them to carry facts only vectors have (a rotation keeps the length,
+ * \|a x b| <= |a| |b|) that the scalar operations cannot see.
  */
 class VectorAlgebra[T](implicit val num: Num[T]) {
   def const(v: Vec3): V3[T] = V3.const[T](v)
@@ -18,8 +18,8 @@ class VectorAlgebra[T](implicit val num: Num[T]) {
   def mul(m: Mat3, v: V3[T]): V3[T] = V3.mul(m, v)
 
   /**
-   * Rotation by the angle with `cos`, `sin` about the unit `axis` (or its inverse), applied to `v`:
-   * Rq v = c (v - a (a.v)) + s (a x v) + a (a.v); with a constant axis the zeros fold away.
+   * Rotation by the angle with `cos`, `sin` about the unit `axis` (or its inverse), applied to `v`: Rq v = c
+   * (v - a (a.v)) + s (a x v) + a (a.v); with a constant axis the zeros fold away.
    */
   def rotate(axis: Vec3, cos: T, sin: T, v: V3[T], inverse: Boolean): V3[T] = {
     val a = const(axis)

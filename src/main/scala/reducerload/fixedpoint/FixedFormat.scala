@@ -23,18 +23,21 @@ object Rounding {
 }
 
 /**
- * Overflow is never silent: formats are derived from proven ranges (the bit-accurate models check
- * every value against its format), and inputs beyond their declared ranges saturate and raise a
- * flag ([[FixedFormat.clamp]], [[FixedHw.clamp]]). There is no wrap-around mode.
+ * Overflow is never silent: formats are derived from proven ranges (the bit-accurate models check every value
+ * against its format), and inputs beyond their declared ranges saturate and raise a flag
+ * ([[FixedFormat.clamp]], [[FixedHw.clamp]]). There is no wrap-around mode.
  *
- * Signed two's complement fixed-point format: one sign bit, `intBits` integer bits and `fracBits`
- * fraction bits. A raw integer `r` stands for `r * 2^-fracBits`.
+ * Signed two's complement fixed-point format: one sign bit, `intBits` integer bits and `fracBits` fraction
+ * bits. A raw integer `r` stands for `r * 2^-fracBits`.
  */
 final case class FixedFormat(intBits: Int, fracBits: Int) {
   require(fracBits >= 0, s"FixedFormat: fracBits must be >= 0, got $fracBits")
   // Negative intBits describe small values whose top bits would only repeat the sign: is 9 bits.
   require(1 + intBits + fracBits >= 2, s"FixedFormat: Q$intBits.$fracBits leaves fewer than 2 bits")
-  require(intBits + fracBits <= 120, s"FixedFormat: ${1 + intBits + fracBits} bits is beyond any sane datapath")
+  require(
+    intBits + fracBits <= 120,
+    s"FixedFormat: ${1 + intBits + fracBits} bits is beyond any sane datapath"
+  )
 
   /** Total width including the sign bit. */
   val width: Int = 1 + intBits + fracBits
@@ -61,19 +64,24 @@ final case class FixedFormat(intBits: Int, fracBits: Int) {
   }
 
   /** Quantize and saturate: (raw code, saturated?). */
-  def fromDouble(x: Double, rounding: Rounding): (BigInt, Boolean) = FixedFormat.saturate(quantize(x, rounding), this)
+  def fromDouble(x: Double, rounding: Rounding): (BigInt, Boolean) =
+    FixedFormat.saturate(quantize(x, rounding), this)
 
   override def toString: String = s"Q$intBits.$fracBits"
 
   /** Human-readable description for reports. */
-  def describe: String = f"$toString (signed, $width bits, lsb 2^-$fracBits, range [$minValue%.10g, $maxValue%.10g])"
+  def describe: String =
+    f"$toString (signed, $width bits, lsb 2^-$fracBits, range [$minValue%.10g, $maxValue%.10g])"
 }
 
 object FixedFormat {
 
   /** Bits needed so that every |value| <= maxAbs fits with `fracBits` fraction bits. */
   def forRange(maxAbs: Double, fracBits: Int): FixedFormat = {
-    require(!maxAbs.isNaN && !maxAbs.isInfinite && maxAbs >= 0, s"FixedFormat.forRange: range $maxAbs is not a finite magnitude")
+    require(
+      !maxAbs.isNaN && !maxAbs.isInfinite && maxAbs >= 0,
+      s"FixedFormat.forRange: range $maxAbs is not a finite magnitude"
+    )
     val needed = LazyList.from(0).find(i => math.pow(2.0, i) - math.pow(2.0, -fracBits) >= maxAbs).get
     FixedFormat(needed, fracBits)
   }
@@ -87,7 +95,9 @@ object FixedFormat {
   def scaleDown(raw: BigInt, fracBits: Int): Double =
     (BigDecimal(raw) / BigDecimal(2).pow(fracBits)).toDouble
 
-  /** Arithmetic shift right by `drop` bits with the given rounding; the integer model of FixedHw.shiftRound. */
+  /**
+   * Arithmetic shift right by `drop` bits with the given rounding; the integer model of FixedHw.shiftRound.
+   */
   def shiftRound(raw: BigInt, drop: Int, rounding: Rounding): BigInt = {
     require(drop >= 0, s"shiftRound: cannot drop $drop bits")
     if (drop == 0) raw
@@ -98,10 +108,17 @@ object FixedFormat {
       }
   }
 
-  /** Change the fraction bits by `drop`: fewer with `rounding` (drop > 0), more exactly (drop < 0). Model of FixedHw.rescale. */
-  def rescale(raw: BigInt, drop: Int, rounding: Rounding): BigInt = if (drop >= 0) shiftRound(raw, drop, rounding) else raw << -drop
+  /**
+   * Change the fraction bits by `drop`: fewer with `rounding` (drop > 0), more exactly (drop < 0). Model of
+   * FixedHw.rescale.
+   */
+  def rescale(raw: BigInt, drop: Int, rounding: Rounding): BigInt =
+    if (drop >= 0) shiftRound(raw, drop, rounding) else raw << -drop
 
-  /** Clamp to [min, max]: (clamped raw, was it out of range?). Saturation, never wrap-around. Model of FixedHw.clamp. */
+  /**
+   * Clamp to [min, max]: (clamped raw, was it out of range?). Saturation, never wrap-around. Model of
+   * FixedHw.clamp.
+   */
   def clamp(raw: BigInt, min: BigInt, max: BigInt): (BigInt, Boolean) =
     if (raw > max) (max, true)
     else if (raw < min) (min, true)

@@ -7,8 +7,8 @@ import chisel3.util._
 object FixedHw {
 
   /**
-   * `n` registers in a row, without reset, keeping `x`'s width (chisel3.util.ShiftRegister leaves the
-   * width to inference, which elaboration-time width checks cannot read).
+   * `n` registers in a row, without reset, keeping `x`'s width (chisel3.util.ShiftRegister leaves the width
+   * to inference, which elaboration-time width checks cannot read).
    */
   def delay[T <: Data](x: T, n: Int): T = {
     require(n >= 0, s"delay: cannot delay by $n cycles")
@@ -26,30 +26,34 @@ object FixedHw {
     else
       rounding match {
         case Rounding.Truncate => x >> drop
-        case Rounding.HalfUp =>
+        case Rounding.HalfUp   =>
           // One extra bit so adding half an LSB cannot wrap; the shift removes it again.
           ((x +& (BigInt(1) << (drop - 1)).S) >> drop).asSInt
       }
   }
 
   /**
-   * `v` in `width` bits where its range is proven to fit them: the top bits dropped only repeat the
-   * sign (the analysis derived `width` from the value's range), or it is sign-extended.
+   * `v` in `width` bits where its range is proven to fit them: the top bits dropped only repeat the sign (the
+   * analysis derived `width` from the value's range), or it is sign-extended.
    */
   def fitWidth(v: SInt, width: Int): SInt = if (v.getWidth >= width) v(width - 1, 0).asSInt else v.pad(width)
 
   /** Change the fraction bits by `drop`: fewer with `rounding` (drop > 0), more exactly (drop < 0). */
-  def rescale(x: SInt, drop: Int, rounding: Rounding): SInt = if (drop >= 0) shiftRound(x, drop, rounding) else (x << -drop).asSInt
+  def rescale(x: SInt, drop: Int, rounding: Rounding): SInt =
+    if (drop >= 0) shiftRound(x, drop, rounding) else (x << -drop).asSInt
 
   /**
-   * `x > c` for a constant `c`, as AND/OR logic instead of a subtractor: on offset binary (sign bit
-   * flipped, so signed order is unsigned order), "x[i:0] > c[i:0]" is `x_i && below` where c_i = 1
-   * and `x_i || below` where c_i = 0. Synthesis packs the chain into about w/3 4-input LUTs, where
-   * a comparator on the carry chain takes one LE per bit.
+   * `x > c` for a constant `c`, as AND/OR logic instead of a subtractor: on offset binary (sign bit flipped,
+   * so signed order is unsigned order), "x[i:0] > c[i:0]" is `x_i && below` where c_i = 1 and `x_i || below`
+   * where c_i = 0. Synthesis packs the chain into about w/3 4-input LUTs, where a comparator on the carry
+   * chain takes one LE per bit.
    */
   def greaterThan(x: SInt, c: BigInt): Bool = compareConst(x, c, greater = true)
 
-  /** `x < c` for a constant `c` (see [[greaterThan]]): "x[i:0] < c[i:0]" is `!x_i || below` where c_i = 1, else `!x_i && below`. */
+  /**
+   * `x < c` for a constant `c` (see [[greaterThan]]): "x[i:0] < c[i:0]" is `!x_i || below` where c_i = 1,
+   * else `!x_i && below`.
+   */
   def lessThan(x: SInt, c: BigInt): Bool = compareConst(x, c, greater = false)
 
   private def compareConst(x: SInt, c: BigInt, greater: Boolean): Bool = {
@@ -74,10 +78,11 @@ object FixedHw {
   }
 
   /**
-   * Clamp `x` to [min, max] (saturation, never wrap-around): (value in `width` bits, out-of-range
-   * flag). `min` and `max` must fit `width` bits; in range, `x`'s low `width` bits are the value.
+   * Clamp `x` to [min, max] (saturation, never wrap-around): (value in `width` bits, out-of-range flag).
+   * `min` and `max` must fit `width` bits; in range, `x`'s low `width` bits are the value.
    */
-  def clamp(x: SInt, min: BigInt, max: BigInt, width: Int): (SInt, Bool) = clampDecision(x, min, max, width).result
+  def clamp(x: SInt, min: BigInt, max: BigInt, width: Int): (SInt, Bool) =
+    clampDecision(x, min, max, width).result
 
   /** [[clamp]] before its multiplexer (see [[Clamped]]). */
   def clampDecision(x: SInt, min: BigInt, max: BigInt, width: Int): Clamped = {
@@ -95,17 +100,19 @@ object FixedHw {
     else clampDecision(x, to.minRaw, to.maxRaw, to.width)
 
   /**
-   * `saturate(rescale(x, drop, HalfUp), to)`, with the saturation decided on `x` itself, beside the
-   * rounding adder instead of after its carry chain: with d = drop > 0 and h = 2^(d-1), the rounded
-   * value floor((x + h) / 2^d) is above `to.maxRaw` exactly when x > (maxRaw + 1) 2^d - h - 1 and
-   * below `to.minRaw` exactly when x < minRaw 2^d - h. Only the final multiplexer follows the adder.
+   * `saturate(rescale(x, drop, HalfUp), to)`, with the saturation decided on `x` itself, beside the rounding
+   * adder instead of after its carry chain: with d = drop > 0 and h = 2^(d-1), the rounded value floor((x +
+   * h) / 2^d) is above `to.maxRaw` exactly when x > (maxRaw + 1) 2^d - h - 1 and below `to.minRaw` exactly
+   * when x < minRaw 2^d - h. Only the final multiplexer follows the adder.
    */
-  def roundSaturate(x: SInt, drop: Int, to: FixedFormat): (SInt, Bool) = roundSaturateDecision(x, drop, to).result
+  def roundSaturate(x: SInt, drop: Int, to: FixedFormat): (SInt, Bool) =
+    roundSaturateDecision(x, drop, to).result
 
   /** [[roundSaturate]] before its final multiplexer (see [[Clamped]]). */
   def roundSaturateDecision(x: SInt, drop: Int, to: FixedFormat): Clamped = {
     val rounded = rescale(x, drop, Rounding.HalfUp)
-    if (drop <= 0 || rounded.getWidth <= to.width) saturateDecision(rounded, to) // no rounding adder, or nothing to clamp
+    if (drop <= 0 || rounded.getWidth <= to.width)
+      saturateDecision(rounded, to) // no rounding adder, or nothing to clamp
     else {
       val half = BigInt(1) << (drop - 1)
       val high = greaterThan(x, ((to.maxRaw + 1) << drop) - half - 1)
@@ -115,10 +122,9 @@ object FixedHw {
   }
 
   /**
-   * `a + b` when `subtract` is low, `a - b` when high, in one carry chain: `a + (b ^ s) + s`.
-   * The carry-in rides in an extra low bit (`{a,1} + {b^s,s}`) so synthesis sees one adder, not
-   * an adder plus an incrementer or two adders and a mux. Result has `a`'s width (callers prove
-   * the range).
+   * `a + b` when `subtract` is low, `a - b` when high, in one carry chain: `a + (b ^ s) + s`. The carry-in
+   * rides in an extra low bit (`{a,1} + {b^s,s}`) so synthesis sees one adder, not an adder plus an
+   * incrementer or two adders and a mux. Result has `a`'s width (callers prove the range).
    */
   def addSub(a: SInt, b: SInt, subtract: Bool): SInt = {
     val w = a.getWidth
@@ -130,11 +136,12 @@ object FixedHw {
 }
 
 /**
- * A value clamped to [min, max], before the multiplexer that picks a bound: `inRange` (the value's
- * low bits, right when neither compare holds) and whether it is above `max` or below `min`. Kept
- * apart so a design can register the compares and put the multiplexer in the next clock.
+ * A value clamped to [min, max], before the multiplexer that picks a bound: `inRange` (the value's low bits,
+ * right when neither compare holds) and whether it is above `max` or below `min`. Kept apart so a design can
+ * register the compares and put the multiplexer in the next clock.
  */
 final case class Clamped(inRange: SInt, high: Bool, low: Bool, min: BigInt, max: BigInt) {
+
   /** The clamped value, in `inRange`'s width. */
   def value: SInt = {
     val width = inRange.getWidth
@@ -150,5 +157,6 @@ final case class Clamped(inRange: SInt, high: Bool, low: Bool, min: BigInt, max:
   def result: (SInt, Bool) = (value, outside)
 
   /** The decision in registers loaded when `enable` is high (no reset: data). */
-  def registered(enable: Bool): Clamped = copy(inRange = RegEnable(inRange, enable), high = RegEnable(high, enable), low = RegEnable(low, enable))
+  def registered(enable: Bool): Clamped =
+    copy(inRange = RegEnable(inRange, enable), high = RegEnable(high, enable), low = RegEnable(low, enable))
 }

@@ -16,23 +16,32 @@ object Signal {
 /** An integer combination of joint angles: binary angles add modulo one turn, for free. */
 final case class AngleSum(terms: Seq[(Int, Int)]) {
   require(terms.nonEmpty && terms.forall(_._2 != 0), s"AngleSum: empty or zero terms $terms")
-  require(terms.map(_._1) == terms.map(_._1).sorted.distinct, s"AngleSum: joints must be sorted and distinct in $terms")
+  require(
+    terms.map(_._1) == terms.map(_._1).sorted.distinct,
+    s"AngleSum: joints must be sorted and distinct in $terms"
+  )
+
   /** Input angles rounded into this sum (each adds its rounding error). */
   def weight: Int = terms.map(_._2.abs).sum
   def joints: Seq[Int] = terms.map(_._1)
+
   /** The sum in radians for joint angles `q` (rad). */
   def radians(q: Seq[Double]): Double = terms.map { case (j, k) => k * q(j) }.sum
-  override def toString: String = terms.map { case (j, k) => (if (k == 1) "" else s"$k") + s"q${j + 1}" }.mkString("+")
+  override def toString: String =
+    terms.map { case (j, k) => (if (k == 1) "" else s"$k") + s"q${j + 1}" }.mkString("+")
 }
 object AngleSum {
   def of(joint: Int): AngleSum = AngleSum(Seq(joint -> 1))
-  def of(joints: Int*): AngleSum = AngleSum(joints.groupBy(identity).toSeq.map { case (j, js) => j -> js.size }.sortBy(_._1))
+  def of(joints: Int*): AngleSum = AngleSum(
+    joints.groupBy(identity).toSeq.map { case (j, js) => j -> js.size }.sortBy(_._1)
+  )
 }
 
 sealed abstract class TrigFn(val name: String) { override def toString: String = name }
 object TrigFn {
   case object Sin extends TrigFn("sin")
   case object Cos extends TrigFn("cos")
+
   /** The function in double precision. */
   def reference(fn: TrigFn, rad: Double): Double = if (fn == Sin) math.sin(rad) else math.cos(rad)
 }
@@ -53,10 +62,9 @@ object Op {
 final case class Output(name: String, node: NodeId)
 
 /**
- * A datapath as an expression graph: operations in topological order (operands first), every
- * node reachable from an output, common subexpressions shared. The single description of a
- * datapath's structure; the reference, the analyses, the bit-accurate model, the schedule and the
- * hardware are interpretations of it.
+ * A datapath as an expression graph: operations in topological order (operands first), every node reachable
+ * from an output, common subexpressions shared. The single description of a datapath's structure; the
+ * reference, the analyses, the bit-accurate model, the schedule and the hardware are interpretations of it.
  */
 final case class Graph(ops: IndexedSeq[Op], outputs: IndexedSeq[Output]) {
   ops.zipWithIndex.foreach { case (op, i) =>
@@ -69,17 +77,17 @@ final case class Graph(ops: IndexedSeq[Op], outputs: IndexedSeq[Output]) {
 
   /** Evaluate every node in order with `f`, given the values of its operands. */
   def fold[T](f: (Op, NodeId => T) => T): IndexedSeq[T] =
-    ops.foldLeft(Vector.empty[T]) { (done, op) => done :+ f(op, id => done(id.index)) }
+    ops.foldLeft(Vector.empty[T])((done, op) => done :+ f(op, id => done(id.index)))
 
   /** One node as a line of a report: `n7 = n3 * n5`, `n2 = sin(q2+q3)`, `n0 = 1.23`. */
   def describe(id: NodeId): String = s"n${id.index} = " + (apply(id) match {
-    case Op.Const(v)       => v.toString
-    case Op.Input(s)       => s.toString
-    case Op.Trig(fn, a)    => s"$fn($a)"
-    case Op.Add(a, b)      => s"n${a.index} + n${b.index}"
-    case Op.Sub(a, b)      => s"n${a.index} - n${b.index}"
-    case Op.Neg(a)         => s"-n${a.index}"
-    case Op.Mul(a, b)      => s"n${a.index} * n${b.index}"
+    case Op.Const(v)    => v.toString
+    case Op.Input(s)    => s.toString
+    case Op.Trig(fn, a) => s"$fn($a)"
+    case Op.Add(a, b)   => s"n${a.index} + n${b.index}"
+    case Op.Sub(a, b)   => s"n${a.index} - n${b.index}"
+    case Op.Neg(a)      => s"-n${a.index}"
+    case Op.Mul(a, b)   => s"n${a.index} * n${b.index}"
   })
 
   def angles: Seq[AngleSum] = ops.collect { case Op.Trig(_, a) => a }.distinct
@@ -100,6 +108,13 @@ final case class Graph(ops: IndexedSeq[Op], outputs: IndexedSeq[Output]) {
   }
 }
 
-final case class GraphCounts(multiplications: Int, constantMultiplications: Int, additions: Int, negations: Int, constants: Int, sinCos: Int) {
+final case class GraphCounts(
+    multiplications: Int,
+    constantMultiplications: Int,
+    additions: Int,
+    negations: Int,
+    constants: Int,
+    sinCos: Int
+) {
   def variableMultiplications: Int = multiplications - constantMultiplications
 }

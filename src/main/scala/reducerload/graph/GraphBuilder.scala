@@ -5,10 +5,10 @@ import reducerload.dynamics.Num
 import scala.collection.mutable
 
 /**
- * Builds a [[Graph]] while a computation written over [[Num]] runs on it: every operation is
- * folded (constants combined, zeros and ones removed, constant factors merged, negations pushed
- * into constants and subtractions) and hash-consed, so equal subexpressions are one node.
- * A builder is used once, inside [[GraphBuilder.build]].
+ * Builds a [[Graph]] while a computation written over [[Num]] runs on it: every operation is folded
+ * (constants combined, zeros and ones removed, constant factors merged, negations pushed into constants and
+ * subtractions) and hash-consed, so equal subexpressions are one node. A builder is used once, inside
+ * [[GraphBuilder.build]].
  */
 final class GraphBuilder private () extends Num[NodeId] {
   import Op._
@@ -62,11 +62,11 @@ final class GraphBuilder private () extends Num[NodeId] {
   }
 
   def negate(a: NodeId): NodeId = nodes(a.index) match {
-    case Const(v)                           => const(-v)
-    case Neg(x)                             => x
-    case Sub(x, y)                          => minus(y, x)
+    case Const(v)                          => const(-v)
+    case Neg(x)                            => x
+    case Sub(x, y)                         => minus(y, x)
     case Mul(k, x) if constOf(k).isDefined => times(const(-constOf(k).get), x)
-    case _                                  => node(Neg(a))
+    case _                                 => node(Neg(a))
   }
 
   def times(a: NodeId, b: NodeId): NodeId = (constOf(a), constOf(b)) match {
@@ -89,12 +89,14 @@ final class GraphBuilder private () extends Num[NodeId] {
     else if (k == -1.0) negate(x)
     else
       nodes(x.index) match {
-        case Neg(y)                              => scaled(-k, y)
+        case Neg(y)                            => scaled(-k, y)
         case Mul(c, y) if constOf(c).isDefined => scaled(k * constOf(c).get, y)
-        case _                                   => node(Mul(const(k), x))
+        case _                                 => node(Mul(const(k), x))
       }
 
-  /** The graph of `outputs` (unreachable nodes dropped, the rest renumbered in order), and the renumbering. */
+  /**
+   * The graph of `outputs` (unreachable nodes dropped, the rest renumbered in order), and the renumbering.
+   */
   private def result(outputs: Seq[(String, NodeId)]): (Graph, Map[NodeId, NodeId]) = {
     val live = nodes.indices.reverse.foldLeft(outputs.map(_._2.index).toSet) { (keep, i) =>
       if (keep(i)) keep ++ nodes(i).operands.map(_.index) else keep
@@ -109,8 +111,12 @@ final class GraphBuilder private () extends Num[NodeId] {
         case Neg(a)    => Neg(re(a))
         case Mul(a, b) => Mul(re(a), re(b))
         case leaf      => leaf
-      })
-    (Graph(ops, outputs.map { case (name, id) => Output(name, re(id)) }.toIndexedSeq), renumber.map { case (a, b) => NodeId(a) -> NodeId(b) })
+      }
+    )
+    (
+      Graph(ops, outputs.map { case (name, id) => Output(name, re(id)) }.toIndexedSeq),
+      renumber.map { case (a, b) => NodeId(a) -> NodeId(b) }
+    )
   }
 }
 
@@ -123,8 +129,13 @@ object GraphBuilder {
     b.result(body(b))._1
   }
 
-  /** As [[build]], with magnitude bounds the body proved for some nodes ([[RangeHints]]), carried to the final numbering. */
-  def buildWithBounds(body: GraphBuilder => (Seq[(String, NodeId)], Map[NodeId, Double])): (Graph, RangeHints) = {
+  /**
+   * As [[build]], with magnitude bounds the body proved for some nodes ([[RangeHints]]), carried to the final
+   * numbering.
+   */
+  def buildWithBounds(
+      body: GraphBuilder => (Seq[(String, NodeId)], Map[NodeId, Double])
+  ): (Graph, RangeHints) = {
     val b = new GraphBuilder
     val (outputs, bounds) = body(b)
     val (graph, renumber) = b.result(outputs)

@@ -3,12 +3,19 @@ package reducerload.graph
 import reducerload.cordic.CordicModel
 import reducerload.fixedpoint.{FixedFormat, Rounding}
 
-/** One sample as the datapath sees it: binary angles and the (clamped) velocity and acceleration codes per joint. */
-final case class SampleCodes(angles: IndexedSeq[BigInt], velocities: IndexedSeq[BigInt], accelerations: IndexedSeq[BigInt])
+/**
+ * One sample as the datapath sees it: binary angles and the (clamped) velocity and acceleration codes per
+ * joint.
+ */
+final case class SampleCodes(
+    angles: IndexedSeq[BigInt],
+    velocities: IndexedSeq[BigInt],
+    accelerations: IndexedSeq[BigInt]
+)
 
 /**
- * Bit-accurate integer interpretation of a graph under its [[Analysis]]: the exact integer
- * operations the hardware performs, every value checked against its proven format.
+ * Bit-accurate integer interpretation of a graph under its [[Analysis]]: the exact integer operations the
+ * hardware performs, every value checked against its proven format.
  */
 final class GraphModel(val analysis: Analysis) {
   import Op._
@@ -38,9 +45,9 @@ final class GraphModel(val analysis: Analysis) {
         case Input(Signal.Acceleration(j)) => s.accelerations(j)
         case Trig(TrigFn.Cos, a)           => trig(a)._1
         case Trig(TrigFn.Sin, a)           => trig(a)._2
-        case Add(a, b)                     => align(done(a.index), fr(a), f.fracBits) + align(done(b.index), fr(b), f.fracBits)
-        case Sub(a, b)                     => align(done(a.index), fr(a), f.fracBits) - align(done(b.index), fr(b), f.fracBits)
-        case Neg(a)                        => -done(a.index)
+        case Add(a, b) => align(done(a.index), fr(a), f.fracBits) + align(done(b.index), fr(b), f.fracBits)
+        case Sub(a, b) => align(done(a.index), fr(a), f.fracBits) - align(done(b.index), fr(b), f.fracBits)
+        case Neg(a)    => -done(a.index)
         case Mul(a, b) =>
           val rule = analysis.productRounding(id)
           FixedFormat.shiftRound(done(a.index) * done(b.index), rule.drop, rule.rounding)
@@ -60,6 +67,7 @@ final class GraphModel(val analysis: Analysis) {
 }
 
 object GraphModel {
+
   /** The output stage: drop bits half up, or gain them exactly. */
   def toOutput(raw: BigInt, drop: Int): BigInt = FixedFormat.rescale(raw, drop, Rounding.HalfUp)
 }

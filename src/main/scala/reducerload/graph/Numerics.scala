@@ -5,7 +5,10 @@ import reducerload.fixedpoint.{FixedFormat, Rounding}
 
 /** A closed interval of reals: the exact values a node can take over the declared input ranges. */
 final case class Interval(lo: Double, hi: Double) {
-  require(lo <= hi && !lo.isNaN && !hi.isNaN && !lo.isInfinite && !hi.isInfinite, s"Interval: [$lo, $hi] is not a finite interval")
+  require(
+    lo <= hi && !lo.isNaN && !hi.isNaN && !lo.isInfinite && !hi.isInfinite,
+    s"Interval: [$lo, $hi] is not a finite interval"
+  )
   def maxAbs: Double = math.max(math.abs(lo), math.abs(hi))
   def +(o: Interval): Interval = Interval(lo + o.lo, hi + o.hi)
   def -(o: Interval): Interval = Interval(lo - o.hi, hi - o.lo)
@@ -25,60 +28,92 @@ object Interval {
 }
 
 /**
- * The number formats a graph is computed in: per-joint declared ranges, the sin/cos unit, and the
- * fraction bits of each kind of value. The rules that turn them into every node's format live in
- * [[Analysis]]; nothing else decides a width.
+ * The number formats a graph is computed in: per-joint declared ranges, the sin/cos unit, and the fraction
+ * bits of each kind of value. The rules that turn them into every node's format live in [[Analysis]]; nothing
+ * else decides a width.
  *
- * @param velocityLimits     declared max |qd_j|, rad/s, one per joint (their number is the joint count)
- * @param accelerationLimits declared max |qdd_j|, rad/s^2, one per joint
+ * @param velocityLimits
+ *   declared max |qd_j|, rad/s, one per joint (their number is the joint count)
+ * @param accelerationLimits
+ *   declared max |qdd_j|, rad/s^2, one per joint
  */
 final case class Numerics(
-  velocityLimits: Seq[Double],
-  accelerationLimits: Seq[Double],
-  cordic: CordicParams,
-  velocityFracBits: Int,
-  accelerationFracBits: Int,
-  constantFracBits: Int,
-  internalFracBits: Int,
-  outputFracBits: Int,
-  productRounding: Rounding) {
-  require(velocityLimits.size == accelerationLimits.size,
-    s"Numerics: ${velocityLimits.size} velocity limits but ${accelerationLimits.size} acceleration limits (one each per joint)")
+    velocityLimits: Seq[Double],
+    accelerationLimits: Seq[Double],
+    cordic: CordicParams,
+    velocityFracBits: Int,
+    accelerationFracBits: Int,
+    constantFracBits: Int,
+    internalFracBits: Int,
+    outputFracBits: Int,
+    productRounding: Rounding
+) {
+  require(
+    velocityLimits.size == accelerationLimits.size,
+    s"Numerics: ${velocityLimits.size} velocity limits but ${accelerationLimits.size} acceleration limits (one each per joint)"
+  )
   private def finite(x: Double) = !x.isNaN && !x.isInfinite
   velocityLimits.zipWithIndex.foreach { case (v, j) =>
-    require(finite(v) && v > 0 && v <= 1000, s"max-velocity of joint ${j + 1} must be in (0, 1000] rad/s, got $v")
+    require(
+      finite(v) && v > 0 && v <= 1000,
+      s"max-velocity of joint ${j + 1} must be in (0, 1000] rad/s, got $v"
+    )
   }
   accelerationLimits.zipWithIndex.foreach { case (a, j) =>
-    require(finite(a) && a > 0 && a <= 1e5, s"max-acceleration of joint ${j + 1} must be in (0, 100000] rad/s^2, got $a")
+    require(
+      finite(a) && a > 0 && a <= 1e5,
+      s"max-acceleration of joint ${j + 1} must be in (0, 100000] rad/s^2, got $a"
+    )
   }
-  Numerics.checkFracBits(velocityFracBits, accelerationFracBits, constantFracBits, internalFracBits, outputFracBits)
+  Numerics.checkFracBits(
+    velocityFracBits,
+    accelerationFracBits,
+    constantFracBits,
+    internalFracBits,
+    outputFracBits
+  )
 
   def joints: Int = velocityLimits.size
   def angleBits: Int = cordic.angleBits
 
   /** Each joint's velocity and acceleration format, from its declared range. */
   val velocityFormats: Seq[FixedFormat] = velocityLimits.map(FixedFormat.forRange(_, velocityFracBits))
-  val accelerationFormats: Seq[FixedFormat] = accelerationLimits.map(FixedFormat.forRange(_, accelerationFracBits))
+  val accelerationFormats: Seq[FixedFormat] =
+    accelerationLimits.map(FixedFormat.forRange(_, accelerationFracBits))
 
   /** The ports carry every joint in the widest joint's format. */
   val velocityPortFormat: FixedFormat = velocityFormats.maxBy(_.width)
   val accelerationPortFormat: FixedFormat = accelerationFormats.maxBy(_.width)
 
-  /** Declared limits as codes (round to nearest, as inputs are converted): codes beyond them are clamped and flagged. */
-  val velocityLimitRaw: Seq[BigInt] = velocityLimits.zip(velocityFormats).map { case (v, f) => f.quantize(v, Rounding.HalfUp) }
-  val accelerationLimitRaw: Seq[BigInt] = accelerationLimits.zip(accelerationFormats).map { case (a, f) => f.quantize(a, Rounding.HalfUp) }
+  /**
+   * Declared limits as codes (round to nearest, as inputs are converted): codes beyond them are clamped and
+   * flagged.
+   */
+  val velocityLimitRaw: Seq[BigInt] =
+    velocityLimits.zip(velocityFormats).map { case (v, f) => f.quantize(v, Rounding.HalfUp) }
+  val accelerationLimitRaw: Seq[BigInt] =
+    accelerationLimits.zip(accelerationFormats).map { case (a, f) => f.quantize(a, Rounding.HalfUp) }
 
   /** Half an angle code, in radians: inputs are rounded to the nearest code. */
   val angleError: Double = math.Pi / math.pow(2.0, angleBits)
 }
 
 object Numerics {
+
   /** The fraction-bit settings' own limits, checked wherever they are set. */
   def checkFracBits(velocity: Int, acceleration: Int, constant: Int, internal: Int, output: Int): Unit = {
-    Seq("velocity-frac-bits" -> velocity, "acceleration-frac-bits" -> acceleration, "constant-frac-bits" -> constant,
-      "internal-frac-bits" -> internal, "output-frac-bits" -> output).foreach { case (name, bits) =>
+    Seq(
+      "velocity-frac-bits" -> velocity,
+      "acceleration-frac-bits" -> acceleration,
+      "constant-frac-bits" -> constant,
+      "internal-frac-bits" -> internal,
+      "output-frac-bits" -> output
+    ).foreach { case (name, bits) =>
       require(bits >= 1 && bits <= 40, s"datapath.$name must be in 1..40, got $bits")
     }
-    require(output <= internal, s"datapath.output-frac-bits ($output) must not exceed internal-frac-bits ($internal)")
+    require(
+      output <= internal,
+      s"datapath.output-frac-bits ($output) must not exceed internal-frac-bits ($internal)"
+    )
   }
 }

@@ -7,8 +7,10 @@ import reducerload.pipeline.{PipelinedMultiplier, ShiftAddMultiplier}
 /** How a multiply by a folded robot constant is built (`schedule.constant-multiplies`). */
 sealed abstract class ConstantMultiplies(val name: String) { override def toString: String = name }
 object ConstantMultiplies {
+
   /** On the 18x18 multiplier units, shared like every other multiply. */
   case object Blocks extends ConstantMultiplies("blocks")
+
   /** Each its own adder tree of the constant's signed digits, in logic elements ([[ShiftAddMultiplier]]). */
   case object ShiftAdd extends ConstantMultiplies("shift-add")
   val all: Seq[ConstantMultiplies] = Seq(Blocks, ShiftAdd)
@@ -17,42 +19,78 @@ object ConstantMultiplies {
 /**
  * What a user asks of the schedule; `None` means derive it.
  *
- * @param clocksPerSample the initiation interval: a new sample may enter every this many clocks (None: `auto`, the fewest the budget allows)
- * @param maxMultipliers  18x18 multiplier blocks the datapath may use (None: no budget)
- * @param cordicUnits     sin/cos units (None: the fewest that do not lengthen the interval)
- * @param storage         where values wait between operations ([[Storage]])
- * @param constantMultiplies how a multiply by a robot constant is built ([[ConstantMultiplies]])
- * @param listOrder       the memory-storage list scheduler's order ([[ListOrder]]; None: `auto`, the one with the least latency)
- * @param adderUnits      memory storage's shared adder units (None: the fewest that take every addition)
- * @param listTries       memory storage: by-height schedules tried, the first in the plain order, the others with perturbed priorities
+ * @param clocksPerSample
+ *   the initiation interval: a new sample may enter every this many clocks (None: `auto`, the fewest the
+ *   budget allows)
+ * @param maxMultipliers
+ *   18x18 multiplier blocks the datapath may use (None: no budget)
+ * @param cordicUnits
+ *   sin/cos units (None: the fewest that do not lengthen the interval)
+ * @param storage
+ *   where values wait between operations ([[Storage]])
+ * @param constantMultiplies
+ *   how a multiply by a robot constant is built ([[ConstantMultiplies]])
+ * @param listOrder
+ *   the memory-storage list scheduler's order ([[ListOrder]]; None: `auto`, the one with the least latency)
+ * @param adderUnits
+ *   memory storage's shared adder units (None: the fewest that take every addition)
+ * @param listTries
+ *   memory storage: by-height schedules tried, the first in the plain order, the others with perturbed
+ *   priorities
  */
-final case class ScheduleRequest(clocksPerSample: Option[Int] = Some(1), maxMultipliers: Option[Int] = None, cordicUnits: Option[Int] = None,
-  storage: Storage = Storage.Registers, constantMultiplies: ConstantMultiplies = ConstantMultiplies.Blocks, listOrder: Option[ListOrder] = None,
-  adderUnits: Option[Int] = None, listTries: Int = ScheduleRequest.defaultListTries) {
-  require(listOrder.isEmpty || storage == Storage.Memory,
-    s"schedule.list-order = ${listOrder.get} orders the block-RAM schedule: it needs schedule.storage = memory (or list-order auto)")
-  require(adderUnits.isEmpty || storage == Storage.Memory,
-    s"schedule.adder-units = ${adderUnits.get} shares adders between additions: it needs schedule.storage = memory (or adder-units auto)")
-  require(adderUnits.forall(a => a >= 1 && a <= 4096), s"schedule.adder-units must be auto or in 1..4096, got ${adderUnits.get}")
+final case class ScheduleRequest(
+    clocksPerSample: Option[Int] = Some(1),
+    maxMultipliers: Option[Int] = None,
+    cordicUnits: Option[Int] = None,
+    storage: Storage = Storage.Registers,
+    constantMultiplies: ConstantMultiplies = ConstantMultiplies.Blocks,
+    listOrder: Option[ListOrder] = None,
+    adderUnits: Option[Int] = None,
+    listTries: Int = ScheduleRequest.defaultListTries
+) {
+  require(
+    listOrder.isEmpty || storage == Storage.Memory,
+    s"schedule.list-order = ${listOrder.get} orders the block-RAM schedule: it needs schedule.storage = memory (or list-order auto)"
+  )
+  require(
+    adderUnits.isEmpty || storage == Storage.Memory,
+    s"schedule.adder-units = ${adderUnits.get} shares adders between additions: it needs schedule.storage = memory (or adder-units auto)"
+  )
+  require(
+    adderUnits.forall(a => a >= 1 && a <= 4096),
+    s"schedule.adder-units must be auto or in 1..4096, got ${adderUnits.get}"
+  )
   require(listTries >= 1 && listTries <= 1024, s"schedule.list-tries must be in 1..1024, got $listTries")
-  require(constantMultiplies == ConstantMultiplies.Blocks || storage == Storage.Registers,
-    "schedule.constant-multiplies = shift-add needs schedule.storage = registers (block-RAM banks feed shared units only)")
-  require(clocksPerSample.forall(c => c >= 1 && c <= 4096), s"schedule.clocks-per-sample must be auto or in 1..4096, got ${clocksPerSample.get}")
-  require(maxMultipliers.forall(m => m >= 1 && m <= 100000), s"schedule.max-multipliers must be none or in 1..100000, got ${maxMultipliers.get}")
-  require(cordicUnits.forall(c => c >= 1 && c <= 4096), s"schedule.cordic-units must be auto or in 1..4096, got ${cordicUnits.get}")
+  require(
+    constantMultiplies == ConstantMultiplies.Blocks || storage == Storage.Registers,
+    "schedule.constant-multiplies = shift-add needs schedule.storage = registers (block-RAM banks feed shared units only)"
+  )
+  require(
+    clocksPerSample.forall(c => c >= 1 && c <= 4096),
+    s"schedule.clocks-per-sample must be auto or in 1..4096, got ${clocksPerSample.get}"
+  )
+  require(
+    maxMultipliers.forall(m => m >= 1 && m <= 100000),
+    s"schedule.max-multipliers must be none or in 1..100000, got ${maxMultipliers.get}"
+  )
+  require(
+    cordicUnits.forall(c => c >= 1 && c <= 4096),
+    s"schedule.cordic-units must be auto or in 1..4096, got ${cordicUnits.get}"
+  )
 }
 
 object ScheduleRequest {
 
   /**
-   * By-height schedules tried by default: the Panda at 114 clocks per sample with 5 adder units
-   * takes 270 cycles in the plain order and 259 with the best of 32 (a try costs tens of
-   * milliseconds there).
+   * By-height schedules tried by default: the Panda at 114 clocks per sample with 5 adder units takes 270
+   * cycles in the plain order and 259 with the best of 32 (a try costs tens of milliseconds there).
    */
   val defaultListTries: Int = 32
 }
 
-/** Operand widths of a multiplier unit, wider operand first: its 18x18 blocks and its pipeline depth follow. */
+/**
+ * Operand widths of a multiplier unit, wider operand first: its 18x18 blocks and its pipeline depth follow.
+ */
 final case class MulShape(wide: Int, narrow: Int) {
   def blocks: Int = PipelinedMultiplier.blocks(wide, narrow)
   def max(o: MulShape): MulShape = MulShape(math.max(wide, o.wide), math.max(narrow, o.narrow))
@@ -62,55 +100,78 @@ object MulShape {
   def of(a: Int, b: Int): MulShape = MulShape(math.max(a, b), math.min(a, b))
 
   /** 17-bit chunks of each operand ([[PipelinedMultiplier]]): what a product costs in blocks and clocks. */
-  def chunks(s: MulShape): (Int, Int) = (PipelinedMultiplier.chunkCount(s.wide), PipelinedMultiplier.chunkCount(s.narrow))
+  def chunks(s: MulShape): (Int, Int) =
+    (PipelinedMultiplier.chunkCount(s.wide), PipelinedMultiplier.chunkCount(s.narrow))
 }
 
 /** Multiplies that need the same 18x18 blocks, and the shape of a unit that takes any of them. */
 final case class MulClass(shape: MulShape, ops: IndexedSeq[NodeId])
 
-/** Where and when an operation runs: its unit (multiplies and sin/cos only) and the cycle it reads its operands. */
+/**
+ * Where and when an operation runs: its unit (multiplies and sin/cos only) and the cycle it reads its
+ * operands.
+ */
 final case class Slot(unit: Option[Int], issue: Int)
 
-/** The list scheduler's state after each node: ready cycles, issues, occupied (is multiplier, unit, residue), angles placed. */
-private final case class ScheduleState(ready: Vector[Option[Int]], slots: Vector[Option[Slot]], taken: Set[(Boolean, Int, Int)],
-  angleSlots: Map[AngleSum, Slot], forwarded: Set[NodeId])
+/**
+ * The list scheduler's state after each node: ready cycles, issues, occupied (is multiplier, unit, residue),
+ * angles placed.
+ */
+private final case class ScheduleState(
+    ready: Vector[Option[Int]],
+    slots: Vector[Option[Slot]],
+    taken: Set[(Boolean, Int, Int)],
+    angleSlots: Map[AngleSum, Slot],
+    forwarded: Set[NodeId]
+)
 
 /**
- * Modulo schedule of a graph: a sample enters every `clocksPerSample` clocks (the initiation
- * interval II) and the samples in flight share multiplier units and CORDIC units, each unit taking
- * at most one operation per residue of the cycle modulo II; additions, subtractions and negations
- * are each their own adder (an adder costs about what a shared adder's operand multiplexers would).
- * Cycles are counted from the clock a sample is taken on the input port (cycle 0). The bit-accurate
- * model does not depend on any of this: the numerics stay on the graph's nodes.
+ * Modulo schedule of a graph: a sample enters every `clocksPerSample` clocks (the initiation interval II) and
+ * the samples in flight share multiplier units and CORDIC units, each unit taking at most one operation per
+ * residue of the cycle modulo II; additions, subtractions and negations are each their own adder (an adder
+ * costs about what a shared adder's operand multiplexers would). Cycles are counted from the clock a sample
+ * is taken on the input port (cycle 0). The bit-accurate model does not depend on any of this: the numerics
+ * stay on the graph's nodes.
  *
- * List scheduling in the graph's order (RNEA's own order, which keeps few values alive): each
- * operation at its operands' ready cycle or, for a multiply, at the first later cycle whose residue
- * has a free unit. The graph has no recurrence, so every II at or above the resource bound is met.
- * `clocksPerSample = 1` with no budget gives every operation its own operator: the ASAP schedule.
+ * List scheduling in the graph's order (RNEA's own order, which keeps few values alive): each operation at
+ * its operands' ready cycle or, for a multiply, at the first later cycle whose residue has a free unit. The
+ * graph has no recurrence, so every II at or above the resource bound is met. `clocksPerSample = 1` with no
+ * budget gives every operation its own operator: the ASAP schedule.
  *
  * Timing of one operation issued (reading its operands) in cycle r:
- *  - add/sub/neg: result registered, ready at r + 1;
- *  - multiply: the unit's pipelined multiplier ([[PipelinedMultiplier.latency]] plus `multiplierLatency - 1` registers) then,
- *    when units are shared or the product rounds, a register that captures it: ready at
- *    r + multiplier latency (+ 1);
- *  - multiply by a constant as shift-and-add logic (`shiftAdded`): its own registered adder tree,
- *    one level per clock ([[ShiftAddMultiplier.latency]]), then the capture register as above;
- *  - sin/cos of an angle sum: the sum registered, then the CORDIC unit, then (shared) a capture register.
+ *   - add/sub/neg: result registered, ready at r + 1;
+ *   - multiply: the unit's pipelined multiplier ([[PipelinedMultiplier.latency]] plus `multiplierLatency - 1`
+ *     registers) then, when units are shared or the product rounds, a register that captures it: ready at r +
+ *     multiplier latency (+ 1);
+ *   - multiply by a constant as shift-and-add logic (`shiftAdded`): its own registered adder tree, one level
+ *     per clock ([[ShiftAddMultiplier.latency]]), then the capture register as above;
+ *   - sin/cos of an angle sum: the sum registered, then the CORDIC unit, then (shared) a capture register.
  * Every value is held in a chain of registers written once per sample (see `stages`).
  *
- * @param inputCycle cycle at which the clamped velocities and accelerations are in registers (the
- *                   angles are in the input register from cycle 1)
+ * @param inputCycle
+ *   cycle at which the clamped velocities and accelerations are in registers (the angles are in the input
+ *   register from cycle 1)
  */
-final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordic: CordicParams, multiplierLatency: Int, val inputCycle: Int) {
+final class Schedule(
+    val analysis: Analysis,
+    val request: ScheduleRequest,
+    cordic: CordicParams,
+    multiplierLatency: Int,
+    val inputCycle: Int
+) {
   import Op._
   private val graph = analysis.graph
   private val ids = graph.ids
   private def isConst(x: NodeId) = graph(x).isInstanceOf[Const]
 
-  /** Multiplies by a constant built as shift-and-add logic (`schedule.constant-multiplies = shift-add`): no unit, no block. */
+  /**
+   * Multiplies by a constant built as shift-and-add logic (`schedule.constant-multiplies = shift-add`): no
+   * unit, no block.
+   */
   val shiftAdded: Set[NodeId] =
     if (request.constantMultiplies != ConstantMultiplies.ShiftAdd) Set.empty
-    else ids.filter(id => graph(id) match { case Mul(a, b) => isConst(a) || isConst(b); case _ => false }).toSet
+    else
+      ids.filter(id => graph(id) match { case Mul(a, b) => isConst(a) || isConst(b); case _ => false }).toSet
 
   /** The variable operand and the constant's code of a shift-add multiply. */
   def shiftAddOperands(id: NodeId): (NodeId, BigInt) = {
@@ -132,56 +193,78 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
   private def ceilDiv(a: Int, b: Int) = (a + b - 1) / b
 
   /**
-   * Multiplies grouped by the 18x18 blocks their operands need (17-bit chunks per operand): a shared
-   * unit of a class is as wide as its widest multiply, so a few wide products do not make every unit
-   * wide. Narrowest class first.
+   * Multiplies grouped by the 18x18 blocks their operands need (17-bit chunks per operand): a shared unit of
+   * a class is as wide as its widest multiply, so a few wide products do not make every unit wide. Narrowest
+   * class first.
    */
-  val classes: IndexedSeq[MulClass] = muls.groupBy(id => MulShape.chunks(shapeOf(id))).toIndexedSeq.sortBy(_._1)
+  val classes: IndexedSeq[MulClass] = muls
+    .groupBy(id => MulShape.chunks(shapeOf(id)))
+    .toIndexedSeq
+    .sortBy(_._1)
     .map { case (_, ops) => MulClass(ops.map(shapeOf).reduce(_ max _), ops) }
 
   /** Shortest interval the CORDIC units allow. */
   private def cordicBound(units: Int): Int = ceilDiv(angles.size, units)
 
   /** CORDIC units at interval `ii`: asked, or the fewest that keep it. */
-  private def cordicUnitsAt(ii: Int): Int = request.cordicUnits.getOrElse(math.max(1, ceilDiv(angles.size, ii)))
+  private def cordicUnitsAt(ii: Int): Int =
+    request.cordicUnits.getOrElse(math.max(1, ceilDiv(angles.size, ii)))
 
   /**
-   * Operations a shared unit takes per sample at interval `ii`: every slot with registers; with
-   * memory storage an eighth stays free, so that bank read ports and unit slots can still meet.
+   * Operations a shared unit takes per sample at interval `ii`: every slot with registers; with memory
+   * storage an eighth stays free, so that bank read ports and unit slots can still meet.
    */
   def slotsPerUnit(ii: Int): Int = if (request.storage == Storage.Memory) math.max(1, ii - ii / 8) else ii
 
   /** Units that take `ops` operations at interval `ii`. */
   def unitsFor(ops: Int, ii: Int): Int = ceilDiv(ops, slotsPerUnit(ii))
 
-  /** 18x18 blocks at interval `ii`: per class, the fewest units that take its multiplies in `slotsPerUnit(ii)` slots each, and the CORDIC units'. */
-  private def blocksFor(ii: Int): Int = classes.map(c => unitsFor(c.ops.size, ii) * c.shape.blocks).sum + cordicUnitsAt(ii) * cordic.multiplierBlocks
+  /**
+   * 18x18 blocks at interval `ii`: per class, the fewest units that take its multiplies in `slotsPerUnit(ii)`
+   * slots each, and the CORDIC units'.
+   */
+  private def blocksFor(ii: Int): Int =
+    classes.map(c => unitsFor(c.ops.size, ii) * c.shape.blocks).sum + cordicUnitsAt(
+      ii
+    ) * cordic.multiplierBlocks
 
   /** The fewest blocks any interval needs: one unit per class, the fewest CORDIC units. */
   private val leastBlocks: Int = blocksFor(math.max(1, math.max(muls.size, angles.size)))
 
   /** Shortest interval within `budget` blocks that the CORDIC units allow. */
   private def fewestClocks(budget: Int): Option[Int] =
-    (1 to math.max(1, math.max(muls.size, angles.size))).find(c => blocksFor(c) <= budget && cordicBound(cordicUnitsAt(c)) <= c)
+    (1 to math.max(1, math.max(muls.size, angles.size))).find(c =>
+      blocksFor(c) <= budget && cordicBound(cordicUnitsAt(c)) <= c
+    )
 
   /** The initiation interval: asked, or the fewest clocks the multiplier budget and CORDIC units allow. */
   val clocksPerSample: Int = request.clocksPerSample.getOrElse {
     val byCordic = request.cordicUnits.map(cordicBound).getOrElse(1)
     val byBudget = request.maxMultipliers.map { budget =>
-      fewestClocks(budget).getOrElse(throw new IllegalArgumentException(
-        s"schedule.max-multipliers = $budget is below one multiplier unit per operand width (${classes.map(_.shape).mkString(", ")} bits) " +
-          s"and the CORDIC units' products: $leastBlocks blocks; use at least $leastBlocks"))
+      fewestClocks(budget).getOrElse(
+        throw new IllegalArgumentException(
+          s"schedule.max-multipliers = $budget is below one multiplier unit per operand width (${classes.map(_.shape).mkString(", ")} bits) " +
+            s"and the CORDIC units' products: $leastBlocks blocks; use at least $leastBlocks"
+        )
+      )
     }
     math.max(byBudget.getOrElse(1), byCordic)
   }
   private val ii = clocksPerSample
 
-  /** Whether each multiply has its own unit (II = 1: no operand multiplexers, no capture register unless it rounds). */
+  /**
+   * Whether each multiply has its own unit (II = 1: no operand multiplexers, no capture register unless it
+   * rounds).
+   */
   val dedicated: Boolean = ii == 1
 
-  /** Each multiplier unit's shape: one unit per multiply at II = 1, else per class the fewest that fit its multiplies in II slots. */
+  /**
+   * Each multiplier unit's shape: one unit per multiply at II = 1, else per class the fewest that fit its
+   * multiplies in II slots.
+   */
   private val unitShapes: IndexedSeq[MulShape] =
-    if (dedicated) classes.flatMap(_.ops.map(shapeOf)) else classes.flatMap(c => Seq.fill(unitsFor(c.ops.size, ii))(c.shape))
+    if (dedicated) classes.flatMap(_.ops.map(shapeOf))
+    else classes.flatMap(c => Seq.fill(unitsFor(c.ops.size, ii))(c.shape))
   def multiplierUnits: Int = unitShapes.size
 
   /** The operand widths unit `u` is built for: its one multiply's at II = 1, its class's widest otherwise. */
@@ -190,14 +273,24 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
   /** Units per shape, for reports: "15 x 35x31, 1 x 36x31", or one per multiply. */
   def unitSummary: String =
     if (dedicated) s"$multiplierUnits units, one per multiply at its own width"
-    else unitShapes.groupBy(identity).toSeq.sortBy(_._1.blocks).map { case (sh, us) => s"${us.size} x $sh" }.mkString(", ")
+    else
+      unitShapes
+        .groupBy(identity)
+        .toSeq
+        .sortBy(_._1.blocks)
+        .map { case (sh, us) => s"${us.size} x $sh" }
+        .mkString(", ")
 
-  /** Units of each class, as a range of unit numbers (at II = 1 a multiply's own unit is found by `place`). */
+  /**
+   * Units of each class, as a range of unit numbers (at II = 1 a multiply's own unit is found by `place`).
+   */
   private val classUnits: Map[Int, Range] = {
     val sizes = classes.map(c => if (dedicated) c.ops.size else unitsFor(c.ops.size, ii))
     classes.indices.map(k => k -> (sizes.take(k).sum until sizes.take(k + 1).sum)).toMap
   }
-  private val classOf: Map[NodeId, Int] = classes.zipWithIndex.flatMap { case (c, k) => c.ops.map(_ -> k) }.toMap
+  private val classOf: Map[NodeId, Int] = classes.zipWithIndex.flatMap { case (c, k) =>
+    c.ops.map(_ -> k)
+  }.toMap
 
   /** The shared units a multiply may run on: its class's (at II = 1 every unit of the class). */
   def unitsOf(id: NodeId): Range = classUnits(classOf(id))
@@ -209,15 +302,21 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
   val multiplierBlocks: Int = unitShapes.map(_.blocks).sum + cordicUnits * cordic.multiplierBlocks
 
   request.maxMultipliers.foreach { budget =>
-    require(multiplierBlocks <= budget,
+    require(
+      multiplierBlocks <= budget,
       s"schedule.max-multipliers = $budget is below the $multiplierBlocks blocks that schedule.clocks-per-sample = $ii needs " +
         s"(${muls.size} multiplies on $multiplierUnits units, $cordicUnits CORDIC units); " +
-        fewestClocks(budget).fold(s"use max-multipliers >= $multiplierBlocks")(c => s"use clocks-per-sample >= $c or max-multipliers >= $multiplierBlocks"))
+        fewestClocks(budget).fold(s"use max-multipliers >= $multiplierBlocks")(c =>
+          s"use clocks-per-sample >= $c or max-multipliers >= $multiplierBlocks"
+        )
+    )
   }
 
-  require(angles.isEmpty || cordicBound(cordicUnits) <= ii,
+  require(
+    angles.isEmpty || cordicBound(cordicUnits) <= ii,
     s"schedule.cordic-units = $cordicUnits cannot compute ${angles.size} sin/cos pairs in schedule.clocks-per-sample = $ii clocks; " +
-      s"use cordic-units >= ${ceilDiv(angles.size, ii)} or clocks-per-sample >= ${cordicBound(cordicUnits)}")
+      s"use cordic-units >= ${ceilDiv(angles.size, ii)} or clocks-per-sample >= ${cordicBound(cordicUnits)}"
+  )
 
   /** Whether a unit's result is captured in a register (shared: the unit moves on to the next operation). */
   val capturesCordic: Boolean = ii > 1 || cordicUnits < angles.size
@@ -236,53 +335,71 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
   /** Clocks from an angle's issue (its sum read from the input register) to sin/cos in registers. */
   val trigLatency: Int = 1 + cordic.latency + (if (capturesCordic) 1 else 0)
 
-  /** The first cycle from `earliest` whose residue has a free unit among `units` (multipliers or CORDIC units). */
+  /**
+   * The first cycle from `earliest` whose residue has a free unit among `units` (multipliers or CORDIC
+   * units).
+   */
   private def place(taken: Set[(Boolean, Int, Int)], isMul: Boolean, units: Range, earliest: Int): Slot =
-    Iterator.from(earliest).flatMap(r => units.find(u => !taken((isMul, u, r % ii))).map(u => Slot(Some(u), r)))
+    Iterator
+      .from(earliest)
+      .flatMap(r => units.find(u => !taken((isMul, u, r % ii))).map(u => Slot(Some(u), r)))
       .next()
 
   /** Readers of each node: operand occurrences and outputs. */
   private val uses: IndexedSeq[Int] = {
-    val counts = (ids.flatMap(id => graph(id).operands) ++ graph.outputs.map(_.node)).groupBy(_.index).view.mapValues(_.size).toMap
+    val counts = (ids.flatMap(id => graph(id).operands) ++ graph.outputs
+      .map(_.node)).groupBy(_.index).view.mapValues(_.size).toMap
     ids.map(id => counts.getOrElse(id.index, 0))
   }
 
-  private val state: ScheduleState = ids.foldLeft(ScheduleState(Vector.empty, Vector.empty, Set.empty, Map.empty, Set.empty)) { (s, id) =>
-    def at(x: NodeId) = s.ready(x.index).getOrElse(0)
-    def plain(ready: Option[Int], slot: Option[Slot]) = s.copy(ready = s.ready :+ ready, slots = s.slots :+ slot)
-    graph(id) match {
-      case Const(_)  => plain(None, None)
-      case Input(_)  => plain(Some(inputCycle), Some(Slot(None, inputCycle - 1)))
-      case Trig(_, angle) =>
-        s.angleSlots.get(angle) match {
-          case Some(slot) => plain(Some(slot.issue + trigLatency), Some(slot))
-          case None =>
-            // The angle's joints are in the input register from cycle 1.
-            val slot = place(s.taken, isMul = false, 0 until cordicUnits, 1)
-            s.copy(ready = s.ready :+ Some(slot.issue + trigLatency), slots = s.slots :+ Some(slot),
-              taken = s.taken + ((false, slot.unit.get, slot.issue % ii)), angleSlots = s.angleSlots + (angle -> slot))
-        }
-      case Mul(a, b) if shiftAdded(id) =>
-        val issue = math.max(at(a), at(b)) // its own adder tree: no unit to wait for
-        plain(Some(issue + mulLatency(id)), Some(Slot(None, issue)))
-      case Mul(a, b) =>
-        val earliest = math.max(at(a), at(b))
-        val slot = place(s.taken, isMul = true, classUnits(classOf(id)), earliest)
-        s.copy(ready = s.ready :+ Some(slot.issue + mulLatency(id)), slots = s.slots :+ Some(slot),
-          taken = s.taken + ((true, slot.unit.get, slot.issue % ii)))
-      case op =>
-        // A shared unit's product is on its output for one cycle, then captured. A product with this
-        // adder as its only reader is taken straight from the unit in that cycle when the other
-        // operand is ready by then: the adder's register holds it, no capture register, one cycle less.
-        def forwardable(x: NodeId) = !dedicated && graph(x).isInstanceOf[Mul] && uses(x.index) == 1
-        def earliest(x: NodeId) = if (forwardable(x)) at(x) - 1 else at(x)
-        val r = op.operands.map(earliest).max
-        val direct = op.operands.filter(x => forwardable(x) && at(x) - 1 == r)
-        plain(Some(r + 1), Some(Slot(None, r))).copy(forwarded = s.forwarded ++ direct)
+  private val state: ScheduleState =
+    ids.foldLeft(ScheduleState(Vector.empty, Vector.empty, Set.empty, Map.empty, Set.empty)) { (s, id) =>
+      def at(x: NodeId) = s.ready(x.index).getOrElse(0)
+      def plain(ready: Option[Int], slot: Option[Slot]) =
+        s.copy(ready = s.ready :+ ready, slots = s.slots :+ slot)
+      graph(id) match {
+        case Const(_) => plain(None, None)
+        case Input(_) => plain(Some(inputCycle), Some(Slot(None, inputCycle - 1)))
+        case Trig(_, angle) =>
+          s.angleSlots.get(angle) match {
+            case Some(slot) => plain(Some(slot.issue + trigLatency), Some(slot))
+            case None       =>
+              // The angle's joints are in the input register from cycle 1.
+              val slot = place(s.taken, isMul = false, 0 until cordicUnits, 1)
+              s.copy(
+                ready = s.ready :+ Some(slot.issue + trigLatency),
+                slots = s.slots :+ Some(slot),
+                taken = s.taken + ((false, slot.unit.get, slot.issue % ii)),
+                angleSlots = s.angleSlots + (angle -> slot)
+              )
+          }
+        case Mul(a, b) if shiftAdded(id) =>
+          val issue = math.max(at(a), at(b)) // its own adder tree: no unit to wait for
+          plain(Some(issue + mulLatency(id)), Some(Slot(None, issue)))
+        case Mul(a, b) =>
+          val earliest = math.max(at(a), at(b))
+          val slot = place(s.taken, isMul = true, classUnits(classOf(id)), earliest)
+          s.copy(
+            ready = s.ready :+ Some(slot.issue + mulLatency(id)),
+            slots = s.slots :+ Some(slot),
+            taken = s.taken + ((true, slot.unit.get, slot.issue % ii))
+          )
+        case op =>
+          // A shared unit's product is on its output for one cycle, then captured. A product with this
+          // adder as its only reader is taken straight from the unit in that cycle when the other
+          // operand is ready by then: the adder's register holds it, no capture register, one cycle less.
+          def forwardable(x: NodeId) = !dedicated && graph(x).isInstanceOf[Mul] && uses(x.index) == 1
+          def earliest(x: NodeId) = if (forwardable(x)) at(x) - 1 else at(x)
+          val r = op.operands.map(earliest).max
+          val direct = op.operands.filter(x => forwardable(x) && at(x) - 1 == r)
+          plain(Some(r + 1), Some(Slot(None, r))).copy(forwarded = s.forwarded ++ direct)
+      }
     }
-  }
 
-  /** Multiplies whose only reader takes the product from the unit's output in the cycle before `ready`: they have no register. */
+  /**
+   * Multiplies whose only reader takes the product from the unit's output in the cycle before `ready`: they
+   * have no register.
+   */
   def forwarded(id: NodeId): Boolean = state.forwarded(id)
 
   /** Cycle from which each node's value of the current sample is in its register (None: a constant). */
@@ -310,11 +427,13 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
   }
 
   /** Cycles at which joint `j`'s angle is read from the input register: by the angle sums that contain it. */
-  def angleReads(j: Int): Seq[Int] = angles.filter(_.joints.contains(j)).map(a => angleSlot(a).issue).distinct.sorted
+  def angleReads(j: Int): Seq[Int] =
+    angles.filter(_.joints.contains(j)).map(a => angleSlot(a).issue).distinct.sorted
 
   /** Multiplies bound to each multiplier unit, with their residues. */
   val mulBindings: IndexedSeq[Seq[(Int, NodeId)]] = {
-    val bound = muls.map(id => slot(id).get).zip(muls).groupMap(_._1.unit.get) { case (sl, id) => (sl.issue % ii, id) }
+    val bound =
+      muls.map(id => slot(id).get).zip(muls).groupMap(_._1.unit.get) { case (sl, id) => (sl.issue % ii, id) }
     (0 until multiplierUnits).map(u => bound.getOrElse(u, Nil).sortBy(_._1))
   }
 
@@ -325,13 +444,17 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
   }
 
   /** Register bits that hold values between their cycles (stage chains, see the hardware), for reports. */
-  def heldBits: Long = ids.filterNot(forwarded).map { id =>
-    val last = reads(id.index).maxOption
-    (apply(id), last) match {
-      case (Some(t), Some(l)) => (if (ii == 1) (l - t + 1).toLong else ((l - t) / ii + 1).toLong) * analysis(id).format.width
-      case _                  => 0L
+  def heldBits: Long = ids
+    .filterNot(forwarded)
+    .map { id =>
+      val last = reads(id.index).maxOption
+      (apply(id), last) match {
+        case (Some(t), Some(l)) =>
+          (if (ii == 1) (l - t + 1).toLong else ((l - t) / ii + 1).toLong) * analysis(id).format.width
+        case _ => 0L
+      }
     }
-  }.sum
+    .sum
 
   /** Samples per second at a clock of `hz`. */
   def samplesPerSecond(hz: Double): Double = hz / ii
@@ -340,9 +463,9 @@ final class Schedule(val analysis: Analysis, val request: ScheduleRequest, cordi
 object Schedule {
 
   /**
-   * Registers of the output stage, after every output is ready: each torque rounded and saturated
-   * on its own, then every joint's flag combined with every torque's saturation (memory storage
-   * has one more: [[BankedSchedule.outputStages]]).
+   * Registers of the output stage, after every output is ready: each torque rounded and saturated on its own,
+   * then every joint's flag combined with every torque's saturation (memory storage has one more:
+   * [[BankedSchedule.outputStages]]).
    */
   val outputStages: Int = 2
 }

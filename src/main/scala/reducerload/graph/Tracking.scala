@@ -10,11 +10,12 @@ final case class Tracked(node: NodeId, bound: Double)
 
 /**
  * Builds graph nodes (through `builder`) and proves magnitude bounds beside them: scalars by
- * |a + b| <= |a| + |b| and |ab| <= |a| |b|, vectors by their length, which rotations keep and cross
- * and dot products multiply. Every bound proved for a node is recorded; the tightest is its hint.
- * Used once, while one computation runs.
+ * \|a + b| <= |a| + |b| and |ab| <= |a| |b|, vectors by their length, which rotations keep and cross and dot
+ * products multiply. Every bound proved for a node is recorded; the tightest is its hint. Used once, while
+ * one computation runs.
  */
-final class TrackingAlgebra(builder: GraphBuilder) extends VectorAlgebra[Tracked]()(TrackingAlgebra.num(builder)) {
+final class TrackingAlgebra(builder: GraphBuilder)
+    extends VectorAlgebra[Tracked]()(TrackingAlgebra.num(builder)) {
   private val best = mutable.HashMap.empty[NodeId, Double]
 
   private def record(t: Tracked): Tracked = {
@@ -34,7 +35,8 @@ final class TrackingAlgebra(builder: GraphBuilder) extends VectorAlgebra[Tracked
 
   override def rotate(axis: Vec3, cos: Tracked, sin: Tracked, v: V3[Tracked], inverse: Boolean): V3[Tracked] =
     capped(super.rotate(axis, cos, sin, v, inverse), length(v))
-  override def cross(a: V3[Tracked], b: V3[Tracked]): V3[Tracked] = capped(super.cross(a, b), length(a) * length(b))
+  override def cross(a: V3[Tracked], b: V3[Tracked]): V3[Tracked] =
+    capped(super.cross(a, b), length(a) * length(b))
   override def dot(a: V3[Tracked], b: V3[Tracked]): Tracked = {
     val d = super.dot(a, b)
     record(Tracked(d.node, math.min(d.bound, length(a) * length(b))))
@@ -43,7 +45,8 @@ final class TrackingAlgebra(builder: GraphBuilder) extends VectorAlgebra[Tracked
     val frobenius = math.sqrt(m.rows.flatten.map(x => x * x).sum) // >= the spectral norm
     capped(super.mul(m, v), frobenius * length(v))
   }
-  override def plus(a: V3[Tracked], b: V3[Tracked]): V3[Tracked] = capped(super.plus(a, b), length(a) + length(b))
+  override def plus(a: V3[Tracked], b: V3[Tracked]): V3[Tracked] =
+    capped(super.plus(a, b), length(a) + length(b))
 
   def hints: Map[NodeId, Double] = best.toMap
 }

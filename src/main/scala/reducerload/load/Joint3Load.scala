@@ -5,18 +5,23 @@ import reducerload.dynamics.Num.NumOps
 import reducerload.graph.{AngleSum, TrigFn}
 
 /**
- * The planar arm's joint-3 load in closed form (SPEC.md's tau3, or the paper's equation (6) with
- * weight 2 on dd2), written once over [[Num]]: on doubles it is the reference
- * ([[LoadReference]]), on graph nodes the datapath ([[reducerload.arm.Dynamics.Joint3]]).
+ * The planar arm's joint-3 load in closed form (SPEC.md's tau3, or the paper's equation (6) with weight 2 on
+ * dd2), written once over [[Num]]: on doubles it is the reference ([[LoadReference]]), on graph nodes the
+ * datapath ([[reducerload.arm.Dynamics.Joint3]]).
  *
- *   A dd1 c23 + B (dd1 + k dd2) c3 + A d1^2 s23 + B (d1+d2)^2 s3 + C (dd1+dd2+dd3) + D s123
+ * A dd1 c23 + B (dd1 + k dd2) c3 + A d1^2 s23 + B (d1+d2)^2 s3 + C (dd1+dd2+dd3) + D s123
  *
  * Angle sums stay sums of binary angles (t2+t3, t1+t2+t3), one sin/cos each, as in the paper.
  */
 object Joint3Load {
 
-  /** The joint-3 torque; `trig` gives sin/cos of an angle sum (joints 0-based), `qd` / `qdd` a joint's velocity / acceleration. */
-  def torque[T](r: RobotParams, model: LoadModel, trig: (TrigFn, AngleSum) => T, qd: Int => T, qdd: Int => T)(implicit n: Num[T]): T = {
+  /**
+   * The joint-3 torque; `trig` gives sin/cos of an angle sum (joints 0-based), `qd` / `qdd` a joint's
+   * velocity / acceleration.
+   */
+  def torque[T](r: RobotParams, model: LoadModel, trig: (TrigFn, AngleSum) => T, qd: Int => T, qdd: Int => T)(
+      implicit n: Num[T]
+  ): T = {
     require(model.closedForm, s"model ${model.name} is not a joint-3 closed form")
     val (t3, t23, t123) = (AngleSum.of(2), AngleSum.of(1, 2), AngleSum.of(0, 1, 2))
     val (a, b, c, d) = (n.const(r.a), n.const(r.b), n.const(r.c), n.const(r.d))

@@ -6,7 +6,10 @@ sealed abstract class LoadModel(val name: String, val description: String) {
   /** Weight of dd2 in the cos(t3) term: (dd1 + k dd2), for the joint-3 closed forms. */
   def dd2Weight: Int
 
-  /** A closed form of the planar arm's joint-3 load (one output), or every joint torque of any arm (rnea); both run on [[reducerload.arm.ArmDatapath]]. */
+  /**
+   * A closed form of the planar arm's joint-3 load (one output), or every joint torque of any arm (rnea);
+   * both run on [[reducerload.arm.ArmDatapath]].
+   */
   def closedForm: Boolean = true
 
   override def toString: String = name
@@ -18,7 +21,9 @@ object LoadModel {
   case object Exact extends LoadModel("exact", "exact inverse dynamics (SPEC.md tau3)") { val dd2Weight = 1 }
 
   /** The paper's equation (6) as published: (dd1 + 2 dd2) cos t3, off by m3 l2 l3 dd2 cos t3. */
-  case object PaperEq6 extends LoadModel("paper", "the paper's equation (6) as published") { val dd2Weight = 2 }
+  case object PaperEq6 extends LoadModel("paper", "the paper's equation (6) as published") {
+    val dd2Weight = 2
+  }
 
   /** Every joint of any serial arm (the built-in planar3 or a URDF) by RNEA, as an expression graph. */
   case object Rnea extends LoadModel("rnea", "every joint torque by RNEA (the built-in planar3 or a URDF)") {
@@ -30,7 +35,10 @@ object LoadModel {
   def parse(s: String): Option[LoadModel] = all.find(_.name == s)
 }
 
-/** The joint-3 trace columns: angles t1..t3 (rad), velocities d1..d3 (rad/s), accelerations dd1..dd3 (rad/s^2); a row is an [[reducerload.arm.ArmSample]] of planar3. */
+/**
+ * The joint-3 trace columns: angles t1..t3 (rad), velocities d1..d3 (rad/s), accelerations dd1..dd3
+ * (rad/s^2); a row is an [[reducerload.arm.ArmSample]] of planar3.
+ */
 object Joint3Columns {
   val names: Seq[String] = Seq("t1", "t2", "t3", "d1", "d2", "d3", "dd1", "dd2", "dd3")
 }
@@ -38,5 +46,11 @@ object Joint3Columns {
 /** Double-precision reference of both closed forms: [[Joint3Load]] on doubles. */
 object LoadReference {
   def torque(r: RobotParams, model: LoadModel, s: reducerload.arm.ArmSample): Double =
-    Joint3Load.torque[Double](r, model, (fn, a) => reducerload.graph.TrigFn.reference(fn, a.radians(s.q)), s.qd, s.qdd)
+    Joint3Load.torque[Double](
+      r,
+      model,
+      (fn, a) => reducerload.graph.TrigFn.reference(fn, a.radians(s.q)),
+      s.qd,
+      s.qdd
+    )
 }

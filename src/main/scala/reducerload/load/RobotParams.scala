@@ -1,28 +1,36 @@
 package reducerload.load
 
 /**
- * The arm, in SI units, and the declared input ranges the fixed-point formats are derived from.
- * Joint angles have no range: binary angles wrap, so every angle is in range.
+ * The arm, in SI units, and the declared input ranges the fixed-point formats are derived from. Joint angles
+ * have no range: binary angles wrap, so every angle is in range.
  *
- * @param m3              point mass at the end of link 3, kg
- * @param l1              link lengths, m
- * @param g               gravitational acceleration, m/s^2 (0 for an arm moving in a horizontal plane)
- * @param maxVelocity     declared max |d_i| per joint, rad/s (a URDF robot: one value for every joint,
- *                        one per joint, or none for the URDF's `<limit velocity>`)
- * @param maxAcceleration declared max |dd_i| per joint, rad/s^2 (a URDF robot: one value for every joint, or one per joint)
- * @param source          `planar3` (the built-in planar arm above) or the path of a URDF file
- * @param tip             the URDF link that ends the chain (empty: the only leaf)
+ * @param m3
+ *   point mass at the end of link 3, kg
+ * @param l1
+ *   link lengths, m
+ * @param g
+ *   gravitational acceleration, m/s^2 (0 for an arm moving in a horizontal plane)
+ * @param maxVelocity
+ *   declared max |d_i| per joint, rad/s (a URDF robot: one value for every joint, one per joint, or none for
+ *   the URDF's `<limit velocity>`)
+ * @param maxAcceleration
+ *   declared max |dd_i| per joint, rad/s^2 (a URDF robot: one value for every joint, or one per joint)
+ * @param source
+ *   `planar3` (the built-in planar arm above) or the path of a URDF file
+ * @param tip
+ *   the URDF link that ends the chain (empty: the only leaf)
  */
 final case class RobotParams(
-  m3: Double = 10.0,
-  l1: Double = 0.4,
-  l2: Double = 0.35,
-  l3: Double = 0.3,
-  g: Double = 9.81,
-  maxVelocity: Seq[Double] = Seq(3.0, 3.0, 3.0),
-  maxAcceleration: Seq[Double] = Seq(10.0, 10.0, 10.0),
-  source: String = RobotParams.planar3,
-  tip: String = "") {
+    m3: Double = 10.0,
+    l1: Double = 0.4,
+    l2: Double = 0.35,
+    l3: Double = 0.3,
+    g: Double = 9.81,
+    maxVelocity: Seq[Double] = Seq(3.0, 3.0, 3.0),
+    maxAcceleration: Seq[Double] = Seq(10.0, 10.0, 10.0),
+    source: String = RobotParams.planar3,
+    tip: String = ""
+) {
 
   private def finite(x: Double) = !x.isNaN && !x.isInfinite
   require(finite(m3) && m3 > 0 && m3 <= 1e4, s"RobotParams.m3 must be a mass in (0, 10000] kg, got $m3")
@@ -32,15 +40,31 @@ final case class RobotParams(
   require(finite(g) && g >= 0 && g <= 100, s"RobotParams.g must be in [0, 100] m/s^2, got $g")
   require(source.nonEmpty, "robot.source must be planar3 or the path of a URDF file")
   if (isPlanar3) {
-    require(maxVelocity.size == 3, s"robot.max-velocity needs 3 numbers (one per joint of planar3), got ${maxVelocity.size}")
-    require(maxAcceleration.size == 3, s"robot.max-acceleration needs 3 numbers (one per joint of planar3), got ${maxAcceleration.size}")
+    require(
+      maxVelocity.size == 3,
+      s"robot.max-velocity needs 3 numbers (one per joint of planar3), got ${maxVelocity.size}"
+    )
+    require(
+      maxAcceleration.size == 3,
+      s"robot.max-acceleration needs 3 numbers (one per joint of planar3), got ${maxAcceleration.size}"
+    )
     require(tip.isEmpty, s"robot.tip names a URDF link; the built-in planar3 has none (got '$tip')")
-  } else require(maxAcceleration.nonEmpty, s"robot.max-acceleration must be declared for $source (a URDF gives no acceleration limits)")
+  } else
+    require(
+      maxAcceleration.nonEmpty,
+      s"robot.max-acceleration must be declared for $source (a URDF gives no acceleration limits)"
+    )
   maxVelocity.zipWithIndex.foreach { case (v, i) =>
-    require(finite(v) && v > 0 && v <= 1000, s"RobotParams.maxVelocity(${i + 1}) must be in (0, 1000] rad/s, got $v")
+    require(
+      finite(v) && v > 0 && v <= 1000,
+      s"RobotParams.maxVelocity(${i + 1}) must be in (0, 1000] rad/s, got $v"
+    )
   }
   maxAcceleration.zipWithIndex.foreach { case (a, i) =>
-    require(finite(a) && a > 0 && a <= 1e5, s"RobotParams.maxAcceleration(${i + 1}) must be in (0, 100000] rad/s^2, got $a")
+    require(
+      finite(a) && a > 0 && a <= 1e5,
+      s"RobotParams.maxAcceleration(${i + 1}) must be in (0, 100000] rad/s^2, got $a"
+    )
   }
 
   def isPlanar3: Boolean = source == RobotParams.planar3

@@ -8,13 +8,12 @@ import reducerload.pipeline.{MultiplierImpl, PipelinedMultiplier}
 /**
  * One joint of [[ReducerMonitor]]: the per-sample pipeline, the live state and its shadow.
  *
- * Stages (cycles after the input): 1 input registers; 2 magnitudes |tau|, |qd|; 3 the power table's
- * region (leading one of |tau|) and the constant comparisons (T_R, T_M, bin edges); 4 the normalising
- * shift; 5 the table read (base, delta, shift); then the interpolation multiply, the mantissa
- * register, the |qd| x mantissa multiply (both `PipelinedMultiplier`s: registered 18x18 blocks) and
- * the shift by the segment's exponent (registered).
- * Everything is delayed to `p.updateStage`, where one clock applies clear, the sample and snapshot
- * exactly as [[MonitorModel.step]] does. Data registers carry no reset; the valid and command
+ * Stages (cycles after the input): 1 input registers; 2 magnitudes |tau|, |qd|; 3 the power table's region
+ * (leading one of |tau|) and the constant comparisons (T_R, T_M, bin edges); 4 the normalising shift; 5 the
+ * table read (base, delta, shift); then the interpolation multiply, the mantissa register, the |qd| x
+ * mantissa multiply (both `PipelinedMultiplier`s: registered 18x18 blocks) and the shift by the segment's
+ * exponent (registered). Everything is delayed to `p.updateStage`, where one clock applies clear, the sample
+ * and snapshot exactly as [[MonitorModel.step]] does. Data registers carry no reset; the valid and command
  * bits and the state do.
  */
 class JointMonitor(p: MonitorParams, j: Int)(implicit multiplierImpl: MultiplierImpl) extends Module {
@@ -30,10 +29,14 @@ class JointMonitor(p: MonitorParams, j: Int)(implicit multiplierImpl: Multiplier
 
   /** Control bits: registered with reset, so no stale valid or command survives a reset. */
   private def controlDelay(x: Bool, n: Int): Bool = (0 until n).foldLeft(x)((v, _) => RegNext(v, false.B))
+
   /** Data from stage `at` to the update stage. */
   private def toUpdate[T <: Data](x: T, at: Int): T = FixedHw.delay(x, update - at)
 
-  /** |x| in width - 1 bits; the most negative code saturates to the largest magnitude, like [[MonitorParams.magnitude]]. */
+  /**
+   * \|x| in width - 1 bits; the most negative code saturates to the largest magnitude, like
+   * [[MonitorParams.magnitude]].
+   */
   private def magnitude(x: SInt): UInt = {
     val w = x.getWidth
     val negated = ((~x.asUInt).asUInt + 1.U)(w - 1, 0)
@@ -59,16 +62,23 @@ class JointMonitor(p: MonitorParams, j: Int)(implicit multiplierImpl: Multiplier
   // Region r >= 1: the leading one at bit n-K+r-1; region 0: no one at or above bit n-K (PowerTable.regionOf).
   private val n = table.codeBits
   private val octaveBits2 = absTau2(n - 1, n - table.octaves)
-  private val region3 = FixedHw.delay(Mux(octaveBits2.orR, Log2(octaveBits2) +& 1.U, 0.U).pad(table.regionBits)(table.regionBits - 1, 0), 1)
+  private val region3 = FixedHw.delay(
+    Mux(octaveBits2.orR, Log2(octaveBits2) +& 1.U, 0.U).pad(table.regionBits)(table.regionBits - 1, 0),
+    1
+  )
   private val absTau3 = FixedHw.delay(absTau2, 1)
   private val absTauSigned2 = absTau2.zext
   private val aboveRepeated3 = FixedHw.delay(FixedHw.greaterThan(absTauSigned2, p.repeatedPeakCode(j)), 1)
   private val aboveMomentary3 = FixedHw.delay(FixedHw.greaterThan(absTauSigned2, p.momentaryPeakCode(j)), 1)
   // Bin k: edge(k) <= |tau| < edge(k + 1), one-hot; "at least edge" is "greater than edge - 1".
-  private val atLeastEdge2 = p.binEdges(j).map(e => if (e == 0) true.B else FixedHw.greaterThan(absTauSigned2, e - 1))
-  private val bin3 = FixedHw.delay(VecInit(atLeastEdge2.indices.map { k =>
-    if (k + 1 < atLeastEdge2.size) atLeastEdge2(k) && !atLeastEdge2(k + 1) else atLeastEdge2(k)
-  }), 1)
+  private val atLeastEdge2 =
+    p.binEdges(j).map(e => if (e == 0) true.B else FixedHw.greaterThan(absTauSigned2, e - 1))
+  private val bin3 = FixedHw.delay(
+    VecInit(atLeastEdge2.indices.map { k =>
+      if (k + 1 < atLeastEdge2.size) atLeastEdge2(k) && !atLeastEdge2(k + 1) else atLeastEdge2(k)
+    }),
+    1
+  )
 
   // ---- stage 4: normalising shift sh(r) = K - max(r, 1) (PowerTable.normalisingShift; no bit leaves the n bits) ----
   private val normalisingShift3 = Mux(region3 === 0.U, (table.octaves - 1).U, table.octaves.U - region3)
@@ -81,7 +91,9 @@ class JointMonitor(p: MonitorParams, j: Int)(implicit multiplierImpl: Multiplier
   private val romWidth = table.baseBits + table.deltaBits + table.shiftBits
   // One ROM word per segment: base, delta, shift (high to low).
   private val rom = VecInit(table.base.indices.map { s =>
-    ((table.base(s) << (table.deltaBits + table.shiftBits)) | (table.delta(s) << table.shiftBits) | BigInt(table.shift(s))).U(romWidth.W)
+    ((table.base(s) << (table.deltaBits + table.shiftBits)) | (table.delta(s) << table.shiftBits) | BigInt(
+      table.shift(s)
+    )).U(romWidth.W)
   })
   private val word5 = FixedHw.delay(rom(address4), 1)
   private val base5 = word5(romWidth - 1, table.deltaBits + table.shiftBits)
@@ -95,10 +107,14 @@ class JointMonitor(p: MonitorParams, j: Int)(implicit multiplierImpl: Multiplier
   require(interpolation.getWidth == interpA + interpB, "JointMonitor: interpolation product width")
   private val interpolationAt = 5 + PipelinedMultiplier.latency(interpA, interpB)
   // Rounded half up; the product is non-negative and the extra bit keeps the add from wrapping.
-  private val step = ((interpolation.asUInt +& table.half.U) >> table.usedOffsetBits).pad(table.baseBits)(table.baseBits - 1, 0)
+  private val step = ((interpolation.asUInt +& table.half.U) >> table.usedOffsetBits)
+    .pad(table.baseBits)(table.baseBits - 1, 0)
   // Proven: base + step <= the segment's end point < 2^powerFracBits, so the sum keeps baseBits.
   private val mantissa = FixedHw.delay(FixedHw.delay(base5, interpolationAt - 5) +% step, 1)
-  require(interpolationAt + 1 == p.powerReadyAt(j), "JointMonitor: schedule differs from MonitorParams.powerReadyAt")
+  require(
+    interpolationAt + 1 == p.powerReadyAt(j),
+    "JointMonitor: schedule differs from MonitorParams.powerReadyAt"
+  )
 
   // ---- damage increment (|qd| x mantissa) << shift: exact, registered ----
   private val (damageA, damageB) = p.damageMulWidths(j)
@@ -106,8 +122,14 @@ class JointMonitor(p: MonitorParams, j: Int)(implicit multiplierImpl: Multiplier
   private val damageAt = p.powerReadyAt(j) + PipelinedMultiplier.latency(damageA, damageB)
   private val product = damage.asUInt(vf.width - 1 + p.powerFracBits - 1, 0)
   private val incrementWidth = vf.width - 1 + p.powerFracBits + table.shift.max
-  private val damageIncrement = toUpdate(FixedHw.delay((product << FixedHw.delay(shift5, damageAt - 5))(incrementWidth - 1, 0), 1), damageAt + 1)
-  require(damageAt + 1 == p.damageReadyAt(j), "JointMonitor: schedule differs from MonitorParams.damageReadyAt")
+  private val damageIncrement = toUpdate(
+    FixedHw.delay((product << FixedHw.delay(shift5, damageAt - 5))(incrementWidth - 1, 0), 1),
+    damageAt + 1
+  )
+  require(
+    damageAt + 1 == p.damageReadyAt(j),
+    "JointMonitor: schedule differs from MonitorParams.damageReadyAt"
+  )
 
   // ---- update stage: everything of one input cycle meets here ----
   private val valid = controlDelay(valid1, update - 1)
@@ -163,7 +185,11 @@ class JointMonitor(p: MonitorParams, j: Int)(implicit multiplierImpl: Multiplier
       next.lastEventPeak := absTau
       next.lastEventSpeed := absQd
     }
-    next.lastEventDuration := Mux(continuing, start.lastEventDuration +% 1.U, Mux(aboveMomentary, 1.U, start.lastEventDuration))
+    next.lastEventDuration := Mux(
+      continuing,
+      start.lastEventDuration +% 1.U,
+      Mux(aboveMomentary, 1.U, start.lastEventDuration)
+    )
     next.inEvent := aboveMomentary
     next.momentaryPeakSeen := start.momentaryPeakSeen || aboveMomentary
     next.damageSum := start.damageSum +% damageIncrement
@@ -173,9 +199,12 @@ class JointMonitor(p: MonitorParams, j: Int)(implicit multiplierImpl: Multiplier
     next.histogram := VecInit(start.histogram.zip(full).zip(bin).map { case ((count, isFull), hit) =>
       Mux(hit && !isFull, count +% 1.U, count)
     })
-    next.histogramSaturated := start.histogramSaturated || full.zip(bin).map { case (f, b) => f && b }.reduce(_ || _)
+    next.histogramSaturated := start.histogramSaturated || full
+      .zip(bin)
+      .map { case (f, b) => f && b }
+      .reduce(_ || _)
   }
   live := next
-  when(snapshot) { shadow := live }
+  when(snapshot)(shadow := live)
   io.shadow := shadow
 }

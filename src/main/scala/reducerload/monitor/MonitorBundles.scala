@@ -4,9 +4,8 @@ import chisel3._
 import chisel3.util.{Cat, MixedVec}
 
 /**
- * One sample of every joint: raw torque codes (`p.torqueFormats`), raw velocity codes
- * (`p.velocityFormats`) and a per-joint out-of-range flag (a datapath with one flag per sample
- * drives it to every joint).
+ * One sample of every joint: raw torque codes (`p.torqueFormats`), raw velocity codes (`p.velocityFormats`)
+ * and a per-joint out-of-range flag (a datapath with one flag per sample drives it to every joint).
  */
 class MonitorSample(p: MonitorParams) extends Bundle {
   val torque = MixedVec(p.torqueFormats.map(f => SInt(f.width.W)))
@@ -22,10 +21,10 @@ class MonitorJointSample(p: MonitorParams, j: Int) extends Bundle {
 }
 
 /**
- * Host side: `snapshot` and `clear` are one-clock pulses (see docs/monitor.md for exactly which
- * samples each sees); `snapshotDone` is high in the first cycle the shadow bank holds a snapshot;
- * `readAddress` (32-bit word address) gives `readData` one clock later (an Avalon-MM slave with
- * fixed read latency 1; reads have no side effects, so `read` need not be decoded).
+ * Host side: `snapshot` and `clear` are one-clock pulses (see docs/monitor.md for exactly which samples each
+ * sees); `snapshotDone` is high in the first cycle the shadow bank holds a snapshot; `readAddress` (32-bit
+ * word address) gives `readData` one clock later (an Avalon-MM slave with fixed read latency 1; reads have no
+ * side effects, so `read` need not be decoded).
  */
 class MonitorHostPort(p: MonitorParams) extends Bundle {
   val snapshot = Input(Bool())
@@ -69,10 +68,10 @@ class JointMonitorState(p: MonitorParams, j: Int) extends Bundle {
       case JointField.LastEventPeak       => zero(lastEventPeak)
       case JointField.LastEventDuration   => zero(lastEventDuration)
       case JointField.LastEventSpeed      => zero(lastEventSpeed)
-      case JointField.Flags               => zero(Cat(histogramSaturated, inEvent, momentaryPeakSeen, repeatedPeakSeen))
-      case JointField.DamageSum           => zero(damageSum)
-      case JointField.SpeedSum            => zero(speedSum)
-      case JointField.HistogramBin(k)     => zero(histogram(k))
+      case JointField.Flags     => zero(Cat(histogramSaturated, inEvent, momentaryPeakSeen, repeatedPeakSeen))
+      case JointField.DamageSum => zero(damageSum)
+      case JointField.SpeedSum  => zero(speedSum)
+      case JointField.HistogramBin(k) => zero(histogram(k))
     }
   }
 }

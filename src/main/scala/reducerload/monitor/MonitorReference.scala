@@ -1,16 +1,24 @@
 package reducerload.monitor
 
 /** One valid sample in physical units: torque (N·m), velocity (rad/s) and the out-of-range flag per joint. */
-final case class MonitorSampleValues(torqueNm: IndexedSeq[Double], velocityRadS: IndexedSeq[Double], outOfRange: IndexedSeq[Boolean])
+final case class MonitorSampleValues(
+    torqueNm: IndexedSeq[Double],
+    velocityRadS: IndexedSeq[Double],
+    outOfRange: IndexedSeq[Boolean]
+)
 
 /**
- * The monitor's figures in double precision, straight from the definitions (SPEC.md, "Reducer life
- * and limits"), with no table, code or integer: the independent check of [[MonitorModel]] and the
- * RTL over one period between clears. Only the limits, bin width, exponent and dt come from `p`.
+ * The monitor's figures in double precision, straight from the definitions (SPEC.md, "Reducer life and
+ * limits"), with no table, code or integer: the independent check of [[MonitorModel]] and the RTL over one
+ * period between clears. Only the limits, bin width, exponent and dt come from `p`.
  */
 object MonitorReference {
 
-  def summarize(p: MonitorParams, samples: Seq[MonitorSampleValues], rated: Seq[Option[RatedReducer]] = Nil): Seq[JointSummary] =
+  def summarize(
+      p: MonitorParams,
+      samples: Seq[MonitorSampleValues],
+      rated: Seq[Option[RatedReducer]] = Nil
+  ): Seq[JointSummary] =
     (0 until p.joints).map { j =>
       val inRange = samples.filter(s => !s.outOfRange(j))
       val tau = inRange.map(_.torqueNm(j))
@@ -31,8 +39,10 @@ object MonitorReference {
         (math.abs(tau(peakAt)), run.size, speed(peakAt))
       }
       val bins = p.histogramBins(j)
-      val histogram = tau.map(t => (math.abs(t) / p.histogramBinWidthNm(j)).floor.toInt.min(bins - 1))
-        .groupBy(identity).map { case (b, xs) => b -> xs.size }
+      val histogram = tau
+        .map(t => (math.abs(t) / p.histogramBinWidthNm(j)).floor.toInt.min(bins - 1))
+        .groupBy(identity)
+        .map { case (b, xs) => b -> xs.size }
       JointSummary(
         name = p.jointNames(j),
         samples = inRange.size,
@@ -59,5 +69,6 @@ object MonitorReference {
     MonitorSampleValues(
       (0 until p.joints).map(j => p.torqueFormats(j).toDouble(s.torque(j))),
       (0 until p.joints).map(j => p.velocityFormats(j).toDouble(s.velocity(j))),
-      s.outOfRange)
+      s.outOfRange
+    )
 }

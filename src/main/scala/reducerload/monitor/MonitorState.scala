@@ -3,26 +3,27 @@ package reducerload.monitor
 import reducerload.monitor.JointField._
 
 /**
- * One joint's monitor state as integers: what [[MonitorModel]] keeps, what the RTL's live and
- * shadow registers hold, and what a register-bank read decodes to. Codes as in [[MonitorParams]].
+ * One joint's monitor state as integers: what [[MonitorModel]] keeps, what the RTL's live and shadow
+ * registers hold, and what a register-bank read decodes to. Codes as in [[MonitorParams]].
  */
 final case class JointState(
-  samples: BigInt,
-  outOfRangeSamples: BigInt,
-  peakTorque: BigInt,
-  minTorque: BigInt,
-  repeatedPeakSamples: BigInt,
-  momentaryPeakEvents: BigInt,
-  lastEventPeak: BigInt,
-  lastEventDuration: BigInt,
-  lastEventSpeed: BigInt,
-  repeatedPeakSeen: Boolean,
-  momentaryPeakSeen: Boolean,
-  inEvent: Boolean,
-  histogramSaturated: Boolean,
-  damageSum: BigInt,
-  speedSum: BigInt,
-  histogram: Vector[BigInt]) {
+    samples: BigInt,
+    outOfRangeSamples: BigInt,
+    peakTorque: BigInt,
+    minTorque: BigInt,
+    repeatedPeakSamples: BigInt,
+    momentaryPeakEvents: BigInt,
+    lastEventPeak: BigInt,
+    lastEventDuration: BigInt,
+    lastEventSpeed: BigInt,
+    repeatedPeakSeen: Boolean,
+    momentaryPeakSeen: Boolean,
+    inEvent: Boolean,
+    histogramSaturated: Boolean,
+    damageSum: BigInt,
+    speedSum: BigInt,
+    histogram: Vector[BigInt]
+) {
 
   def flags: BigInt = Seq(
     FlagBit.repeatedPeakSeen -> repeatedPeakSeen,
@@ -50,7 +51,9 @@ final case class JointState(
 
 object JointState {
 
-  /** The state after clear (and reset): nothing seen; peak and min start at the opposite ends of the format. */
+  /**
+   * The state after clear (and reset): nothing seen; peak and min start at the opposite ends of the format.
+   */
   def cleared(p: MonitorParams, j: Int): JointState = {
     def start(f: JointField) = p.clearValue(j, f)
     JointState(
@@ -75,11 +78,24 @@ object JointState {
 
   def fromFields(p: MonitorParams, j: Int, value: JointField => BigInt): JointState = {
     val flags = value(Flags)
-    JointState(value(Samples), value(OutOfRangeSamples), value(PeakTorque), value(MinTorque), value(RepeatedPeakSamples),
-      value(MomentaryPeakEvents), value(LastEventPeak), value(LastEventDuration), value(LastEventSpeed),
-      flags.testBit(FlagBit.repeatedPeakSeen), flags.testBit(FlagBit.momentaryPeakSeen), flags.testBit(FlagBit.inEvent),
-      flags.testBit(FlagBit.histogramSaturated), value(DamageSum), value(SpeedSum),
-      (0 until p.histogramBins(j)).map(k => value(HistogramBin(k))).toVector)
+    JointState(
+      value(Samples),
+      value(OutOfRangeSamples),
+      value(PeakTorque),
+      value(MinTorque),
+      value(RepeatedPeakSamples),
+      value(MomentaryPeakEvents),
+      value(LastEventPeak),
+      value(LastEventDuration),
+      value(LastEventSpeed),
+      flags.testBit(FlagBit.repeatedPeakSeen),
+      flags.testBit(FlagBit.momentaryPeakSeen),
+      flags.testBit(FlagBit.inEvent),
+      flags.testBit(FlagBit.histogramSaturated),
+      value(DamageSum),
+      value(SpeedSum),
+      (0 until p.histogramBins(j)).map(k => value(HistogramBin(k))).toVector
+    )
   }
 }
 
@@ -97,14 +113,19 @@ final case class MonitorSnapshot(snapshotCount: BigInt, joints: IndexedSeq[Joint
 }
 
 object MonitorSnapshot {
-  def cleared(p: MonitorParams): MonitorSnapshot = MonitorSnapshot(0, (0 until p.joints).map(JointState.cleared(p, _)))
+  def cleared(p: MonitorParams): MonitorSnapshot =
+    MonitorSnapshot(0, (0 until p.joints).map(JointState.cleared(p, _)))
 
   /** Decode a register bank read by the host; checks the id word. */
   def fromBank(p: MonitorParams, bank: IndexedSeq[BigInt]): MonitorSnapshot = {
     val values = p.registerMap.decode(bank)
-    require(values(RegisterKey.Id) == RegisterMap.idBase + p.joints,
-      f"register bank: monitor_id 0x${values(RegisterKey.Id)}%x is not a ${p.joints}-joint monitor")
-    MonitorSnapshot(values(RegisterKey.SnapshotCount),
-      (0 until p.joints).map(j => JointState.fromFields(p, j, f => values(RegisterKey.Joint(j, f)))))
+    require(
+      values(RegisterKey.Id) == RegisterMap.idBase + p.joints,
+      f"register bank: monitor_id 0x${values(RegisterKey.Id)}%x is not a ${p.joints}-joint monitor"
+    )
+    MonitorSnapshot(
+      values(RegisterKey.SnapshotCount),
+      (0 until p.joints).map(j => JointState.fromFields(p, j, f => values(RegisterKey.Joint(j, f))))
+    )
   }
 }

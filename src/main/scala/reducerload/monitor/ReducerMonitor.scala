@@ -5,16 +5,15 @@ import chisel3.util.Valid
 import reducerload.pipeline.MultiplierImpl
 
 /**
- * Reducer life and limit monitor for `p.joints` joints, beside any torque datapath: takes a
- * `Valid` sample of every joint's torque and velocity codes, keeps per joint the peaks, limit
- * counters, momentary-peak events, damage sums and histogram ([[JointMonitor]]), and gives the
- * host a double-buffered view: `snapshot` copies the live state of every joint into the shadow
- * bank in one clock, `clear` resets the live state, and the host reads the shadow bank by word
- * address (`p.registerMap`).
+ * Reducer life and limit monitor for `p.joints` joints, beside any torque datapath: takes a `Valid` sample of
+ * every joint's torque and velocity codes, keeps per joint the peaks, limit counters, momentary-peak events,
+ * damage sums and histogram ([[JointMonitor]]), and gives the host a double-buffered view: `snapshot` copies
+ * the live state of every joint into the shadow bank in one clock, `clear` resets the live state, and the
+ * host reads the shadow bank by word address (`p.registerMap`).
  *
- * Timing in input cycles (docs/monitor.md): a snapshot pulsed in cycle t holds every valid sample
- * of cycles before t, none from t on; a clear pulsed in cycle t makes the sample of cycle t the
- * first of the new period. Both together: read-and-reset with no sample lost or counted twice.
+ * Timing in input cycles (docs/monitor.md): a snapshot pulsed in cycle t holds every valid sample of cycles
+ * before t, none from t on; a clear pulsed in cycle t makes the sample of cycle t the first of the new
+ * period. Both together: read-and-reset with no sample lost or counted twice.
  */
 class ReducerMonitor(val p: MonitorParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
   override def desiredName = s"ReducerMonitor_${p.joints}j"
@@ -35,9 +34,10 @@ class ReducerMonitor(val p: MonitorParams)(implicit multiplierImpl: MultiplierIm
   }
 
   // The joints copy their live state at the update stage; the count moves in the same clock.
-  private val snapshotAtUpdate = (0 until p.updateStage).foldLeft(io.host.snapshot)((v, _) => RegNext(v, false.B))
+  private val snapshotAtUpdate =
+    (0 until p.updateStage).foldLeft(io.host.snapshot)((v, _) => RegNext(v, false.B))
   private val snapshotCount = RegInit(0.U(32.W))
-  when(snapshotAtUpdate) { snapshotCount := snapshotCount +% 1.U }
+  when(snapshotAtUpdate)(snapshotCount := snapshotCount +% 1.U)
   io.host.snapshotDone := RegNext(snapshotAtUpdate, false.B)
 
   private def value(e: RegisterEntry): UInt = e.key match {
@@ -49,7 +49,10 @@ class ReducerMonitor(val p: MonitorParams)(implicit multiplierImpl: MultiplierIm
     val v = value(e)
     (0 until e.words).map(i => v(32 * i + 31, 32 * i))
   }
-  require(words.size == p.registerMap.words, "ReducerMonitor: register bank size differs from the register map")
+  require(
+    words.size == p.registerMap.words,
+    "ReducerMonitor: register bank size differs from the register map"
+  )
   // Padded to a power of two so every address selects a word (unused ones read 0).
   private val bank = VecInit(words ++ Seq.fill((1 << p.addressBits) - words.size)(0.U(32.W)))
   io.host.readData := RegNext(bank(io.host.readAddress))

@@ -4,11 +4,10 @@ import chisel3._
 import reducerload.fixedpoint.FixedHw
 
 /**
- * Signed multiply wider than one 18x18 block, pipelined: the operands are cut into 17-bit unsigned
- * low chunks and a signed top chunk (each fits an 18x18 signed multiplier), every 18x18 block has
- * registers on its operands and its product ([[SignedMultiply]]), and the shifted
- * partial products are summed by a registered adder tree, one level per clock. The result is the
- * exact full-width product.
+ * Signed multiply wider than one 18x18 block, pipelined: the operands are cut into 17-bit unsigned low chunks
+ * and a signed top chunk (each fits an 18x18 signed multiplier), every 18x18 block has registers on its
+ * operands and its product ([[SignedMultiply]]), and the shifted partial products are summed by a registered
+ * adder tree, one level per clock. The result is the exact full-width product.
  */
 class PipelinedMultiplier(aWidth: Int, bWidth: Int)(implicit multiplierImpl: MultiplierImpl) extends Module {
   require(aWidth >= 2 && bWidth >= 2, s"PipelinedMultiplier: operands of $aWidth and $bWidth bits")
@@ -33,17 +32,23 @@ class PipelinedMultiplier(aWidth: Int, bWidth: Int)(implicit multiplierImpl: Mul
   }
 
   private val w = aWidth + bWidth
-  private val partials: Seq[SInt] = for ((ac, ao) <- chunks(io.a, aWidth); (bc, bo) <- chunks(io.b, bWidth)) yield {
-    (SignedMultiply(ac, bc).pad(w) << (ao + bo)).asSInt
-  }
+  private val partials: Seq[SInt] =
+    for ((ac, ao) <- chunks(io.a, aWidth); (bc, bo) <- chunks(io.b, bWidth))
+      yield (SignedMultiply(ac, bc).pad(w) << (ao + bo)).asSInt
 
   // Synthesis trims each adder to the bits above the partial products' zero low bits.
   private def sumTree(xs: Seq[SInt]): SInt =
     if (xs.size == 1) xs.head
-    else sumTree(xs.grouped(2).map {
-      case Seq(x, y) => FixedHw.delay((x +% y)(w - 1, 0).asSInt, 1) // exact: the full product fits w bits
-      case Seq(x)    => FixedHw.delay(x(w - 1, 0).asSInt, 1)
-    }.toSeq)
+    else
+      sumTree(
+        xs.grouped(2)
+          .map {
+            case Seq(x, y) =>
+              FixedHw.delay((x +% y)(w - 1, 0).asSInt, 1) // exact: the full product fits w bits
+            case Seq(x) => FixedHw.delay(x(w - 1, 0).asSInt, 1)
+          }
+          .toSeq
+      )
 
   io.product := sumTree(partials)(w - 1, 0).asSInt
 }

@@ -5,22 +5,22 @@ import chisel3.experimental.IntParam
 import chisel3.util.{HasBlackBoxInline, ShiftRegister}
 
 /**
- * Registered signed multiply: registers on both operands and on the product, written in Verilog
- * (`product <= $signed(a_r) * $signed(b_r)`). Latency [[SignedMultiply.latency]] clocks.
+ * Registered signed multiply: registers on both operands and on the product, written in Verilog (`product <=
+ * $signed(a_r) * $signed(b_r)`). Latency [[SignedMultiply.latency]] clocks.
  *
  * Why a black box:
- *  - firtool 1.62 emits a FIRRTL signed multiply as an unsigned multiply of operands sign-extended
- *    to the product width (`{{17{a[17]}}, a} * {{18{b[17]}}, b}`, llvm/circt issue 4152); synthesis
- *    then builds a 36x36 multiply from several DSP blocks plus fabric adders. A Verilog signed
- *    multiply of operands up to 18 bits is one 18x18 block in signed mode.
- *  - The three registers belong to the multiplier alone, so Quartus packs them into the embedded
- *    multiplier's input and output registers on Cyclone IV, and the estimate's ECP5 proxy can map
- *    the module onto a registered MULT18X18D (tools/estimate/ecp5_primitives.v): the multiply
- *    itself never sits in a fabric register-to-register path.
+ *   - firtool 1.62 emits a FIRRTL signed multiply as an unsigned multiply of operands sign-extended to the
+ *     product width (`{{17{a[17]}}, a} * {{18{b[17]}}, b}`, llvm/circt issue 4152); synthesis then builds a
+ *     36x36 multiply from several DSP blocks plus fabric adders. A Verilog signed multiply of operands up to
+ *     18 bits is one 18x18 block in signed mode.
+ *   - The three registers belong to the multiplier alone, so Quartus packs them into the embedded
+ *     multiplier's input and output registers on Cyclone IV, and the estimate's ECP5 proxy can map the module
+ *     onto a registered MULT18X18D (tools/estimate/ecp5_primitives.v): the multiply itself never sits in a
+ *     fabric register-to-register path.
  *
- * One parameterized Verilog module serves every width. The JVM simulator (treadle) cannot run
- * Verilog: a design built with [[MultiplierImpl.ChiselTwin]] (a constructor parameter of every module
- * that multiplies) has [[SignedMultiplyTwin]], the same registers and product in Chisel, instead.
+ * One parameterized Verilog module serves every width. The JVM simulator (treadle) cannot run Verilog: a
+ * design built with [[MultiplierImpl.ChiselTwin]] (a constructor parameter of every module that multiplies)
+ * has [[SignedMultiplyTwin]], the same registers and product in Chisel, instead.
  */
 class SignedMultiply(val aWidth: Int, val bWidth: Int)
     extends BlackBox(Map("A_WIDTH" -> IntParam(aWidth), "B_WIDTH" -> IntParam(bWidth)))
@@ -36,9 +36,13 @@ class SignedMultiply(val aWidth: Int, val bWidth: Int)
   setInline(s"${SignedMultiply.moduleName}.sv", SignedMultiply.verilog)
 }
 
-/** How a design's signed multiplies are built; a constructor parameter (implicit) of every module that multiplies. */
+/**
+ * How a design's signed multiplies are built; a constructor parameter (implicit) of every module that
+ * multiplies.
+ */
 sealed trait MultiplierImpl
 object MultiplierImpl {
+
   /** The Verilog black box: emission, Verilator, Quartus. The default wherever no other is in scope. */
   case object VerilogBlackBox extends MultiplierImpl
 

@@ -14,7 +14,9 @@ final case class Vec3(x: Double, y: Double, z: Double) {
 
 object Vec3 {
   val zero: Vec3 = Vec3(0, 0, 0)
-  def apply(s: Seq[Double]): Vec3 = { require(s.size == 3, s"Vec3 needs 3 values, got ${s.size}"); Vec3(s(0), s(1), s(2)) }
+  def apply(s: Seq[Double]): Vec3 = {
+    require(s.size == 3, s"Vec3 needs 3 values, got ${s.size}"); Vec3(s(0), s(1), s(2))
+  }
 }
 
 /** A 3x3 matrix of doubles, row major: rotations and inertia tensors. */
@@ -41,22 +43,30 @@ object Mat3 {
     Mat3(IndexedSeq(IndexedSeq(ixx, ixy, ixz), IndexedSeq(ixy, iyy, iyz), IndexedSeq(ixz, iyz, izz)))
 
   /** Skew matrix [v]x, so that [v]x w = v cross w. */
-  def skew(v: Vec3): Mat3 = Mat3(IndexedSeq(IndexedSeq(0, -v.z, v.y), IndexedSeq(v.z, 0, -v.x), IndexedSeq(-v.y, v.x, 0)))
+  def skew(v: Vec3): Mat3 = Mat3(
+    IndexedSeq(IndexedSeq(0, -v.z, v.y), IndexedSeq(v.z, 0, -v.x), IndexedSeq(-v.y, v.x, 0))
+  )
 
   /** URDF roll-pitch-yaw: fixed axes x, y, z in that order, R = Rz(yaw) Ry(pitch) Rx(roll). */
   def rpy(roll: Double, pitch: Double, yaw: Double): Mat3 = {
     def c(a: Double) = snap(math.cos(a))
     def s(a: Double) = snap(math.sin(a))
-    val rx = Mat3(IndexedSeq(IndexedSeq(1, 0, 0), IndexedSeq(0, c(roll), -s(roll)), IndexedSeq(0, s(roll), c(roll))))
-    val ry = Mat3(IndexedSeq(IndexedSeq(c(pitch), 0, s(pitch)), IndexedSeq(0, 1, 0), IndexedSeq(-s(pitch), 0, c(pitch))))
-    val rz = Mat3(IndexedSeq(IndexedSeq(c(yaw), -s(yaw), 0), IndexedSeq(s(yaw), c(yaw), 0), IndexedSeq(0, 0, 1)))
+    val rx = Mat3(
+      IndexedSeq(IndexedSeq(1, 0, 0), IndexedSeq(0, c(roll), -s(roll)), IndexedSeq(0, s(roll), c(roll)))
+    )
+    val ry = Mat3(
+      IndexedSeq(IndexedSeq(c(pitch), 0, s(pitch)), IndexedSeq(0, 1, 0), IndexedSeq(-s(pitch), 0, c(pitch)))
+    )
+    val rz = Mat3(
+      IndexedSeq(IndexedSeq(c(yaw), -s(yaw), 0), IndexedSeq(s(yaw), c(yaw), 0), IndexedSeq(0, 0, 1))
+    )
     rz * ry * rx
   }
 
   /**
-   * cos/sin of the angles URDFs write as decimals of pi/2 (1.5707963, 3.14159265) are 1e-8 away
-   * from 0 and +-1; rounded to them, the folded constants become exact zeros and ones and the
-   * multiplications they would cost disappear. The change is far below any fixed-point LSB used.
+   * cos/sin of the angles URDFs write as decimals of pi/2 (1.5707963, 3.14159265) are 1e-8 away from 0 and
+   * \+-1; rounded to them, the folded constants become exact zeros and ones and the multiplications they
+   * would cost disappear. The change is far below any fixed-point LSB used.
    */
   val snapTolerance: Double = 1e-7
   def snap(v: Double): Double =
@@ -72,10 +82,15 @@ object Mat3 {
   }
 }
 
-/** A rigid transform: `rotation` maps child coordinates to parent coordinates, `translation` is the child origin in the parent. */
+/**
+ * A rigid transform: `rotation` maps child coordinates to parent coordinates, `translation` is the child
+ * origin in the parent.
+ */
 final case class Transform(rotation: Mat3, translation: Vec3) {
+
   /** this * o: o's child frame expressed in this transform's parent frame. */
-  def compose(o: Transform): Transform = Transform(rotation * o.rotation, rotation * o.translation + translation)
+  def compose(o: Transform): Transform =
+    Transform(rotation * o.rotation, rotation * o.translation + translation)
   def apply(p: Vec3): Vec3 = rotation * p + translation
 }
 

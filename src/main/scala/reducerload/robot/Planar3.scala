@@ -3,9 +3,9 @@ package reducerload.robot
 import reducerload.load.RobotParams
 
 /**
- * The paper's planar arm as a serial chain: three revolute joints about z, link i along its
- * joint's x axis, a point mass m3 at the end of link 3 and no other body, gravity along +x (so
- * t1 = 0 points link 1 down and the gravity term is +m3 g l3 sin(t1+t2+t3), as in SPEC.md).
+ * The paper's planar arm as a serial chain: three revolute joints about z, link i along its joint's x axis, a
+ * point mass m3 at the end of link 3 and no other body, gravity along +x (so t1 = 0 points link 1 down and
+ * the gravity term is +m3 g l3 sin(t1+t2+t3), as in SPEC.md).
  */
 object Planar3 {
   val name: String = "planar3"
@@ -13,10 +13,14 @@ object Planar3 {
   def chain(r: RobotParams = RobotParams()): SerialChain = {
     val z = Vec3(0, 0, 1)
     def at(x: Double) = Transform(Mat3.identity, Vec3(x, 0, 0))
-    SerialChain(name, IndexedSeq(
-      ChainJoint("joint1", JointKind.Revolute, Transform.identity, z, RigidBody.massless),
-      ChainJoint("joint2", JointKind.Revolute, at(r.l1), z, RigidBody.massless),
-      ChainJoint("joint3", JointKind.Revolute, at(r.l2), z, RigidBody.pointMass(r.m3, Vec3(r.l3, 0, 0)))
-    ), gravity = Vec3(r.g, 0, 0))
+    SerialChain(
+      name,
+      IndexedSeq(
+        ChainJoint("joint1", JointKind.Revolute, Transform.identity, z, RigidBody.massless),
+        ChainJoint("joint2", JointKind.Revolute, at(r.l1), z, RigidBody.massless),
+        ChainJoint("joint3", JointKind.Revolute, at(r.l2), z, RigidBody.pointMass(r.m3, Vec3(r.l3, 0, 0)))
+      ),
+      gravity = Vec3(r.g, 0, 0)
+    )
   }
 }

@@ -12,16 +12,23 @@ object JointKind {
 /**
  * Mass properties of one rigid body, in the frame of the joint that moves it.
  *
- * @param mass    kg, >= 0 (0: a massless link)
- * @param com     centre of mass, m
- * @param inertia rotational inertia about the centre of mass, kg m^2, in the joint frame's axes
+ * @param mass
+ *   kg, >= 0 (0: a massless link)
+ * @param com
+ *   centre of mass, m
+ * @param inertia
+ *   rotational inertia about the centre of mass, kg m^2, in the joint frame's axes
  */
 final case class RigidBody(mass: Double, com: Vec3, inertia: Mat3) {
+
   /** The same body seen from a parent frame in which this body's frame sits at `t`. */
   def transformed(t: Transform): RigidBody =
     RigidBody(mass, t(com), t.rotation * inertia * t.rotation.transpose)
 
-  /** Two bodies fixed to each other, both in this frame: masses add, the parallel-axis theorem moves the inertias. */
+  /**
+   * Two bodies fixed to each other, both in this frame: masses add, the parallel-axis theorem moves the
+   * inertias.
+   */
   def merge(o: RigidBody): RigidBody = {
     val m = mass + o.mass
     if (m == 0) RigidBody.massless
@@ -29,7 +36,8 @@ final case class RigidBody(mass: Double, com: Vec3, inertia: Mat3) {
       val c = (com * mass + o.com * o.mass) * (1 / m)
       def shifted(b: RigidBody) = { // inertia of b about c: I_b + m_b (|d|^2 E - d d^T), d = com_b - c
         val d = b.com - c
-        b.inertia + (Mat3.identity.scale(d.dot(d)) - Mat3.tabulate((i, j) => d.toSeq(i) * d.toSeq(j))).scale(b.mass)
+        b.inertia + (Mat3.identity.scale(d.dot(d)) - Mat3.tabulate((i, j) => d.toSeq(i) * d.toSeq(j)))
+          .scale(b.mass)
       }
       RigidBody(m, c, shifted(this) + shifted(o))
     }
@@ -44,34 +52,48 @@ object RigidBody {
 /**
  * One moving joint of a serial chain and the body it moves (every link fixed to it merged in).
  *
- * @param name          the URDF joint name (or a generated one for built-in robots)
- * @param kind          revolute, continuous or prismatic
- * @param origin        pose of this joint's frame at q = 0 in the previous moving joint's frame (the
- *                      base for joint 1); fixed joints between the two are composed into it
- * @param axis          unit axis in this joint's frame
- * @param body          what this joint moves, in this joint's frame
- * @param velocityLimit URDF `<limit velocity>` (rad/s or m/s), when given
- * @param effortLimit   URDF `<limit effort>` (N·m or N), when given
+ * @param name
+ *   the URDF joint name (or a generated one for built-in robots)
+ * @param kind
+ *   revolute, continuous or prismatic
+ * @param origin
+ *   pose of this joint's frame at q = 0 in the previous moving joint's frame (the base for joint 1); fixed
+ *   joints between the two are composed into it
+ * @param axis
+ *   unit axis in this joint's frame
+ * @param body
+ *   what this joint moves, in this joint's frame
+ * @param velocityLimit
+ *   URDF `<limit velocity>` (rad/s or m/s), when given
+ * @param effortLimit
+ *   URDF `<limit effort>` (N·m or N), when given
  */
 final case class ChainJoint(
-  name: String,
-  kind: JointKind,
-  origin: Transform,
-  axis: Vec3,
-  body: RigidBody,
-  velocityLimit: Option[Double] = None,
-  effortLimit: Option[Double] = None)
+    name: String,
+    kind: JointKind,
+    origin: Transform,
+    axis: Vec3,
+    body: RigidBody,
+    velocityLimit: Option[Double] = None,
+    effortLimit: Option[Double] = None
+)
 
 /**
- * A serial chain of moving joints from the base to the tip, numbered 1..n from the base, with
- * gravity in base coordinates (m/s^2; Pinocchio's default is (0, 0, -9.81)).
+ * A serial chain of moving joints from the base to the tip, numbered 1..n from the base, with gravity in base
+ * coordinates (m/s^2; Pinocchio's default is (0, 0, -9.81)).
  */
 final case class SerialChain(name: String, joints: IndexedSeq[ChainJoint], gravity: Vec3) {
   require(joints.nonEmpty, s"robot $name: the chain has no moving joint")
   require(joints.map(_.name).distinct.size == joints.size, s"robot $name: joint names repeat")
   joints.foreach { j =>
-    require(math.abs(j.axis.norm - 1) < 1e-9, s"robot $name: joint ${j.name}: axis ${j.axis} is not a unit vector")
-    require(j.body.mass >= 0 && !j.body.mass.isNaN, s"robot $name: joint ${j.name}: negative mass ${j.body.mass}")
+    require(
+      math.abs(j.axis.norm - 1) < 1e-9,
+      s"robot $name: joint ${j.name}: axis ${j.axis} is not a unit vector"
+    )
+    require(
+      j.body.mass >= 0 && !j.body.mass.isNaN,
+      s"robot $name: joint ${j.name}: negative mass ${j.body.mass}"
+    )
   }
   def size: Int = joints.size
 }

@@ -9,20 +9,26 @@ import javax.xml.parsers.SAXParserFactory
 import scala.xml.{Node, SAXParseException, XML}
 
 /**
- * Reads a URDF robot description into the serial chain from its root link to a tip link, with the
- * semantics of Pinocchio's `buildModelFromUrdf` followed by `buildReducedModel` (the reference of
- * the golden traces): fixed joints fold into the next moving joint's origin, and everything off
- * the chain (side branches, children of the tip) is locked at q = 0 and its mass merged into the
- * chain link it hangs off. Every problem in the file is an [[InputError]] of one line
- * "<file>: <element>: <problem>".
+ * Reads a URDF robot description into the serial chain from its root link to a tip link, with the semantics
+ * of Pinocchio's `buildModelFromUrdf` followed by `buildReducedModel` (the reference of the golden traces):
+ * fixed joints fold into the next moving joint's origin, and everything off the chain (side branches,
+ * children of the tip) is locked at q = 0 and its mass merged into the chain link it hangs off. Every problem
+ * in the file is an [[InputError]] of one line "<file>: <element>: <problem>".
  */
 object Urdf {
   def read(path: Path, tip: Option[String]): SerialChain = {
     val source = path.toString
     if (!Files.isRegularFile(path)) throw new InputError(s"$source: no such file")
     val text =
-      try StandardCharsets.UTF_8.newDecoder().onMalformedInput(CodingErrorAction.REPORT).decode(ByteBuffer.wrap(Files.readAllBytes(path))).toString
-      catch { case _: CharacterCodingException => throw new InputError(s"$source: not a text file (invalid UTF-8)") }
+      try
+        StandardCharsets.UTF_8
+          .newDecoder()
+          .onMalformedInput(CodingErrorAction.REPORT)
+          .decode(ByteBuffer.wrap(Files.readAllBytes(path)))
+          .toString
+      catch {
+        case _: CharacterCodingException => throw new InputError(s"$source: not a text file (invalid UTF-8)")
+      }
     parse(source, text, tip)
   }
 
@@ -30,8 +36,8 @@ object Urdf {
     new UrdfChainBuilder(source, new UrdfParser(source).robot(xmlText)).chain(tip)
 
   /**
-   * Tolerance of the inertia plausibility checks: relative to the largest principal moment, plus
-   * an absolute floor for tensors that are zero up to rounding (iCub writes 2.4e-35 entries).
+   * Tolerance of the inertia plausibility checks: relative to the largest principal moment, plus an absolute
+   * floor for tensors that are zero up to rounding (iCub writes 2.4e-35 entries).
    */
   val inertiaRelativeTolerance: Double = 1e-6
   val inertiaAbsoluteTolerance: Double = 1e-12
@@ -46,15 +52,16 @@ private final case class UrdfLink(name: String, inertial: Option[RigidBody])
 
 /** One URDF joint; `motion` is None for a fixed joint. */
 private final case class UrdfJoint(
-  name: String,
-  motion: Option[JointKind],
-  parent: String,
-  child: String,
-  origin: Transform,
-  axis: Vec3,
-  velocityLimit: Option[Double],
-  effortLimit: Option[Double],
-  mimic: Boolean) {
+    name: String,
+    motion: Option[JointKind],
+    parent: String,
+    child: String,
+    origin: Transform,
+    axis: Vec3,
+    velocityLimit: Option[Double],
+    effortLimit: Option[Double],
+    mimic: Boolean
+) {
   def label: String = s"joint '$name'"
 }
 
@@ -66,7 +73,9 @@ private final case class UrdfRobot(name: String, links: IndexedSeq[UrdfLink], jo
 private final class UrdfParser(source: String) {
   private def fail(element: String, problem: String): Nothing = throw Urdf.error(source, element, problem)
 
-  /** External entities, DTDs and XInclude off: a robot file must not make the reader open other files or URLs. */
+  /**
+   * External entities, DTDs and XInclude off: a robot file must not make the reader open other files or URLs.
+   */
   private def secureParser = {
     val factory = SAXParserFactory.newInstance()
     factory.setFeature("http://javax.xml.XMLConstants/feature/secure-processing", true)
@@ -85,12 +94,19 @@ private final class UrdfParser(source: String) {
       catch { case e: SAXParseException => fail("XML", s"line ${e.getLineNumber}: ${e.getMessage}") }
     if (root.label != "robot") fail(s"<${root.label}>", "not a URDF file (the top element must be <robot>)")
     val name = requiredName(root, "<robot>")
-    UrdfRobot(name, (root \ "link").zipWithIndex.map { case (n, i) => link(n, i) }.toIndexedSeq,
-      (root \ "joint").zipWithIndex.map { case (n, i) => joint(n, i) }.toIndexedSeq)
+    UrdfRobot(
+      name,
+      (root \ "link").zipWithIndex.map { case (n, i) => link(n, i) }.toIndexedSeq,
+      (root \ "joint").zipWithIndex.map { case (n, i) => joint(n, i) }.toIndexedSeq
+    )
   }
 
   private def requiredName(node: Node, element: String): String =
-    node.attribute("name").map(_.text.trim).filter(_.nonEmpty).getOrElse(fail(element, "missing attribute 'name'"))
+    node
+      .attribute("name")
+      .map(_.text.trim)
+      .filter(_.nonEmpty)
+      .getOrElse(fail(element, "missing attribute 'name'"))
 
   private def attribute(node: Node, key: String): Option[String] = node.attribute(key).map(_.text)
 
@@ -112,7 +128,12 @@ private final class UrdfParser(source: String) {
   }
 
   private def number(node: Node, element: String, tag: String, key: String): Double =
-    numbers(attribute(node, key).getOrElse(fail(element, s"<$tag> has no attribute '$key'")), element, s"<$tag $key>", 1).head
+    numbers(
+      attribute(node, key).getOrElse(fail(element, s"<$tag> has no attribute '$key'")),
+      element,
+      s"<$tag $key>",
+      1
+    ).head
 
   private def optionalNumber(node: Node, element: String, tag: String, key: String): Option[Double] =
     attribute(node, key).map(t => numbers(t, element, s"<$tag $key>", 1).head)
@@ -120,7 +141,10 @@ private final class UrdfParser(source: String) {
   private def vector(node: Option[Node], element: String, tag: String, key: String, default: Vec3): Vec3 =
     node.flatMap(attribute(_, key)).map(t => Vec3(numbers(t, element, s"<$tag $key>", 3))).getOrElse(default)
 
-  /** `<origin xyz rpy>` (zeros when absent): the child frame in the parent frame, R = Rz(yaw) Ry(pitch) Rx(roll). */
+  /**
+   * `<origin xyz rpy>` (zeros when absent): the child frame in the parent frame, R = Rz(yaw) Ry(pitch)
+   * Rx(roll).
+   */
   private def origin(node: Node, element: String): Transform = {
     val o = single(node, element, "origin")
     val rpy = vector(o, element, "origin", "rpy", Vec3.zero)
@@ -130,29 +154,42 @@ private final class UrdfParser(source: String) {
   private def link(node: Node, index: Int): UrdfLink = {
     val name = requiredName(node, s"link #${index + 1}")
     val element = s"link '$name'"
-    UrdfLink(name, single(node, element, "inertial").map { inertial =>
-      val frame = origin(inertial, element)
-      val mass = number(single(inertial, element, "mass").getOrElse(fail(element, "<inertial> has no <mass>")), element, "mass", "value")
-      val i = single(inertial, element, "inertia").getOrElse(fail(element, "<inertial> has no <inertia>"))
-      def entry(key: String) = number(i, element, "inertia", key)
-      val tensor = Mat3.symmetric(entry("ixx"), entry("ixy"), entry("ixz"), entry("iyy"), entry("iyz"), entry("izz"))
-      // About the centre of mass in the inertial frame; into the link frame: com = xyz, I' = R I R^T.
-      RigidBody(mass, Vec3.zero, tensor).transformed(frame)
-    })
+    UrdfLink(
+      name,
+      single(node, element, "inertial").map { inertial =>
+        val frame = origin(inertial, element)
+        val mass = number(
+          single(inertial, element, "mass").getOrElse(fail(element, "<inertial> has no <mass>")),
+          element,
+          "mass",
+          "value"
+        )
+        val i = single(inertial, element, "inertia").getOrElse(fail(element, "<inertial> has no <inertia>"))
+        def entry(key: String) = number(i, element, "inertia", key)
+        val tensor =
+          Mat3.symmetric(entry("ixx"), entry("ixy"), entry("ixz"), entry("iyy"), entry("iyz"), entry("izz"))
+        // About the centre of mass in the inertial frame; into the link frame: com = xyz, I' = R I R^T.
+        RigidBody(mass, Vec3.zero, tensor).transformed(frame)
+      }
+    )
   }
 
   private def joint(node: Node, index: Int): UrdfJoint = {
     val name = requiredName(node, s"joint #${index + 1}")
     val element = s"joint '$name'"
     val motion = attribute(node, "type").getOrElse(fail(element, "missing attribute 'type'")) match {
-      case "revolute"                  => Some(JointKind.Revolute)
-      case "continuous"                => Some(JointKind.Continuous)
-      case "prismatic"                 => Some(JointKind.Prismatic)
-      case "fixed"                     => None
-      case t @ ("floating" | "planar") => fail(element, s"$t joints are not supported (a serial arm with a fixed base is)")
-      case t                           => fail(element, s"unknown joint type '$t' (revolute, continuous, prismatic, fixed)")
+      case "revolute"   => Some(JointKind.Revolute)
+      case "continuous" => Some(JointKind.Continuous)
+      case "prismatic"  => Some(JointKind.Prismatic)
+      case "fixed"      => None
+      case t @ ("floating" | "planar") =>
+        fail(element, s"$t joints are not supported (a serial arm with a fixed base is)")
+      case t => fail(element, s"unknown joint type '$t' (revolute, continuous, prismatic, fixed)")
     }
-    def linkOf(tag: String) = single(node, element, tag).flatMap(attribute(_, "link")).map(_.trim).filter(_.nonEmpty)
+    def linkOf(tag: String) = single(node, element, tag)
+      .flatMap(attribute(_, "link"))
+      .map(_.trim)
+      .filter(_.nonEmpty)
       .getOrElse(fail(element, s"missing <$tag link=...>"))
     val rawAxis = vector(single(node, element, "axis"), element, "axis", "xyz", Vec3(1, 0, 0))
     if (motion.isDefined && rawAxis.norm == 0) fail(element, "zero <axis xyz>")
@@ -160,9 +197,17 @@ private final class UrdfParser(source: String) {
     def nonNegativeLimit(key: String) = limit.flatMap(optionalNumber(_, element, "limit", key)).map { v =>
       if (v < 0) fail(element, s"negative <limit $key> $v") else v
     }
-    UrdfJoint(name, motion, linkOf("parent"), linkOf("child"), origin(node, element),
+    UrdfJoint(
+      name,
+      motion,
+      linkOf("parent"),
+      linkOf("child"),
+      origin(node, element),
       if (motion.isEmpty) rawAxis else rawAxis * (1 / rawAxis.norm), // a fixed joint's axis means nothing
-      nonNegativeLimit("velocity"), nonNegativeLimit("effort"), single(node, element, "mimic").isDefined)
+      nonNegativeLimit("velocity"),
+      nonNegativeLimit("effort"),
+      single(node, element, "mimic").isDefined
+    )
   }
 }
 
@@ -173,10 +218,13 @@ private object UrdfInertia {
     def show(vs: Seq[Double]) = vs.map(v => f"$v%.6g").mkString(", ")
     val tolerance = Urdf.inertiaRelativeTolerance * moments.map(math.abs).max + Urdf.inertiaAbsoluteTolerance
     if (body.mass < 0) Some(s"negative mass ${body.mass}")
-    else if (moments.head < -tolerance) Some(s"inertia is not positive semi-definite (principal moments ${show(moments)})")
+    else if (moments.head < -tolerance)
+      Some(s"inertia is not positive semi-definite (principal moments ${show(moments)})")
     // A real body's principal moments satisfy I3 <= I1 + I2 (sorted ascending).
     else if (moments(2) > moments(0) + moments(1) + tolerance)
-      Some(s"principal moments ${show(moments)} violate the triangle inequality (the largest exceeds the sum of the others)")
+      Some(
+        s"principal moments ${show(moments)} violate the triangle inequality (the largest exceeds the sum of the others)"
+      )
     else None
   }
 
@@ -188,7 +236,10 @@ private object UrdfInertia {
       val q = (a(0, 0) + a(1, 1) + a(2, 2)) / 3
       val p = math.sqrt(((0 until 3).map(i => math.pow(a(i, i) - q, 2)).sum + 2 * offDiagonal) / 6)
       val b = (a - Mat3.identity.scale(q)).scale(1 / p)
-      val det = b(0, 0) * (b(1, 1) * b(2, 2) - b(1, 2) * b(2, 1)) - b(0, 1) * (b(1, 0) * b(2, 2) - b(1, 2) * b(2, 0)) +
+      val det = b(0, 0) * (b(1, 1) * b(2, 2) - b(1, 2) * b(2, 1)) - b(0, 1) * (b(1, 0) * b(2, 2) - b(
+        1,
+        2
+      ) * b(2, 0)) +
         b(0, 2) * (b(1, 0) * b(2, 1) - b(1, 1) * b(2, 0))
       val phi = math.acos(math.max(-1.0, math.min(1.0, det / 2))) / 3
       val largest = q + 2 * p * math.cos(phi)
@@ -199,8 +250,8 @@ private object UrdfInertia {
 }
 
 /**
- * Where a link sits at q = 0: in the frame of the moving chain joint that carries it (`carrier`,
- * an index into the chain), or in the root frame (None: fixed to the base).
+ * Where a link sits at q = 0: in the frame of the moving chain joint that carries it (`carrier`, an index
+ * into the chain), or in the root frame (None: fixed to the base).
  */
 private final case class Placement(carrier: Option[Int], pose: Transform)
 
@@ -219,7 +270,7 @@ private final class UrdfChainBuilder(source: String, robot: UrdfRobot) {
   }
   private val parentJoint: Map[String, UrdfJoint] = robot.joints.groupBy(_.child).map {
     case (child, Seq(j)) => child -> j
-    case (child, js)     => fail(s"link '$child'", s"has two parents (joints ${quoted(js.map(_.name))}): a loop")
+    case (child, js) => fail(s"link '$child'", s"has two parents (joints ${quoted(js.map(_.name))}): a loop")
   }
   private val childJoints: Map[String, Seq[UrdfJoint]] = robot.joints.groupBy(_.parent).withDefaultValue(Nil)
   private val root: String = linkNames.filterNot(parentJoint.contains) match {
@@ -229,9 +280,12 @@ private final class UrdfChainBuilder(source: String, robot: UrdfRobot) {
   }
 
   // Every link must hang off the root; only then do the walks below (pathTo, place) end.
-  private def descendants(link: String): Seq[String] = link +: childJoints(link).flatMap(j => descendants(j.child))
+  private def descendants(link: String): Seq[String] =
+    link +: childJoints(link).flatMap(j => descendants(j.child))
   private val connected = descendants(root).toSet
-  linkNames.find(!connected.contains(_)).foreach(l => fail(s"link '$l'", "is not connected to the root link: the joints form a loop"))
+  linkNames
+    .find(!connected.contains(_))
+    .foreach(l => fail(s"link '$l'", "is not connected to the root link: the joints form a loop"))
 
   private def duplicate(names: Seq[String]): Option[String] = names.diff(names.distinct).headOption
 
@@ -239,7 +293,10 @@ private final class UrdfChainBuilder(source: String, robot: UrdfRobot) {
   private def pathTo(link: String): List[UrdfJoint] =
     parentJoint.get(link).map(j => pathTo(j.parent) :+ j).getOrElse(Nil)
 
-  /** Every link reachable from the root, placed top-down; joints off the chain are locked at q = 0 (pose = origin). */
+  /**
+   * Every link reachable from the root, placed top-down; joints off the chain are locked at q = 0 (pose =
+   * origin).
+   */
   private def place(link: String, at: Placement, chainIndex: Map[String, Int]): Seq[(String, Placement)] =
     (link -> at) +: childJoints(link).flatMap { j =>
       val childAt = chainIndex.get(j.name) match {
@@ -253,36 +310,47 @@ private final class UrdfChainBuilder(source: String, robot: UrdfRobot) {
     val leaves = linkNames.filter(childJoints(_).isEmpty)
     val tipLink = tip match {
       case Some(t) if linkNames.contains(t) => t
-      case Some(t)                          => fail(robot.label, s"unknown tip link '$t' (links: ${quoted(linkNames)})")
-      case None if leaves.size == 1         => leaves.head
-      case None                             => fail(robot.label, s"--tip is needed: leaves are ${leaves.mkString(", ")}")
+      case Some(t) => fail(robot.label, s"unknown tip link '$t' (links: ${quoted(linkNames)})")
+      case None if leaves.size == 1 => leaves.head
+      case None => fail(robot.label, s"--tip is needed: leaves are ${leaves.mkString(", ")}")
     }
     val moving = pathTo(tipLink).flatMap(j => j.motion.map(kind => (j, kind))).toIndexedSeq
-    if (moving.isEmpty) fail(robot.label, s"no moving joint between the root link '$root' and the tip link '$tipLink'")
-    moving.find(_._1.mimic).foreach { case (j, _) => fail(j.label, "mimic joints on the chain are not supported") }
+    if (moving.isEmpty)
+      fail(robot.label, s"no moving joint between the root link '$root' and the tip link '$tipLink'")
+    moving.find(_._1.mimic).foreach { case (j, _) =>
+      fail(j.label, "mimic joints on the chain are not supported")
+    }
 
-    val placements = place(root, Placement(None, Transform.identity), moving.map(_._1.name).zipWithIndex.toMap).toMap
-    val bodies = robot.links.flatMap { link =>
-      val at = placements(link.name)
-      // Links fixed to the base never move: their mass loads no joint, and their numbers are not checked.
-      for (k <- at.carrier; body <- link.inertial if !isEmpty(body)) yield {
-        UrdfInertia.problem(body).foreach(problem => fail(s"link '${link.name}'", problem))
-        k -> body.transformed(at.pose)
+    val placements =
+      place(root, Placement(None, Transform.identity), moving.map(_._1.name).zipWithIndex.toMap).toMap
+    val bodies = robot.links
+      .flatMap { link =>
+        val at = placements(link.name)
+        // Links fixed to the base never move: their mass loads no joint, and their numbers are not checked.
+        for (k <- at.carrier; body <- link.inertial if !isEmpty(body)) yield {
+          UrdfInertia.problem(body).foreach(problem => fail(s"link '${link.name}'", problem))
+          k -> body.transformed(at.pose)
+        }
       }
-    }.groupBy(_._1)
+      .groupBy(_._1)
 
-    SerialChain(robot.name, moving.zipWithIndex.map { case ((j, kind), k) =>
-      ChainJoint(
-        name = j.name,
-        kind = kind,
-        // The parent link's pose in the previous moving joint's frame takes in the fixed joints between them.
-        origin = placements(j.parent).pose.compose(j.origin),
-        axis = j.axis,
-        // Merged from the first real body on, so that a lone link keeps its numbers exactly.
-        body = bodies.getOrElse(k, Nil).map(_._2).reduceOption(_ merge _).getOrElse(RigidBody.massless),
-        velocityLimit = j.velocityLimit,
-        effortLimit = j.effortLimit)
-    }, gravity = Vec3(0, 0, -9.81))
+    SerialChain(
+      robot.name,
+      moving.zipWithIndex.map { case ((j, kind), k) =>
+        ChainJoint(
+          name = j.name,
+          kind = kind,
+          // The parent link's pose in the previous moving joint's frame takes in the fixed joints between them.
+          origin = placements(j.parent).pose.compose(j.origin),
+          axis = j.axis,
+          // Merged from the first real body on, so that a lone link keeps its numbers exactly.
+          body = bodies.getOrElse(k, Nil).map(_._2).reduceOption(_ merge _).getOrElse(RigidBody.massless),
+          velocityLimit = j.velocityLimit,
+          effortLimit = j.effortLimit
+        )
+      },
+      gravity = Vec3(0, 0, -9.81)
+    )
   }
 
   private def isEmpty(body: RigidBody): Boolean = body.mass == 0 && body.inertia.rows.flatten.forall(_ == 0)

@@ -6,8 +6,8 @@ import reducerload.arm.{ArmDatapath, ArmOutputCodes}
 import reducerload.graph.SampleCodes
 
 /**
- * The only code that talks to the simulator for ArmDatapath: drive a stimulus, record the outputs.
- * A sample driven while the datapath is not ready is an error of the stimulus, not a silent drop.
+ * The only code that talks to the simulator for ArmDatapath: drive a stimulus, record the outputs. A sample
+ * driven while the datapath is not ready is an error of the stimulus, not a silent drop.
  */
 object ArmDriver {
 
@@ -20,16 +20,28 @@ object ArmDriver {
 
   def peekOutput(dut: ArmDatapath): Option[ArmOutputCodes] =
     if (dut.io.out.valid.peek().litToBoolean)
-      Some(ArmOutputCodes(dut.io.out.bits.tau.map(_.peek().litValue).toIndexedSeq, dut.io.out.bits.outOfRange.map(_.peek().litToBoolean).toIndexedSeq))
+      Some(
+        ArmOutputCodes(
+          dut.io.out.bits.tau.map(_.peek().litValue).toIndexedSeq,
+          dut.io.out.bits.outOfRange.map(_.peek().litToBoolean).toIndexedSeq
+        )
+      )
     else None
 
   def run(
-    dut: ArmDatapath,
-    stimulus: Iterator[Cycle[SampleCodes]],
-    onOutput: (Long, Option[ArmOutputCodes]) => Unit,
-    onDrive: (Long, Cycle[SampleCodes]) => Unit = (_, _) => (),
-    holdUntilReady: Boolean = false
+      dut: ArmDatapath,
+      stimulus: Iterator[Cycle[SampleCodes]],
+      onOutput: (Long, Option[ArmOutputCodes]) => Unit,
+      onDrive: (Long, Cycle[SampleCodes]) => Unit = (_, _) => (),
+      holdUntilReady: Boolean = false
   ): Long =
-    StreamDriver[SampleCodes, ArmOutputCodes](dut.clock, dut.reset, dut.io.in.valid, dut.io.in.ready, pokeSample(dut, _), () => peekOutput(dut))
+    StreamDriver[SampleCodes, ArmOutputCodes](
+      dut.clock,
+      dut.reset,
+      dut.io.in.valid,
+      dut.io.in.ready,
+      pokeSample(dut, _),
+      () => peekOutput(dut)
+    )
       .run(stimulus, onOutput, onDrive, holdUntilReady)
 }

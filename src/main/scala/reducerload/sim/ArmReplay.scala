@@ -6,11 +6,12 @@ import reducerload.graph.SampleCodes
 
 /**
  * Every joint of an arm (`ArmDatapath`, model rnea) as `run simulate` replays it: columns
- * q1..qN,qd1..qdN,qdd1..qddN, result `idx,tau1_hw,tau1_ref,tau1_error,...,out_of_range`.
- * [[LoadReplay]] changes the columns and the reference for the joint-3 closed forms.
+ * q1..qN,qd1..qdN,qdd1..qddN, result `idx,tau1_hw,tau1_ref,tau1_error,...,out_of_range`. [[LoadReplay]]
+ * changes the columns and the reference for the joint-3 closed forms.
  */
 class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCodes] {
   private val model = new ArmModel(p)
+
   /** The model in long arithmetic when the formats allow (tested equal to `model`). */
   private val fast = if (FastArmModel.supports(p)) Some(new FastArmModel(p)) else None
   protected val joints: Int = p.chain.size
@@ -26,23 +27,34 @@ class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCod
   /** `model.encode` of the row's sample, in fast exact arithmetic (tested equal). */
   def encode(row: IndexedSeq[Double]): SampleCodes = {
     val n = p.numerics
-    SampleCodes((0 until joints).map(j => FastFixed.angleCode(row(j), angleFormat)),
+    SampleCodes(
+      (0 until joints).map(j => FastFixed.angleCode(row(j), angleFormat)),
       (0 until joints).map(j => FastFixed.codeHalfUp(row(joints + j), n.velocityPortFormat)),
-      (0 until joints).map(j => FastFixed.codeHalfUp(row(2 * joints + j), n.accelerationPortFormat)))
+      (0 until joints).map(j => FastFixed.codeHalfUp(row(2 * joints + j), n.accelerationPortFormat))
+    )
   }
   def evaluate(in: SampleCodes): ArmOutputCodes = fast.fold(model.evaluate(in))(_.evaluate(in))
 
   lazy val ports: HarnessPorts = ArmHarnessPorts(p)
   def harnessValues(in: SampleCodes): Seq[BigInt] = ArmHarnessPorts.values(in)
-  def fromHarness(values: IndexedSeq[BigInt]): ArmOutputCodes = ArmHarnessPorts.codes(values, p.graph.outputs.size)
+  def fromHarness(values: IndexedSeq[BigInt]): ArmOutputCodes =
+    ArmHarnessPorts.codes(values, p.graph.outputs.size)
 
   def samplePeriod: Int = p.schedule.clocksPerSample
   def latency: Int = p.latency
 
   def outputHeader: String =
-    ("idx" +: (1 to joints).flatMap(j => Seq(s"tau${j}_hw", s"tau${j}_ref", s"tau${j}_error")) :+ "out_of_range").mkString(",")
+    ("idx" +: (1 to joints).flatMap(j =>
+      Seq(s"tau${j}_hw", s"tau${j}_ref", s"tau${j}_error")
+    ) :+ "out_of_range").mkString(",")
 
-  def result(index: Long, row: IndexedSeq[Double], out: ArmOutputCodes, text: java.lang.StringBuilder, errors: Array[Double]): Boolean = {
+  def result(
+      index: Long,
+      row: IndexedSeq[Double],
+      out: ArmOutputCodes,
+      text: java.lang.StringBuilder,
+      errors: Array[Double]
+  ): Boolean = {
     val s = sample(row)
     val hw = out.tau.map(FastFixed.toDouble(_, p.analysis.outputPortFormat.fracBits)) // model.torques, fast
     val ref = Rnea.reference(p.chain, s.q, s.qd, s.qdd)
@@ -63,7 +75,10 @@ class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCod
 
   override lazy val arrays: Option[ArrayReplay] = fast.map { model =>
     val reference = referenceTape()
-    require(reference.outputs == model.torques, s"ArmReplay: ${reference.outputs} reference torques for ${model.torques} outputs")
+    require(
+      reference.outputs == model.torques,
+      s"ArmReplay: ${reference.outputs} reference torques for ${model.torques} outputs"
+    )
     new ArrayReplay {
       def inputCount: Int = model.inputCount
       def outputCount: Int = model.outputCount
@@ -91,9 +106,18 @@ class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCod
       }
     }
 
-    def evaluate(codes: Array[Long], at: Int, out: Array[Long], outAt: Int): Unit = runner.evaluate(codes, at, out, outAt)
+    def evaluate(codes: Array[Long], at: Int, out: Array[Long], outAt: Int): Unit =
+      runner.evaluate(codes, at, out, outAt)
 
-    def result(index: Long, rows: Array[Double], row: Int, out: Array[Long], outAt: Int, text: java.lang.StringBuilder, errors: Array[Double]): Boolean = {
+    def result(
+        index: Long,
+        rows: Array[Double],
+        row: Int,
+        out: Array[Long],
+        outAt: Int,
+        text: java.lang.StringBuilder,
+        errors: Array[Double]
+    ): Boolean = {
       val v = this.v
       reference.evaluate(rows, row, v)
       text.append(index)
@@ -118,5 +142,6 @@ class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCod
   def errorLabels: IndexedSeq[String] = p.jointNames
   def errorBounds: IndexedSeq[Double] = p.errorBounds
   def description: String = s"robot ${p.chain.name} ($joints joints), every joint by RNEA"
-  def throughput: String = if (samplePeriod == 1) "one sample per clock" else s"one sample every $samplePeriod clocks"
+  def throughput: String =
+    if (samplePeriod == 1) "one sample per clock" else s"one sample every $samplePeriod clocks"
 }

@@ -5,11 +5,13 @@ import scala.concurrent.duration.Duration
 import scala.concurrent.{Await, ExecutionContext, Future}
 
 /**
- * Work over consecutive chunks of `0 until total` on `jobs` threads of its own, results in chunk
- * order. Exact for a datapath with no state between samples: each chunk starts from reset.
+ * Work over consecutive chunks of `0 until total` on `jobs` threads of its own, results in chunk order. Exact
+ * for a datapath with no state between samples: each chunk starts from reset.
  */
 object ChunkedRun {
-  def apply[R](total: Int, chunkSize: Int, jobs: Int, onChunkDone: Int => Unit = _ => ())(work: Range => R): IndexedSeq[R] = {
+  def apply[R](total: Int, chunkSize: Int, jobs: Int, onChunkDone: Int => Unit = _ => ())(
+      work: Range => R
+  ): IndexedSeq[R] = {
     require(total >= 0, s"ChunkedRun: total must be >= 0, got $total")
     require(chunkSize >= 1, s"ChunkedRun: chunkSize must be >= 1, got $chunkSize")
     require(jobs >= 1, s"ChunkedRun: jobs must be >= 1, got $jobs")

@@ -8,9 +8,9 @@ import scala.collection.mutable.ArrayBuffer
 import scala.sys.process._
 
 /**
- * A built Verilator harness (see [[VerilatorHarness.compile]]). Each run streams the samples to a
- * binary file in a temporary directory, runs the executable, and reads its binary outputs back; the
- * directory is removed afterwards.
+ * A built Verilator harness (see [[VerilatorHarness.compile]]). Each run streams the samples to a binary file
+ * in a temporary directory, runs the executable, and reads its binary outputs back; the directory is removed
+ * afterwards.
  */
 final class CompiledHarness(val executable: Path, val ports: HarnessPorts, val fromCache: Boolean) {
 
@@ -23,14 +23,19 @@ final class CompiledHarness(val executable: Path, val ports: HarnessPorts, val f
   private val outRecord = 8 * (1 + ports.outputs.size)
 
   /**
-   * Run every sample of `inputs` (values in the order of `ports.inputs`), at most one every
-   * `samplePeriod` clocks and only when the design is ready, then `drainCycles` more clocks so the
-   * last outputs come out (at least the design's latency). Outputs go to `onOutput(cycle, values)`
-   * as they are read back, so memory stays constant however long the stream.
+   * Run every sample of `inputs` (values in the order of `ports.inputs`), at most one every `samplePeriod`
+   * clocks and only when the design is ready, then `drainCycles` more clocks so the last outputs come out (at
+   * least the design's latency). Outputs go to `onOutput(cycle, values)` as they are read back, so memory
+   * stays constant however long the stream.
    */
-  def stream(inputs: Iterator[Seq[BigInt]], samplePeriod: Int = 1, drainCycles: Int = 256, maxStallCycles: Long = 1000000L)(
-    onOutput: (Long, IndexedSeq[BigInt]) => Unit,
-    onAccepted: Long => Unit = _ => ()
+  def stream(
+      inputs: Iterator[Seq[BigInt]],
+      samplePeriod: Int = 1,
+      drainCycles: Int = 256,
+      maxStallCycles: Long = 1000000L
+  )(
+      onOutput: (Long, IndexedSeq[BigInt]) => Unit,
+      onAccepted: Long => Unit = _ => ()
   ): HarnessStats = {
     require(samplePeriod >= 1, s"harness: samplePeriod must be >= 1, got $samplePeriod")
     require(drainCycles >= 0, s"harness: drainCycles must be >= 0, got $drainCycles")
@@ -48,19 +53,30 @@ final class CompiledHarness(val executable: Path, val ports: HarnessPorts, val f
   }
 
   /**
-   * [[stream]] of the `count` samples in `inputs` (`ports.inputs.size` values each, in port order),
-   * every output to `outputs` (`ports.outputs.size` values each; ports of at most 63 bits); there must
-   * be one output per sample. No allocation per sample.
+   * [[stream]] of the `count` samples in `inputs` (`ports.inputs.size` values each, in port order), every
+   * output to `outputs` (`ports.outputs.size` values each; ports of at most 63 bits); there must be one
+   * output per sample. No allocation per sample.
    */
-  def streamLongs(inputs: Array[Long], count: Int, samplePeriod: Int, drainCycles: Int, maxStallCycles: Long = 1000000L)(
-    outputs: Array[Long]): HarnessStats = {
+  def streamLongs(
+      inputs: Array[Long],
+      count: Int,
+      samplePeriod: Int,
+      drainCycles: Int,
+      maxStallCycles: Long = 1000000L
+  )(outputs: Array[Long]): HarnessStats = {
     require(samplePeriod >= 1, s"harness: samplePeriod must be >= 1, got $samplePeriod")
     require(drainCycles >= 0, s"harness: drainCycles must be >= 0, got $drainCycles")
     require(maxStallCycles >= 0, s"harness: maxStallCycles must be >= 0, got $maxStallCycles")
-    require(outputPorts.forall(p => p.width <= 63 || p.signed), "harness: streamLongs needs output ports of at most 63 bits (or signed)")
+    require(
+      outputPorts.forall(p => p.width <= 63 || p.signed),
+      "harness: streamLongs needs output ports of at most 63 bits (or signed)"
+    )
     val width = inputPorts.length
     val outWidth = outputPorts.length
-    require(inputs.length >= count * width && outputs.length >= count * outWidth, s"harness: arrays too short for $count samples")
+    require(
+      inputs.length >= count * width && outputs.length >= count * outWidth,
+      s"harness: arrays too short for $count samples"
+    )
     runProcess(samplePeriod, drainCycles, maxStallCycles) { path =>
       val channel = FileChannel.open(path, StandardOpenOption.CREATE_NEW, StandardOpenOption.WRITE)
       try {
@@ -68,7 +84,9 @@ final class CompiledHarness(val executable: Path, val ports: HarnessPorts, val f
         val (min, max) = (inputMin, inputMax)
         var k = 0
         while (k < count) {
-          if (buffer.remaining < inRecord) { buffer.flip(); while (buffer.hasRemaining) channel.write(buffer); buffer.clear() }
+          if (buffer.remaining < inRecord) {
+            buffer.flip(); while (buffer.hasRemaining) channel.write(buffer); buffer.clear()
+          }
           var i = 0
           while (i < width) {
             val v = inputs(k * width + i)
@@ -85,41 +103,68 @@ final class CompiledHarness(val executable: Path, val ports: HarnessPorts, val f
       var k = 0
       val results = readRecords(out, outRecord) { b =>
         b.getLong() // the cycle
-        if (k >= count) throw new IllegalStateException(s"the RTL returned more than $count results for $count samples")
+        if (k >= count)
+          throw new IllegalStateException(s"the RTL returned more than $count results for $count samples")
         var i = 0
         while (i < outWidth) { outputs(k * outWidth + i) = b.getLong(); i += 1 }
         k += 1
       }
-      if (results != count) throw new IllegalStateException(s"the RTL returned $results results for $count samples")
-      (results, readRecords(accepted, 8)(b => { b.getLong(); () }))
+      if (results != count)
+        throw new IllegalStateException(s"the RTL returned $results results for $count samples")
+      (results, readRecords(accepted, 8) { b => b.getLong(); () })
     }
   }
 
-  /** Write the inputs with `write` (returns the sample count), run the harness, read its files with `read` (outputs, accepted). */
-  private def runProcess(samplePeriod: Int, drainCycles: Int, maxStallCycles: Long)(write: Path => Long)(read: (Path, Path) => (Long, Long)): HarnessStats = {
+  /**
+   * Write the inputs with `write` (returns the sample count), run the harness, read its files with `read`
+   * (outputs, accepted).
+   */
+  private def runProcess(samplePeriod: Int, drainCycles: Int, maxStallCycles: Long)(
+      write: Path => Long
+  )(read: (Path, Path) => (Long, Long)): HarnessStats = {
     val dir = Files.createTempDirectory("reducer-load-harness-run-")
     try {
-      val (in, out, accepted) = (dir.resolve("inputs.bin"), dir.resolve("outputs.bin"), dir.resolve("accepted.bin"))
+      val (in, out, accepted) =
+        (dir.resolve("inputs.bin"), dir.resolve("outputs.bin"), dir.resolve("accepted.bin"))
       val written = write(in)
       val log = new StringBuilder
       val start = System.nanoTime()
-      val status = Seq(executable.toString, in.toString, out.toString, accepted.toString, samplePeriod.toString,
-        drainCycles.toString, maxStallCycles.toString).!(ProcessLogger(l => log.append(l).append('\n'), l => log.append(l).append('\n')))
+      val status = Seq(
+        executable.toString,
+        in.toString,
+        out.toString,
+        accepted.toString,
+        samplePeriod.toString,
+        drainCycles.toString,
+        maxStallCycles.toString
+      ).!(ProcessLogger(l => log.append(l).append('\n'), l => log.append(l).append('\n')))
       val seconds = (System.nanoTime() - start) / 1e9
-      if (status != 0) throw new IllegalStateException(s"harness $executable failed (exit $status): ${log.toString.trim}")
-      def printed(pattern: String, what: String) = pattern.r.findFirstMatchIn(log).map(_.group(1))
-        .getOrElse(throw new IllegalStateException(s"harness $executable printed no $what: ${log.toString.trim}"))
+      if (status != 0)
+        throw new IllegalStateException(s"harness $executable failed (exit $status): ${log.toString.trim}")
+      def printed(pattern: String, what: String) = pattern.r
+        .findFirstMatchIn(log)
+        .map(_.group(1))
+        .getOrElse(
+          throw new IllegalStateException(s"harness $executable printed no $what: ${log.toString.trim}")
+        )
       val cycles = printed("cycles=(\\d+)", "cycle count").toLong
       val cpuSeconds = printed("cpu_seconds=([0-9.]+)", "CPU time").toDouble
       val (outputs, taken) = read(out, accepted)
       if (taken != written)
-        throw new IllegalStateException(s"harness took $taken of $written samples (drain or stall limit reached?)")
+        throw new IllegalStateException(
+          s"harness took $taken of $written samples (drain or stall limit reached?)"
+        )
       HarnessStats(taken, outputs, cycles, seconds, cpuSeconds)
     } finally VerilatorHarness.deleteTree(dir)
   }
 
   /** [[stream]], collecting everything in memory. */
-  def run(inputs: Iterable[Seq[BigInt]], samplePeriod: Int = 1, drainCycles: Int = 256, maxStallCycles: Long = 1000000L): HarnessResult = {
+  def run(
+      inputs: Iterable[Seq[BigInt]],
+      samplePeriod: Int = 1,
+      drainCycles: Int = 256,
+      maxStallCycles: Long = 1000000L
+  ): HarnessResult = {
     val outputs = ArrayBuffer.empty[IndexedSeq[BigInt]]
     val outputCycles = ArrayBuffer.empty[Long]
     val accepted = ArrayBuffer.empty[Long]
@@ -146,8 +191,10 @@ final class CompiledHarness(val executable: Path, val ports: HarnessPorts, val f
 
   private def encodeSlowly(p: HarnessPort, v: BigInt, sample: Long): Long = {
     if (v < p.minValue || v > p.maxValue)
-      throw new IllegalArgumentException(s"harness: sample $sample: ${p.name} = $v does not fit ${p.width} " +
-        s"${if (p.signed) "signed" else "unsigned"} bits (${p.minValue} to ${p.maxValue})")
+      throw new IllegalArgumentException(
+        s"harness: sample $sample: ${p.name} = $v does not fit ${p.width} " +
+          s"${if (p.signed) "signed" else "unsigned"} bits (${p.minValue} to ${p.maxValue})"
+      )
     v.toLong // the low 64 bits: the raw pattern for unsigned 64-bit ports
   }
 
@@ -157,8 +204,13 @@ final class CompiledHarness(val executable: Path, val ports: HarnessPorts, val f
       val buffer = ByteBuffer.allocate(inRecord * 8192).order(ByteOrder.LITTLE_ENDIAN)
       var count = 0L
       inputs.foreach { sample =>
-        require(sample.size == ports.inputs.size, s"harness: sample $count has ${sample.size} values for ${ports.inputs.size} input ports")
-        if (buffer.remaining < inRecord) { buffer.flip(); while (buffer.hasRemaining) channel.write(buffer); buffer.clear() }
+        require(
+          sample.size == ports.inputs.size,
+          s"harness: sample $count has ${sample.size} values for ${ports.inputs.size} input ports"
+        )
+        if (buffer.remaining < inRecord) {
+          buffer.flip(); while (buffer.hasRemaining) channel.write(buffer); buffer.clear()
+        }
         val values = sample.iterator
         var i = 0
         while (i < inputPorts.length) { buffer.putLong(encode(i, values.next(), count)); i += 1 }
@@ -181,7 +233,8 @@ final class CompiledHarness(val executable: Path, val ports: HarnessPorts, val f
         buffer.flip()
         while (buffer.remaining >= size) { each(buffer); count += 1 }
         buffer.compact()
-        if (buffer.position() > 0 && channel.position() == channel.size) throw new IllegalStateException(s"$path ends inside a record")
+        if (buffer.position() > 0 && channel.position() == channel.size)
+          throw new IllegalStateException(s"$path ends inside a record")
       }
       count
     } finally channel.close()

@@ -4,26 +4,24 @@ import java.lang.Math.multiplyHigh
 import java.math.BigInteger
 
 /**
- * The one text of a double in a result file (the reference and error columns, `*_ref` and
- * `*_error`), written by every path that writes result lines. Rule (JDK 19's `Double.toString`):
- *  - the digits: the shortest decimal that reads back as the same double; among those of that
- *    length, the nearest to it, ties to an even last digit;
- *  - the layout of `Double.toString`: plain for 10^-3 <= |x| < 10^7 (`-16.946797119039708`,
- *    `0.0012`, `30.0`), otherwise one digit, the point and an exponent (`-4.066568202176768E-6`,
- *    `1.0E7`); always a digit after the point; `0.0` and `-0.0`.
+ * The one text of a double in a result file (the reference and error columns, `*_ref` and `*_error`), written
+ * by every path that writes result lines. Rule (JDK 19's `Double.toString`):
+ *   - the digits: the shortest decimal that reads back as the same double; among those of that length, the
+ *     nearest to it, ties to an even last digit;
+ *   - the layout of `Double.toString`: plain for 10^-3 <= |x| < 10^7 (`-16.946797119039708`, `0.0012`,
+ *     `30.0`), otherwise one digit, the point and an exponent (`-4.066568202176768E-6`, `1.0E7`); always a
+ *     digit after the point; `0.0` and `-0.0`.
  * Subnormal doubles (below 2.2e-308), infinities and NaN are written by `Double.toString`.
  *
- * Why not `Double.toString` itself: on the JDK 17 this project runs on it is several times slower
- * (it falls back to big-integer arithmetic for many doubles), which made the text of two numbers per
- * torque the slowest part of a replay; and for some doubles it writes more digits than needed
- * or digits that are not the nearest (JDK-4511638, fixed in JDK 19 by the algorithm below), where
- * this rule writes the shortest nearest.
+ * Why not `Double.toString` itself: on the JDK 17 this project runs on it is several times slower (it falls
+ * back to big-integer arithmetic for many doubles), which made the text of two numbers per torque the slowest
+ * part of a replay; and for some doubles it writes more digits than needed or digits that are not the nearest
+ * (JDK-4511638, fixed in JDK 19 by the algorithm below), where this rule writes the shortest nearest.
  * Elsewhere the two texts are the same (DoubleTextSpec checks both against BigDecimal).
  *
- * Method: Raffaello Giulietti's Schubfach ("The Schubfach way to render doubles", 2020), the
- * algorithm of JDK 19's `DoubleToDecimal`: the rounding interval of the double, scaled by 10^-k
- * with a 126-bit approximation of 10^-k, rounded to odd, decides between the at most two candidates
- * of each length.
+ * Method: Raffaello Giulietti's Schubfach ("The Schubfach way to render doubles", 2020), the algorithm of JDK
+ * 19's `DoubleToDecimal`: the rounding interval of the double, scaled by 10^-k with a 126-bit approximation
+ * of 10^-k, rounded to odd, decides between the at most two candidates of each length.
  */
 object DoubleText {
   private final val Precision = 53 // significand bits of a double, with the hidden one
@@ -35,14 +33,16 @@ object DoubleText {
 
   /** floor(e * log10(2)), for |e| <= 5456721. */
   private def flog10pow2(e: Int): Int = ((e.toLong * 661971961083L) >> 41).toInt
+
   /** floor(log10(3/4 * 2^e)), for |e| <= 5456721. */
   private def flog10threeQuartersPow2(e: Int): Int = ((e.toLong * 661971961083L - 274743187321L) >> 41).toInt
+
   /** floor(e * log2(10)), for |e| <= 1838394. */
   private def flog2pow10(e: Int): Int = ((e.toLong * 913124641741L) >> 38).toInt
 
   /**
-   * g(k) = floor(10^-k * 2^(125 - flog2pow10(-k))) + 1, a 126-bit number just above 10^-k scaled
-   * into [2^125, 2^126], as its high and low 63 bits (computed once, exactly, in BigInteger).
+   * g(k) = floor(10^-k * 2^(125 - flog2pow10(-k))) + 1, a 126-bit number just above 10^-k scaled into [2^125,
+   * 2^126], as its high and low 63 bits (computed once, exactly, in BigInteger).
    */
   private val (g1, g0): (Array[Long], Array[Long]) = {
     val ks = KMin to KMax
@@ -52,7 +52,10 @@ object DoubleText {
       val denominator = BigInteger.TEN.pow(math.max(k, 0)).shiftLeft(math.max(e - 125, 0))
       numerator.divide(denominator).add(BigInteger.ONE)
     }
-    (g.map(_.shiftRight(63).longValueExact).toArray, g.map(_.and(BigInteger.valueOf(Mask63)).longValueExact).toArray)
+    (
+      g.map(_.shiftRight(63).longValueExact).toArray,
+      g.map(_.and(BigInteger.valueOf(Mask63)).longValueExact).toArray
+    )
   }
 
   /** 10^0 to 10^18, every power of ten a long holds (digit counts here, digit groups in [[FixedDecimal]]). */

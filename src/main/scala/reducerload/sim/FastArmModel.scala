@@ -7,10 +7,10 @@ import reducerload.graph.{NodeId, Op, SampleCodes, Signal, TrigFn}
 import scala.collection.immutable.ArraySeq
 
 /**
- * [[reducerload.arm.ArmModel.evaluate]] in long arithmetic: the same graph, the same operations in
- * the same order, every value checked against the same proven format, compiled once into arrays so
- * a sample costs no allocation per node (a replay of millions of samples). Only for designs whose
- * formats all fit 62 bits ([[FastArmModel.supports]]); tested equal to the model (FastFixedSpec).
+ * [[reducerload.arm.ArmModel.evaluate]] in long arithmetic: the same graph, the same operations in the same
+ * order, every value checked against the same proven format, compiled once into arrays so a sample costs no
+ * allocation per node (a replay of millions of samples). Only for designs whose formats all fit 62 bits
+ * ([[FastArmModel.supports]]); tested equal to the model (FastFixedSpec).
  */
 final class FastArmModel(p: ArmParams) {
   import FastArmModel._
@@ -42,13 +42,18 @@ final class FastArmModel(p: ArmParams) {
   graph.ops.zipWithIndex.foreach { case (op, i) =>
     val f = fr(i)
     op match {
-      case Op.Const(_)                      => kind(i) = Constant; constant(i) = analysis.nodes(i).raw.get.toLong
-      case Op.Input(Signal.Velocity(j))     => kind(i) = Velocity; left(i) = j
+      case Op.Const(_)                  => kind(i) = Constant; constant(i) = analysis.nodes(i).raw.get.toLong
+      case Op.Input(Signal.Velocity(j)) => kind(i) = Velocity; left(i) = j
       case Op.Input(Signal.Acceleration(j)) => kind(i) = Acceleration; left(i) = j
-      case Op.Trig(fn, a)                   => kind(i) = Trig; left(i) = 2 * angles.indexOf(a) + (if (fn == TrigFn.Cos) 0 else 1)
-      case Op.Add(a, b) => kind(i) = Add; left(i) = a.index; right(i) = b.index; leftShift(i) = f - fr(a.index); rightShift(i) = f - fr(b.index)
-      case Op.Sub(a, b) => kind(i) = Sub; left(i) = a.index; right(i) = b.index; leftShift(i) = f - fr(a.index); rightShift(i) = f - fr(b.index)
-      case Op.Neg(a)    => kind(i) = Neg; left(i) = a.index
+      case Op.Trig(fn, a) =>
+        kind(i) = Trig; left(i) = 2 * angles.indexOf(a) + (if (fn == TrigFn.Cos) 0 else 1)
+      case Op.Add(a, b) =>
+        kind(i) = Add; left(i) = a.index; right(i) = b.index; leftShift(i) = f - fr(a.index);
+        rightShift(i) = f - fr(b.index)
+      case Op.Sub(a, b) =>
+        kind(i) = Sub; left(i) = a.index; right(i) = b.index; leftShift(i) = f - fr(a.index);
+        rightShift(i) = f - fr(b.index)
+      case Op.Neg(a) => kind(i) = Neg; left(i) = a.index
       case Op.Mul(a, b) =>
         val rule = analysis.productRounding(NodeId(i))
         kind(i) = Mul; left(i) = a.index; right(i) = b.index; drop(i) = rule.drop; rounding(i) = rule.rounding
@@ -57,13 +62,17 @@ final class FastArmModel(p: ArmParams) {
 
   private val velocityLimit = numerics.velocityLimitRaw.map(_.toLong).toArray
   private val accelerationLimit = numerics.accelerationLimitRaw.map(_.toLong).toArray
-  private val outputs = graph.outputs.zip(analysis.outputs).map { case (o, info) =>
-    (o.node.index, analysis.outputDrop(o), FastFixed.minOf(info.format), FastFixed.maxOf(info.format))
-  }.toArray
+  private val outputs = graph.outputs
+    .zip(analysis.outputs)
+    .map { case (o, info) =>
+      (o.node.index, analysis.outputDrop(o), FastFixed.minOf(info.format), FastFixed.maxOf(info.format))
+    }
+    .toArray
   private val joints = velocityLimit.length
 
   /** Torque codes per sample (the graph's outputs); then come [[joints]] out-of-range flags. */
   val torques: Int = outputs.length
+
   /** Codes per sample in and values out of [[Runner.evaluate]], in the harness ports' order. */
   val inputCount: Int = 3 * joints
   val outputCount: Int = torques + joints
@@ -74,7 +83,10 @@ final class FastArmModel(p: ArmParams) {
     require(codes.length == inputCount, s"FastArmModel: ${codes.length} input codes for $joints joints")
     val out = new Array[Long](outputCount)
     runner().evaluate(codes, 0, out, 0)
-    ArmOutputCodes(ArraySeq.unsafeWrapArray(out.take(torques).map(BigInt(_))), ArraySeq.unsafeWrapArray(out.drop(torques).map(_ != 0)))
+    ArmOutputCodes(
+      ArraySeq.unsafeWrapArray(out.take(torques).map(BigInt(_))),
+      ArraySeq.unsafeWrapArray(out.drop(torques).map(_ != 0))
+    )
   }
 
   /** Work arrays for [[Runner.evaluate]]; one per thread. */
@@ -86,29 +98,41 @@ final class FastArmModel(p: ArmParams) {
     private val flags = new Array[Boolean](joints)
     private val trig = new Array[Long](2 * angles.size)
     private val v = new Array[Long](size)
-    private val (kind, left, right, leftShift, rightShift, drop) = (FastArmModel.this.kind, FastArmModel.this.left,
-      FastArmModel.this.right, FastArmModel.this.leftShift, FastArmModel.this.rightShift, FastArmModel.this.drop)
+    private val (kind, left, right, leftShift, rightShift, drop) = (
+      FastArmModel.this.kind,
+      FastArmModel.this.left,
+      FastArmModel.this.right,
+      FastArmModel.this.leftShift,
+      FastArmModel.this.rightShift,
+      FastArmModel.this.drop
+    )
     private val halfUp = rounding.map(_ == Rounding.HalfUp)
     private val (constant, lo, hi) = (FastArmModel.this.constant, FastArmModel.this.lo, FastArmModel.this.hi)
-    private val (angleJoints, angleMultiples, turnMask) = (FastArmModel.this.angleJoints, FastArmModel.this.angleMultiples, FastArmModel.this.turnMask)
-    private val (velocityLimit, accelerationLimit) = (FastArmModel.this.velocityLimit, FastArmModel.this.accelerationLimit)
+    private val (angleJoints, angleMultiples, turnMask) =
+      (FastArmModel.this.angleJoints, FastArmModel.this.angleMultiples, FastArmModel.this.turnMask)
+    private val (velocityLimit, accelerationLimit) =
+      (FastArmModel.this.velocityLimit, FastArmModel.this.accelerationLimit)
     private val outNode = outputs.map(_._1)
     private val outDrop = outputs.map(_._2)
     private val outMin = outputs.map(_._3)
     private val outMax = outputs.map(_._4)
 
     /**
-     * One sample: `codes(at ..)` holds the angle, velocity and acceleration codes (one per joint
-     * each); writes the torque codes and then each joint's out-of-range flag (0 or 1) to `out(outAt ..)`.
+     * One sample: `codes(at ..)` holds the angle, velocity and acceleration codes (one per joint each);
+     * writes the torque codes and then each joint's out-of-range flag (0 or 1) to `out(outAt ..)`.
      */
     def evaluate(codes: Array[Long], at: Int, out: Array[Long], outAt: Int): Unit = {
       // Locals: scalac's -Xcheckinit guards every field read.
       val qd = this.qd; val qdd = this.qdd; val flags = this.flags; val trig = this.trig
       val kind = this.kind; val left = this.left; val right = this.right; val leftShift = this.leftShift
-      val rightShift = this.rightShift; val drop = this.drop; val halfUp = this.halfUp; val constant = this.constant
-      val lo = this.lo; val hi = this.hi; val velocityLimit = this.velocityLimit; val accelerationLimit = this.accelerationLimit
-      val angleJoints = this.angleJoints; val angleMultiples = this.angleMultiples; val turnMask = this.turnMask
-      val outNode = this.outNode; val outDrop = this.outDrop; val outMin = this.outMin; val outMax = this.outMax
+      val rightShift = this.rightShift; val drop = this.drop; val halfUp = this.halfUp;
+      val constant = this.constant
+      val lo = this.lo; val hi = this.hi; val velocityLimit = this.velocityLimit;
+      val accelerationLimit = this.accelerationLimit
+      val angleJoints = this.angleJoints; val angleMultiples = this.angleMultiples;
+      val turnMask = this.turnMask
+      val outNode = this.outNode; val outDrop = this.outDrop; val outMin = this.outMin;
+      val outMax = this.outMax
       val n = qd.length
       var j = 0
       while (j < n) {
@@ -143,10 +167,18 @@ final class FastArmModel(p: ArmParams) {
           case Add          => (v(left(i)) << leftShift(i)) + (v(right(i)) << rightShift(i))
           case Sub          => (v(left(i)) << leftShift(i)) - (v(right(i)) << rightShift(i))
           case Neg          => -v(left(i))
-          case _            => FastFixed.mulShiftRound(v(left(i)), v(right(i)), drop(i), if (halfUp(i)) Rounding.HalfUp else Rounding.Truncate)
+          case _ =>
+            FastFixed.mulShiftRound(
+              v(left(i)),
+              v(right(i)),
+              drop(i),
+              if (halfUp(i)) Rounding.HalfUp else Rounding.Truncate
+            )
         }
         if (x < lo(i) || x > hi(i))
-          throw new IllegalArgumentException(s"GraphModel: node $i (${graph.ops(i)}) = $x outside its proven format ${analysis.nodes(i).format}")
+          throw new IllegalArgumentException(
+            s"GraphModel: node $i (${graph.ops(i)}) = $x outside its proven format ${analysis.nodes(i).format}"
+          )
         v(i) = x
         i += 1
       }
@@ -175,10 +207,15 @@ object FastArmModel {
   private final val Neg = 6
   private final val Mul = 7
 
-  /** Whether the long model can run `p`: every node, port and CORDIC format fits 62 bits, and the output shifts stay in range. */
+  /**
+   * Whether the long model can run `p`: every node, port and CORDIC format fits 62 bits, and the output
+   * shifts stay in range.
+   */
   def supports(p: ArmParams): Boolean =
     scala.util.Try { new FastCordic(p.numerics.cordic); () }.isSuccess &&
       (p.analysis.nodes.map(_.format) ++ p.analysis.outputs.map(_.format) ++
-        Seq(p.numerics.velocityPortFormat, p.numerics.accelerationPortFormat)).forall((f: FixedFormat) => f.width <= 62) &&
+        Seq(p.numerics.velocityPortFormat, p.numerics.accelerationPortFormat)).forall((f: FixedFormat) =>
+        f.width <= 62
+      ) &&
       p.graph.outputs.forall(o => p.analysis.outputDrop(o) > -62)
 }

@@ -4,15 +4,17 @@ import reducerload.cordic.CordicParams
 import reducerload.fixedpoint.{FixedFormat, Rounding}
 
 /**
- * [[reducerload.cordic.CordicModel.sinCosRaw]] in long arithmetic, for units whose formats all fit
- * 62 bits: same operations in the same order, every intermediate checked against the same format
- * (tested equal to the model, see FastFixedSpec). The BigInt model stays the reference.
+ * [[reducerload.cordic.CordicModel.sinCosRaw]] in long arithmetic, for units whose formats all fit 62 bits:
+ * same operations in the same order, every intermediate checked against the same format (tested equal to the
+ * model, see FastFixedSpec). The BigInt model stays the reference.
  */
 final class FastCordic(p: CordicParams) {
   private def fits(f: FixedFormat) = f.width <= 62
   private val zFormats = (p.firstIteration to p.iterations).map(p.zFormat)
-  require((zFormats ++ Seq(p.xyFormat, p.outputFormat) ++ (if (p.residual) Seq(p.zrFormat) else Nil)).forall(fits),
-    s"FastCordic ${p.tag}: a format is wider than 62 bits")
+  require(
+    (zFormats ++ Seq(p.xyFormat, p.outputFormat) ++ (if (p.residual) Seq(p.zrFormat) else Nil)).forall(fits),
+    s"FastCordic ${p.tag}: a format is wider than 62 bits"
+  )
 
   private val lowBits = p.residualBits - p.tableBits
   require(lowBits >= 1, s"FastCordic ${p.tag}: no residual bits below the table index")
@@ -26,13 +28,20 @@ final class FastCordic(p: CordicParams) {
   private val zMax = zFormats.map(FastFixed.maxOf).toArray
   private val (xyMin, xyMax) = (FastFixed.minOf(p.xyFormat), FastFixed.maxOf(p.xyFormat))
   private val (outMin, outMax) = (FastFixed.minOf(p.outputFormat), FastFixed.maxOf(p.outputFormat))
-  private val (zrMin, zrMax) = if (p.residual) (FastFixed.minOf(p.zrFormat), FastFixed.maxOf(p.zrFormat)) else (0L, 0L)
+  private val (zrMin, zrMax) =
+    if (p.residual) (FastFixed.minOf(p.zrFormat), FastFixed.maxOf(p.zrFormat)) else (0L, 0L)
   private val zrShift = p.zFracBits + p.twoPiFracBits - p.xyFormat.fracBits
   private val operandDrop = p.xyFormat.fracBits - p.residualOperandFracBits
   private val twoPi = p.twoPiRaw.toLong
-  require(!p.residual || (zrShift >= 0 && operandDrop >= 0), s"FastCordic ${p.tag}: negative shift in the residual rotation")
+  require(
+    !p.residual || (zrShift >= 0 && operandDrop >= 0),
+    s"FastCordic ${p.tag}: negative shift in the residual rotation"
+  )
 
-  /** `v` if within [min, max]; the message names `what` (and the iteration, when not negative) only on failure. */
+  /**
+   * `v` if within [min, max]; the message names `what` (and the iteration, when not negative) only on
+   * failure.
+   */
   private def check(v: Long, min: Long, max: Long, what: String, iteration: Int = -1): Long = {
     if (v < min || v > max) {
       val where = if (iteration >= 0) s"$what after iteration $iteration" else what
@@ -56,19 +65,26 @@ final class FastCordic(p: CordicParams) {
   /** Raw (cos, sin) of `angle` into `out(at)`, `out(at + 1)`. */
   def sinCosRaw(angle: Long, out: Array[Long], at: Int): Unit = {
     val firstIteration = this.firstIteration; val iterations = this.iterations
-    val atan = this.atan; val zMin = this.zMin; val zMax = this.zMax; val xyMin = this.xyMin; val xyMax = this.xyMax
-    require(angle >= 0 && angle < (1L << angleBits), s"CordicModel: angle code $angle is not a $angleBits-bit code")
+    val atan = this.atan; val zMin = this.zMin; val zMax = this.zMax; val xyMin = this.xyMin;
+    val xyMax = this.xyMax
+    require(
+      angle >= 0 && angle < (1L << angleBits),
+      s"CordicModel: angle code $angle is not a $angleBits-bit code"
+    )
     val quadrant = (angle >> residualBits).toInt
     val segment = ((angle >> lowBits) & segmentMask).toInt
     var x = startX(segment)
     var y = startY(segment)
-    var z = check(((angle & lowMask) - centre) << angleGuardBits, zMin(0), zMax(0), "z at the first iteration")
+    var z =
+      check(((angle & lowMask) - centre) << angleGuardBits, zMin(0), zMax(0), "z at the first iteration")
     var i = firstIteration
     while (i < iterations) {
       val dx = y >> i
       val dy = x >> i
-      if (z >= 0) { x -= dx; y += dy; z -= atan(i) } else { x += dx; y -= dy; z += atan(i) }
-      if (z < zMin(i + 1 - firstIteration) || z > zMax(i + 1 - firstIteration)) check(z, zMin(i + 1 - firstIteration), zMax(i + 1 - firstIteration), "z", i)
+      if (z >= 0) { x -= dx; y += dy; z -= atan(i) }
+      else { x += dx; y -= dy; z += atan(i) }
+      if (z < zMin(i + 1 - firstIteration) || z > zMax(i + 1 - firstIteration))
+        check(z, zMin(i + 1 - firstIteration), zMax(i + 1 - firstIteration), "z", i)
       if (x < xyMin || x > xyMax) check(x, xyMin, xyMax, "x", i)
       if (y < xyMin || y > xyMax) check(y, xyMin, xyMax, "y", i)
       i += 1
@@ -101,4 +117,3 @@ final class FastCordic(p: CordicParams) {
     out(at + 1) = check(s, outMin, outMax, "output")
   }
 }
-

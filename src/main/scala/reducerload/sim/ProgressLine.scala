@@ -4,8 +4,8 @@ import java.io.PrintStream
 import java.util.concurrent.atomic.{AtomicBoolean, AtomicLong}
 
 /**
- * Samples done, rate and time left of a long run, on one line rewritten at most once a second.
- * Thread-safe: chunks finishing on several threads call [[advance]]. Quiet when `out` is None.
+ * Samples done, rate and time left of a long run, on one line rewritten at most once a second. Thread-safe:
+ * chunks finishing on several threads call [[advance]]. Quiet when `out` is None.
  */
 final class ProgressLine(total: Long, what: String, out: Option[PrintStream]) {
   private val start = System.nanoTime()
@@ -31,6 +31,7 @@ final class ProgressLine(total: Long, what: String, out: Option[PrintStream]) {
 }
 
 object ProgressLine {
+
   /** On a terminal only: a redirected or piped run (a log, a test) stays quiet. */
   def onTerminal(total: Long, what: String): ProgressLine =
     new ProgressLine(total, what, if (System.console() != null) Some(System.out) else None)

@@ -9,12 +9,19 @@ import scala.collection.mutable
 
 /**
  * A replay's double-precision reference ([[Rnea.reference]], or the joint-3 closed form of
- * `LoadReference.torque`) as a [[DoubleTape]], with its inputs read from a trajectory row (n angles,
- * n velocities, n accelerations): bit-identical to the reference (ReplayArraysSpec), without its
- * per-sample collections.
+ * `LoadReference.torque`) as a [[DoubleTape]], with its inputs read from a trajectory row (n angles, n
+ * velocities, n accelerations): bit-identical to the reference (ReplayArraysSpec), without its per-sample
+ * collections.
  */
-final class ReferenceTape private (val tape: DoubleTape, joints: Int, source: Array[Int], joint: Array[Int],
-  sumJoints: Array[Array[Int]], sumMultiples: Array[Array[Double]], seeded: Array[Boolean]) {
+final class ReferenceTape private (
+    val tape: DoubleTape,
+    joints: Int,
+    source: Array[Int],
+    joint: Array[Int],
+    sumJoints: Array[Array[Int]],
+    sumMultiples: Array[Array[Double]],
+    seeded: Array[Boolean]
+) {
   import ReferenceTape._
 
   def outputs: Int = tape.outputSlots.length
@@ -22,7 +29,10 @@ final class ReferenceTape private (val tape: DoubleTape, joints: Int, source: Ar
   /** [[evaluate]] of a row on its own. */
   def evaluate(row: Array[Double], v: Array[Double]): Unit = evaluate(row, 0, v)
 
-  /** Fill `v` (from `tape.scratch()`) with the inputs of the row at `rows(at ..)` and run the tape; results by `tape.output`. */
+  /**
+   * Fill `v` (from `tape.scratch()`) with the inputs of the row at `rows(at ..)` and run the tape; results by
+   * `tape.output`.
+   */
   def evaluate(rows: Array[Double], at: Int, v: Array[Double]): Unit = {
     val slots = tape.inputSlots
     val n = joints
@@ -34,7 +44,7 @@ final class ReferenceTape private (val tape: DoubleTape, joints: Int, source: Ar
         case Acceleration => rows(at + 2 * n + j)
         case CosQ         => math.cos(rows(at + j))
         case SinQ         => math.sin(rows(at + j))
-        case _ =>
+        case _            =>
           // AngleSum.radians: terms.map { case (j, k) => k * q(j) }.sum, whose seed 0.0 (when the
           // collection adds one) only turns a -0.0 into 0.0.
           val js = sumJoints(k)
@@ -68,15 +78,18 @@ object ReferenceTape {
     var inputs: Inputs = null
     val tape = DoubleTape.record { (num, make) => inputs = new Inputs(make); formula(num, inputs) }
     val keys = inputs.order.keys.toArray
-    require(keys.indices.forall(k => inputs.order(keys(k)) == tape.inputSlots(k)), "ReferenceTape: inputs out of order")
+    require(
+      keys.indices.forall(k => inputs.order(keys(k)) == tape.inputSlots(k)),
+      "ReferenceTape: inputs out of order"
+    )
     val source = keys.map {
-      case ("qd", _)                       => Velocity
-      case ("qdd", _)                      => Acceleration
-      case ("cos", _: Int)                 => CosQ
-      case ("sin", _: Int)                 => SinQ
-      case (TrigFn.Cos, _)                 => CosSum
-      case (TrigFn.Sin, _)                 => SinSum
-      case other                           => throw new IllegalStateException(s"ReferenceTape: unknown input $other")
+      case ("qd", _)       => Velocity
+      case ("qdd", _)      => Acceleration
+      case ("cos", _: Int) => CosQ
+      case ("sin", _: Int) => SinQ
+      case (TrigFn.Cos, _) => CosSum
+      case (TrigFn.Sin, _) => SinSum
+      case other           => throw new IllegalStateException(s"ReferenceTape: unknown input $other")
     }
     val joint = keys.map {
       case (_, j: Int) => j
@@ -90,7 +103,10 @@ object ReferenceTape {
     val sumMultiples = sums.map(_.fold(Array.empty[Double])(_.terms.map(_._2.toDouble).toArray))
     // Whether radians() adds the terms to a seed 0.0: with every term -0.0 the sum is 0.0 then, -0.0 otherwise.
     val seeded = sums.map(_.exists { a =>
-      require(a.terms.nonEmpty && a.terms.map(_._1).distinct.size == a.terms.size, s"ReferenceTape: angle sum $a")
+      require(
+        a.terms.nonEmpty && a.terms.map(_._1).distinct.size == a.terms.size,
+        s"ReferenceTape: angle sum $a"
+      )
       val q = Array.fill(joints)(0.0)
       a.terms.foreach { case (j, k) => q(j) = if (k > 0) -0.0 else 0.0 }
       val r = a.radians(q.toIndexedSeq)
@@ -100,14 +116,27 @@ object ReferenceTape {
     new ReferenceTape(tape, joints, source, joint, sumJoints, sumMultiples, seeded)
   }
 
-  /** [[Rnea.reference]] of `chain`: JointState(cos q, sin q, qd, qdd) per joint, the torque of every joint. */
-  def rnea(chain: SerialChain): ReferenceTape = build(chain.size, { (num, in) =>
-    val states = (0 until chain.size).map(j => JointState(in(("cos", j)), in(("sin", j)), in(("qd", j)), in(("qdd", j))))
-    Rnea.torques(chain, states)(VectorAlgebra.fromNum(num))
-  })
+  /**
+   * [[Rnea.reference]] of `chain`: JointState(cos q, sin q, qd, qdd) per joint, the torque of every joint.
+   */
+  def rnea(chain: SerialChain): ReferenceTape = build(
+    chain.size,
+    { (num, in) =>
+      val states = (0 until chain.size).map(j =>
+        JointState(in(("cos", j)), in(("sin", j)), in(("qd", j)), in(("qdd", j)))
+      )
+      Rnea.torques(chain, states)(VectorAlgebra.fromNum(num))
+    }
+  )
 
   /** `LoadReference.torque` of the joint-3 closed form `model` (3 joints). */
-  def joint3(robot: RobotParams, model: LoadModel): ReferenceTape = build(3, { (num, in) =>
-    Seq(Joint3Load.torque[Int](robot, model, (fn, a) => in((fn, a)), j => in(("qd", j)), j => in(("qdd", j)))(num))
-  })
+  def joint3(robot: RobotParams, model: LoadModel): ReferenceTape = build(
+    3,
+    (num, in) =>
+      Seq(
+        Joint3Load.torque[Int](robot, model, (fn, a) => in((fn, a)), j => in(("qd", j)), j => in(("qdd", j)))(
+          num
+        )
+      )
+  )
 }

@@ -5,16 +5,16 @@ import java.nio.charset.StandardCharsets
 import scala.collection.mutable.ArrayBuffer
 
 /**
- * A trajectory through a [[ReplayDesign]] on an engine, in chunks on `jobs` threads: each chunk
- * converts its rows, runs them (a harness process from reset, or the model), and formats its result
- * lines; the lines are written in sample order while later chunks run. The datapath keeps no state between samples, so the
- * file does not depend on the chunking.
+ * A trajectory through a [[ReplayDesign]] on an engine, in chunks on `jobs` threads: each chunk converts its
+ * rows, runs them (a harness process from reset, or the model), and formats its result lines; the lines are
+ * written in sample order while later chunks run. The datapath keeps no state between samples, so the file
+ * does not depend on the chunking.
  */
 object Replay {
 
   /**
-   * Samples per chunk: a harness process each (start-up is milliseconds), or a model batch; at
-   * least one chunk per job, so short runs use every job too.
+   * Samples per chunk: a harness process each (start-up is milliseconds), or a model batch; at least one
+   * chunk per job, so short runs use every job too.
    */
   def chunkSize(engine: ReplayEngine, samples: Int, jobs: Int): Int = {
     val most = engine match {
@@ -24,27 +24,38 @@ object Replay {
     ((samples + jobs - 1) / jobs).min(most).max(1)
   }
 
-  private final case class ChunkResult(maxErrors: Array[Double], outOfRange: Long, harness: Option[HarnessStats], cpuSeconds: Double,
-    phases: Option[ReplayPhases] = None)
+  private final case class ChunkResult(
+      maxErrors: Array[Double],
+      outOfRange: Long,
+      harness: Option[HarnessStats],
+      cpuSeconds: Double,
+      phases: Option[ReplayPhases] = None
+  )
 
   private val threads = java.lang.management.ManagementFactory.getThreadMXBean
 
   /** Outputs of `inputs` on `engine`, and the harness run's figures for the RTL. */
-  def outputs[In, Out](design: ReplayDesign[In, Out], engine: ReplayEngine, inputs: IndexedSeq[In]): (IndexedSeq[Out], Option[HarnessStats]) =
+  def outputs[In, Out](
+      design: ReplayDesign[In, Out],
+      engine: ReplayEngine,
+      inputs: IndexedSeq[In]
+  ): (IndexedSeq[Out], Option[HarnessStats]) =
     engine match {
       case ReplayEngine.Model => (inputs.map(design.evaluate), None)
       case ReplayEngine.Rtl(harness) =>
         val outs = new ArrayBuffer[Out](inputs.size)
-        val stats = harness.stream(inputs.iterator.map(design.harnessValues), design.samplePeriod, design.latency + 1)(
-          (_, values) => outs += design.fromHarness(values))
+        val stats =
+          harness.stream(inputs.iterator.map(design.harnessValues), design.samplePeriod, design.latency + 1)(
+            (_, values) => outs += design.fromHarness(values)
+          )
         if (outs.size != inputs.size)
           throw new IllegalStateException(s"the RTL returned ${outs.size} results for ${inputs.size} samples")
         (outs.toIndexedSeq, Some(stats))
     }
 
   /**
-   * Texts of numbered chunks to `out` in chunk order, as soon as each one and every one before it is
-   * there: writing overlaps the work on later chunks, and at most the chunks done out of order wait.
+   * Texts of numbered chunks to `out` in chunk order, as soon as each one and every one before it is there:
+   * writing overlaps the work on later chunks, and at most the chunks done out of order wait.
    */
   private final class InOrderWriter(out: OutputStream, count: Int) {
     private val waiting = new Array[Array[Byte]](count)
@@ -61,11 +72,18 @@ object Replay {
   }
 
   /** The text of a chunk's lines (ASCII: numbers, commas, line ends) as bytes. */
-  private def bytes(text: java.lang.StringBuilder): Array[Byte] = text.toString.getBytes(StandardCharsets.ISO_8859_1)
+  private def bytes(text: java.lang.StringBuilder): Array[Byte] =
+    text.toString.getBytes(StandardCharsets.ISO_8859_1)
 
   /** Run every row, write the header and one line per sample to `out`. */
-  def run[In, Out](design: ReplayDesign[In, Out], engine: ReplayEngine, rows: SampleRows, jobs: Int,
-    out: OutputStream, progress: ProgressLine): ReplaySummary = {
+  def run[In, Out](
+      design: ReplayDesign[In, Out],
+      engine: ReplayEngine,
+      rows: SampleRows,
+      jobs: Int,
+      out: OutputStream,
+      progress: ProgressLine
+  ): ReplaySummary = {
     val start = System.nanoTime()
     val labels = design.errorLabels.size
     out.write((design.outputHeader + "\n").getBytes(StandardCharsets.UTF_8))
@@ -92,14 +110,27 @@ object Replay {
       ChunkResult(maxErrors, flagged.toLong, harnessStats, cpuSeconds)
     }
     progress.finish()
-    ReplaySummary(rows.size.toLong,
+    ReplaySummary(
+      rows.size.toLong,
       (0 until labels).map(j => chunks.map(_.maxErrors(j)).maxOption.getOrElse(0.0)),
-      chunks.map(_.outOfRange).sum, (System.nanoTime() - start) / 1e9, chunks.map(_.cpuSeconds).sum, chunks.flatMap(_.harness))
+      chunks.map(_.outOfRange).sum,
+      (System.nanoTime() - start) / 1e9,
+      chunks.map(_.cpuSeconds).sum,
+      chunks.flatMap(_.harness)
+    )
   }
 
   /** [[run]] on the design's [[ArrayReplay]]: the same lines, from codes and outputs in long arrays. */
-  private def runArrays(design: ReplayDesign[_, _], fast: ArrayReplay, engine: ReplayEngine, rows: SampleRows,
-    jobs: Int, out: OutputStream, progress: ProgressLine, start: Long): ReplaySummary = {
+  private def runArrays(
+      design: ReplayDesign[_, _],
+      fast: ArrayReplay,
+      engine: ReplayEngine,
+      rows: SampleRows,
+      jobs: Int,
+      out: OutputStream,
+      progress: ProgressLine,
+      start: Long
+  ): ReplaySummary = {
     val labels = design.errorLabels.size
     val size = engine match {
       case ReplayEngine.Model => ((rows.size + jobs - 1) / jobs).min(1 << 14).max(1)
@@ -145,13 +176,29 @@ object Replay {
       val linesEnd = System.nanoTime()
       val cpuSeconds = (threads.getCurrentThreadCpuTime - cpuStart) / 1e9
       writer.put(first / size, text8)
-      ChunkResult(maxErrors, flagged, harnessStats, cpuSeconds,
-        Some(ReplayPhases((engineStart - codesStart) / 1e9, (linesStart - engineStart) / 1e9, (linesEnd - linesStart) / 1e9)))
+      ChunkResult(
+        maxErrors,
+        flagged,
+        harnessStats,
+        cpuSeconds,
+        Some(
+          ReplayPhases(
+            (engineStart - codesStart) / 1e9,
+            (linesStart - engineStart) / 1e9,
+            (linesEnd - linesStart) / 1e9
+          )
+        )
+      )
     }
     progress.finish()
-    ReplaySummary(rows.size.toLong,
+    ReplaySummary(
+      rows.size.toLong,
       (0 until labels).map(j => chunks.map(_.maxErrors(j)).maxOption.getOrElse(0.0)),
-      chunks.map(_.outOfRange).sum, (System.nanoTime() - start) / 1e9, chunks.map(_.cpuSeconds).sum, chunks.flatMap(_.harness),
-      chunks.flatMap(_.phases).reduceOption(_ + _))
+      chunks.map(_.outOfRange).sum,
+      (System.nanoTime() - start) / 1e9,
+      chunks.map(_.cpuSeconds).sum,
+      chunks.flatMap(_.harness),
+      chunks.flatMap(_.phases).reduceOption(_ + _)
+    )
   }
 }

@@ -1,12 +1,13 @@
 package reducerload.sim
 
 /**
- * A design as `run simulate` replays it, whatever engine runs it: the trajectory's columns and
- * declared ranges, a row (values in `columns` order) to input codes, the bit-accurate model, the
- * harness ports, and one result line per sample. The RTL engine and the model engine share all of
- * it, so their files can differ only where the RTL and the model do.
+ * A design as `run simulate` replays it, whatever engine runs it: the trajectory's columns and declared
+ * ranges, a row (values in `columns` order) to input codes, the bit-accurate model, the harness ports, and
+ * one result line per sample. The RTL engine and the model engine share all of it, so their files can differ
+ * only where the RTL and the model do.
  */
 trait ReplayDesign[In, Out] {
+
   /** Required trajectory columns, in the order a row is given. */
   def columns: Seq[String]
 
@@ -25,12 +26,19 @@ trait ReplayDesign[In, Out] {
   def latency: Int
 
   def outputHeader: String
+
   /**
    * Append sample `index`'s output line (no line end; the hardware's values by [[FixedDecimal]], the
-   * reference and the error by [[DoubleText]]) to
-   * `text` and its |error| per [[errorLabels]] entry to `errors`; returns whether it was flagged out of range.
+   * reference and the error by [[DoubleText]]) to `text` and its |error| per [[errorLabels]] entry to
+   * `errors`; returns whether it was flagged out of range.
    */
-  def result(index: Long, row: IndexedSeq[Double], out: Out, text: java.lang.StringBuilder, errors: Array[Double]): Boolean
+  def result(
+      index: Long,
+      row: IndexedSeq[Double],
+      out: Out,
+      text: java.lang.StringBuilder,
+      errors: Array[Double]
+  ): Boolean
 
   /** The same replay in primitive arrays, when the design has one. */
   def arrays: Option[ArrayReplay] = None

@@ -3,6 +3,7 @@ package reducerload.sim
 /** What computes a replay's outputs: the RTL on a compiled Verilator harness, or the bit-accurate model. */
 sealed trait ReplayEngine
 object ReplayEngine {
+
   /** The emitted RTL, run by `harness` (one process per chunk, started from reset). */
   final case class Rtl(harness: CompiledHarness) extends ReplayEngine
 

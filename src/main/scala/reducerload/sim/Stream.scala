@@ -1,9 +1,9 @@
 package reducerload.sim
 
 /**
- * What a pipeline of fixed latency must show, cycle by cycle, for a stimulus: the output observed in
- * cycle t is the sample driven in cycle t - latency, unless a reset was applied in between, in which
- * case valid is low. Plain Scala, independent of any simulator.
+ * What a pipeline of fixed latency must show, cycle by cycle, for a stimulus: the output observed in cycle t
+ * is the sample driven in cycle t - latency, unless a reset was applied in between, in which case valid is
+ * low. Plain Scala, independent of any simulator.
  */
 object Stream {
 
@@ -14,16 +14,16 @@ object Stream {
       else
         stimulus(c) match {
           case Cycle.Sample(v) if !(c until t).exists(k => stimulus(k) == Cycle.Reset) => Some(v)
-          case _                                                                     => None
+          case _                                                                       => None
         }
     }
 
   /** Compare observed outputs with expectations; returns human-readable mismatches (first `limit`). */
   def mismatches[A, B](
-    expected: IndexedSeq[Option[A]],
-    observed: IndexedSeq[Option[B]],
-    same: (A, B) => Boolean,
-    limit: Int = 10
+      expected: IndexedSeq[Option[A]],
+      observed: IndexedSeq[Option[B]],
+      same: (A, B) => Boolean,
+      limit: Int = 10
   ): Seq[String] = {
     require(expected.size == observed.size, s"expected ${expected.size} cycles, observed ${observed.size}")
     expected.indices.iterator
@@ -40,8 +40,8 @@ object Stream {
   }
 
   /**
-   * The stimulus for a pipeline that takes one sample every `period` clocks: `period - 1` bubbles
-   * after every sample; bubbles and resets pass through. Lazy, for long streams.
+   * The stimulus for a pipeline that takes one sample every `period` clocks: `period - 1` bubbles after every
+   * sample; bubbles and resets pass through. Lazy, for long streams.
    */
   def spaced[A](stimulus: Iterator[Cycle[A]], period: Int): Iterator[Cycle[A]] = {
     require(period >= 1, s"spaced: period must be >= 1, got $period")
@@ -53,10 +53,10 @@ object Stream {
 
   /** Random stimulus: samples with bubbles (probability `bubble`) and occasional resets. */
   def randomStimulus[A](
-    rng: scala.util.Random,
-    samples: IndexedSeq[A],
-    bubble: Double,
-    resets: Int
+      rng: scala.util.Random,
+      samples: IndexedSeq[A],
+      bubble: Double,
+      resets: Int
   ): IndexedSeq[Cycle[A]] = {
     val withBubbles = samples.flatMap { s =>
       if (rng.nextDouble() < bubble) Seq(Cycle.Bubble, Cycle.Sample(s)) else Seq(Cycle.Sample(s))

@@ -6,16 +6,30 @@ import chiseltest._
 import scala.annotation.tailrec
 
 /**
- * Drives a ready/valid pipeline cycle by cycle through chiseltest: the one loop every design's
- * driver shares. A sample driven while `ready` is low is an error of the stimulus (space it with
- * [[Stream.spaced]]), not a silent drop; with `holdUntilReady` it is offered again every clock until
- * the design takes it (back-pressure), and those clocks are reported as bubbles, since nothing entered.
+ * Drives a ready/valid pipeline cycle by cycle through chiseltest: the one loop every design's driver shares.
+ * A sample driven while `ready` is low is an error of the stimulus (space it with [[Stream.spaced]]), not a
+ * silent drop; with `holdUntilReady` it is offered again every clock until the design takes it
+ * (back-pressure), and those clocks are reported as bubbles, since nothing entered.
  */
-final case class StreamDriver[I, O](clock: Clock, reset: Reset, inValid: Bool, inReady: Bool, poke: I => Unit, peek: () => Option[O]) {
+final case class StreamDriver[I, O](
+    clock: Clock,
+    reset: Reset,
+    inValid: Bool,
+    inReady: Bool,
+    poke: I => Unit,
+    peek: () => Option[O]
+) {
 
-  /** Drive `stimulus`, report each cycle's output (before the edge) and what entered the design; returns the cycles run. */
-  def run(stimulus: Iterator[Cycle[I]], onOutput: (Long, Option[O]) => Unit, onDrive: (Long, Cycle[I]) => Unit = (_: Long, _: Cycle[I]) => (),
-    holdUntilReady: Boolean = false): Long = {
+  /**
+   * Drive `stimulus`, report each cycle's output (before the edge) and what entered the design; returns the
+   * cycles run.
+   */
+  def run(
+      stimulus: Iterator[Cycle[I]],
+      onOutput: (Long, Option[O]) => Unit,
+      onDrive: (Long, Cycle[I]) => Unit = (_: Long, _: Cycle[I]) => (),
+      holdUntilReady: Boolean = false
+  ): Long = {
     clock.setTimeout(0)
     @tailrec def loop(cycle: Long, pending: Option[Cycle[I]]): Long =
       pending.orElse(stimulus.nextOption()) match {
@@ -26,7 +40,8 @@ final case class StreamDriver[I, O](clock: Clock, reset: Reset, inValid: Bool, i
             case Cycle.Bubble => inValid.poke(false.B); (c, None)
             case Cycle.Sample(s) =>
               val ready = inReady.peek().litToBoolean
-              if (!ready && !holdUntilReady) throw new IllegalStateException(s"cycle $cycle: sample driven while io_in_ready is low")
+              if (!ready && !holdUntilReady)
+                throw new IllegalStateException(s"cycle $cycle: sample driven while io_in_ready is low")
               inValid.poke(true.B)
               poke(s)
               if (ready) (c, None) else (Cycle.Bubble, Some(c))

@@ -8,30 +8,48 @@ import scala.sys.process._
 import scala.util.Try
 
 /**
- * A compiled C++ Verilator testbench for bulk simulation: the design streams samples from a binary
- * file and writes its outputs to another, with no JVM round trip per clock (chiseltest's peek/poke
- * costs tens of microseconds per cycle). Builds are cached by content, so a second run of the same
- * design starts at once.
+ * A compiled C++ Verilator testbench for bulk simulation: the design streams samples from a binary file and
+ * writes its outputs to another, with no JVM round trip per clock (chiseltest's peek/poke costs tens of
+ * microseconds per cycle). Builds are cached by content, so a second run of the same design starts at once.
  */
 object VerilatorHarness {
 
-  /** Reset clocks before the first sample: enough for a synchronous reset to reach every register it drives. */
+  /**
+   * Reset clocks before the first sample: enough for a synchronous reset to reach every register it drives.
+   */
   val resetCycles = 4
 
   /**
-   * Verilator's options. -Wno-fatal: the emitted design has lint warnings that CI waives in
-   * lint/waivers.vlt (-Wall); a build is not a lint. The `SignedMultiply` black box is inline in the
-   * emitted file, so it needs nothing more. `--prefix Vtop` keeps the C++ class name independent of
-   * the top module's name. OPT_FAST=-O2 compiles the model for speed (Verilator's default is -Os).
+   * Verilator's options. -Wno-fatal: the emitted design has lint warnings that CI waives in lint/waivers.vlt
+   * (-Wall); a build is not a lint. The `SignedMultiply` black box is inline in the emitted file, so it needs
+   * nothing more. `--prefix Vtop` keeps the C++ class name independent of the top module's name. OPT_FAST=-O2
+   * compiles the model for speed (Verilator's default is -Os).
    */
   val verilatorFlags: Seq[String] = Seq(
-    "--cc", "--exe", "--build", "-O3", "--x-assign", "fast", "--x-initial", "fast", "--noassert",
-    "-Wno-fatal", "-Wno-lint", "-Wno-style", "--prefix", "Vtop", "-MAKEFLAGS", "OPT_FAST=-O2"
+    "--cc",
+    "--exe",
+    "--build",
+    "-O3",
+    "--x-assign",
+    "fast",
+    "--x-initial",
+    "fast",
+    "--noassert",
+    "-Wno-fatal",
+    "-Wno-lint",
+    "-Wno-style",
+    "--prefix",
+    "Vtop",
+    "-MAKEFLAGS",
+    "OPT_FAST=-O2"
   )
 
   /** `$XDG_CACHE_HOME/reducer-load-harness`, or `~/.cache/reducer-load-harness`. */
   def cacheRoot: Path = {
-    val base = sys.env.get("XDG_CACHE_HOME").filter(_.nonEmpty).map(Paths.get(_))
+    val base = sys.env
+      .get("XDG_CACHE_HOME")
+      .filter(_.nonEmpty)
+      .map(Paths.get(_))
       .getOrElse(Paths.get(sys.props("user.home"), ".cache"))
     base.resolve("reducer-load-harness")
   }
@@ -39,7 +57,10 @@ object VerilatorHarness {
   /** `verilator --version`, or a clear error when Verilator is missing. */
   def verilatorVersion(): String =
     Try(Seq("verilator", "--version").!!(ProcessLogger(_ => ())).trim).getOrElse(
-      throw new IllegalStateException("the Verilator harness needs verilator on the PATH (Debian: apt-get install verilator)"))
+      throw new IllegalStateException(
+        "the Verilator harness needs verilator on the PATH (Debian: apt-get install verilator)"
+      )
+    )
 
   /** Whether `verilator` runs on this machine. */
   def available: Boolean = Try(verilatorVersion()).isSuccess
@@ -48,10 +69,10 @@ object VerilatorHarness {
   private[sim] val executableName = "harness"
 
   /**
-   * Compile `verilog` (the whole design in one text, as `Emit.emit` returns it) with a harness for
-   * `top` and `ports`, or reuse the cached build of the same inputs. The port description is checked
-   * against the module's port list first. `cache` is where builds are kept (tests and benchmarks
-   * pass an empty directory to force a fresh build).
+   * Compile `verilog` (the whole design in one text, as `Emit.emit` returns it) with a harness for `top` and
+   * `ports`, or reuse the cached build of the same inputs. The port description is checked against the
+   * module's port list first. `cache` is where builds are kept (tests and benchmarks pass an empty directory
+   * to force a fresh build).
    */
   def compile(verilog: String, top: String, ports: HarnessPorts, cache: Path = cacheRoot): CompiledHarness = {
     checkPorts(verilog, top, ports)
@@ -66,16 +87,33 @@ object VerilatorHarness {
   }
 
   private def sha256(text: String): String =
-    MessageDigest.getInstance("SHA-256").digest(text.getBytes(StandardCharsets.UTF_8)).map(b => f"${b & 0xff}%02x").mkString
+    MessageDigest
+      .getInstance("SHA-256")
+      .digest(text.getBytes(StandardCharsets.UTF_8))
+      .map(b => f"${b & 0xff}%02x")
+      .mkString
 
-  /** Every described port must exist in `top` with the right direction and width, and every data input must be driven. */
+  /**
+   * Every described port must exist in `top` with the right direction and width, and every data input must be
+   * driven.
+   */
   private[sim] def checkPorts(verilog: String, top: String, ports: HarnessPorts): Unit = {
     val declared = VerilogPortList(verilog, top).map(p => p.name -> p).toMap
     def check(name: String, direction: String, width: Int): Unit = {
-      val p = declared.getOrElse(name, throw new IllegalArgumentException(
-        s"module '$top' has no port '$name' (ports: ${declared.keys.toSeq.sorted.mkString(", ")})"))
-      require(p.direction == direction, s"module '$top': port '$name' is an ${p.direction}, the harness description says $direction")
-      require(p.width == width, s"module '$top': port '$name' is ${p.width} bits wide, the harness description says $width")
+      val p = declared.getOrElse(
+        name,
+        throw new IllegalArgumentException(
+          s"module '$top' has no port '$name' (ports: ${declared.keys.toSeq.sorted.mkString(", ")})"
+        )
+      )
+      require(
+        p.direction == direction,
+        s"module '$top': port '$name' is an ${p.direction}, the harness description says $direction"
+      )
+      require(
+        p.width == width,
+        s"module '$top': port '$name' is ${p.width} bits wide, the harness description says $width"
+      )
     }
     Seq(ports.clock, ports.reset, ports.inValid).foreach(check(_, "input", 1))
     ports.inReady.foreach(check(_, "output", 1))
@@ -83,13 +121,16 @@ object VerilatorHarness {
     ports.inputs.foreach(p => check(p.name, "input", p.width))
     ports.outputs.foreach(p => check(p.name, "output", p.width))
     val undriven = declared.values.filter(_.direction == "input").map(_.name).toSet -- ports.allNames
-    require(undriven.isEmpty, s"module '$top': input(s) ${undriven.toSeq.sorted.mkString(", ")} are not in the harness description")
+    require(
+      undriven.isEmpty,
+      s"module '$top': input(s) ${undriven.toSeq.sorted.mkString(", ")} are not in the harness description"
+    )
   }
 
   /**
-   * Build into a private temporary directory, then rename the finished entry into place: a
-   * concurrent build of the same design either wins the rename or finds the entry complete, and a
-   * crashed build leaves only a `.tmp-` directory behind, never a half-written entry.
+   * Build into a private temporary directory, then rename the finished entry into place: a concurrent build
+   * of the same design either wins the rename or finds the entry complete, and a crashed build leaves only a
+   * `.tmp-` directory behind, never a half-written entry.
    */
   private def build(root: Path, entry: Path, verilog: String, cpp: String, top: String): Unit = {
     Files.createDirectories(root)
@@ -101,14 +142,28 @@ object VerilatorHarness {
       Files.write(src.resolve("design.sv"), verilog.getBytes(StandardCharsets.UTF_8))
       Files.write(src.resolve("harness.cpp"), cpp.getBytes(StandardCharsets.UTF_8))
       val jobs = Runtime.getRuntime.availableProcessors.max(1)
-      val command = Seq("verilator") ++ verilatorFlags ++ Seq("-j", jobs.toString, "--top-module", top,
-        "-Mdir", obj.toString, "-o", executableName, src.resolve("design.sv").toString, src.resolve("harness.cpp").toString)
+      val command = Seq("verilator") ++ verilatorFlags ++ Seq(
+        "-j",
+        jobs.toString,
+        "--top-module",
+        top,
+        "-Mdir",
+        obj.toString,
+        "-o",
+        executableName,
+        src.resolve("design.sv").toString,
+        src.resolve("harness.cpp").toString
+      )
       val log = new StringBuilder
-      val status = Process(command, tmp.toFile).!(ProcessLogger(l => log.append(l).append('\n'), l => log.append(l).append('\n')))
+      val status = Process(command, tmp.toFile).!(
+        ProcessLogger(l => log.append(l).append('\n'), l => log.append(l).append('\n'))
+      )
       Files.write(src.resolve("build.log"), log.toString.getBytes(StandardCharsets.UTF_8))
       if (status != 0 || !Files.isExecutable(obj.resolve(executableName))) {
         val tail = log.toString.linesIterator.toSeq.takeRight(30).mkString("\n")
-        throw new IllegalStateException(s"Verilator harness build failed (exit $status): ${command.mkString(" ")}\n$tail")
+        throw new IllegalStateException(
+          s"Verilator harness build failed (exit $status): ${command.mkString(" ")}\n$tail"
+        )
       }
       // The entry keeps the executable and its sources (for debugging), not the object files.
       Files.move(obj.resolve(executableName), src.resolve(executableName))
@@ -125,9 +180,16 @@ object VerilatorHarness {
   private def removeStaleTemporaries(root: Path): Unit = {
     val dayAgo = System.currentTimeMillis() - 24L * 3600 * 1000
     val listing = Files.list(root)
-    try listing.iterator().asScala.toSeq
-      .filter(p => p.getFileName.toString.startsWith(".tmp-") && Try(Files.getLastModifiedTime(p).toMillis < dayAgo).getOrElse(false))
-      .foreach(p => Try(deleteTree(p)))
+    try
+      listing
+        .iterator()
+        .asScala
+        .toSeq
+        .filter(p =>
+          p.getFileName.toString.startsWith(".tmp-") && Try(Files.getLastModifiedTime(p).toMillis < dayAgo)
+            .getOrElse(false)
+        )
+        .foreach(p => Try(deleteTree(p)))
     finally listing.close()
   }
 
@@ -142,21 +204,28 @@ object VerilatorHarness {
   def cppSource(top: String, ports: HarnessPorts): String = {
     require(HarnessPorts.identifier.matches(top), s"top module '$top' is not an identifier")
     def mask(w: Int) = if (w == 64) "~uint64_t(0)" else s"((uint64_t(1) << $w) - 1)"
-    val drives = ports.inputs.zipWithIndex.map { case (p, i) =>
-      s"      drive(top->${p.name}, uint64_t(s[$i]) & ${mask(p.width)});  // ${p.width} bits, ${if (p.signed) "signed" else "unsigned"}"
-    }.mkString("\n")
-    val records = ports.outputs.zipWithIndex.map { case (p, i) =>
-      val read = s"static_cast<uint64_t>(top->${p.name})"
-      if (p.signed) s"      record[${i + 1}] = signExtend($read, ${p.width});"
-      else s"      record[${i + 1}] = static_cast<int64_t>($read);"
-    }.mkString("\n")
+    val drives = ports.inputs.zipWithIndex
+      .map { case (p, i) =>
+        s"      drive(top->${p.name}, uint64_t(s[$i]) & ${mask(p.width)});  // ${p.width} bits, ${if (p.signed) "signed"
+          else "unsigned"}"
+      }
+      .mkString("\n")
+    val records = ports.outputs.zipWithIndex
+      .map { case (p, i) =>
+        val read = s"static_cast<uint64_t>(top->${p.name})"
+        if (p.signed) s"      record[${i + 1}] = signExtend($read, ${p.width});"
+        else s"      record[${i + 1}] = static_cast<int64_t>($read);"
+      }
+      .mkString("\n")
     val ready = ports.inReady.map(r => s"top->$r").getOrElse("true")
     s"""// Generated by reducerload.sim.VerilatorHarness (reducer-load generator). Do not edit.
        |// Top module: $top
        |// Inputs (one record per sample):  ${ports.inputs.map(_.name).mkString(", ")}
        |// Outputs (one record per valid):  cycle, ${ports.outputs.map(_.name).mkString(", ")}
        |//
-       |// Drives samples from INPUTS into the ready/valid input ${ports.inValid}/${ports.inReady.getOrElse("(always ready)")}:
+       |// Drives samples from INPUTS into the ready/valid input ${ports.inValid}/${ports.inReady.getOrElse(
+        "(always ready)"
+      )}:
        |// a sample is offered (valid high) once SAMPLE_PERIOD clocks have passed since the previous one
        |// was taken, and held until valid && ready at a rising edge. Every cycle with ${ports.outValid}
        |// high appends the outputs to OUTPUTS; every taken sample appends its cycle to ACCEPTED.
@@ -285,7 +354,9 @@ object VerilatorHarness {
        |      lastTaken = cycle;
        |      stalled = 0;
        |    } else if (offer && ++stalled > maxStall) {
-       |      fail("${ports.inReady.getOrElse("ready")} stayed low for MAX_STALL_CYCLES clocks with a sample offered", argv[6]);
+       |      fail("${ports.inReady.getOrElse(
+        "ready"
+      )} stayed low for MAX_STALL_CYCLES clocks with a sample offered", argv[6]);
        |    }
        |    if (!pending) --drainLeft;
        |

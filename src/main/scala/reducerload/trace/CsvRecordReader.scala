@@ -1,6 +1,8 @@
 package reducerload.trace
 
-/** One logical CSV record: a `#` comment line or a row of cells, with the file line it starts on (1-based). */
+/**
+ * One logical CSV record: a `#` comment line or a row of cells, with the file line it starts on (1-based).
+ */
 sealed trait CsvRecord { def line: Int }
 object CsvRecord {
   final case class Comment(line: Int, text: String) extends CsvRecord
@@ -8,17 +10,26 @@ object CsvRecord {
 }
 
 /**
- * Splits CSV text into records as spreadsheets and controllers write it (RFC 4180): fields
- * separated by commas, optionally in double quotes (a doubled quote inside stands for one quote; a
- * quoted field may hold commas and line breaks), lines ending in LF, CRLF or a lone CR. Blank lines
- * are skipped; a line whose first non-blank character is `#` is a comment. Cells are trimmed.
+ * Splits CSV text into records as spreadsheets and controllers write it (RFC 4180): fields separated by
+ * commas, optionally in double quotes (a doubled quote inside stands for one quote; a quoted field may hold
+ * commas and line breaks), lines ending in LF, CRLF or a lone CR. Blank lines are skipped; a line whose first
+ * non-blank character is `#` is a comment. Cells are trimmed.
  *
- * Pull-based, so the caller can name the columns in errors once it has read the header. Reads
- * `text` from `from` to `until` (the whole text by default), whose first line is number `firstLine`.
+ * Pull-based, so the caller can name the columns in errors once it has read the header. Reads `text` from
+ * `from` to `until` (the whole text by default), whose first line is number `firstLine`.
  */
-final class CsvRecordReader(source: String, text: String, from: Int = 0, until: Int = -1, firstLine: Int = 1) {
+final class CsvRecordReader(
+    source: String,
+    text: String,
+    from: Int = 0,
+    until: Int = -1,
+    firstLine: Int = 1
+) {
   private val end = if (until < 0) text.length else until
-  require(from >= 0 && from <= end && end <= text.length, s"CsvRecordReader: range $from until $until of ${text.length} characters")
+  require(
+    from >= 0 && from <= end && end <= text.length,
+    s"CsvRecordReader: range $from until $until of ${text.length} characters"
+  )
   private var pos = from
   private var line = firstLine // line of `pos`, counting LF, CRLF and lone CR as one break each
 
@@ -41,11 +52,12 @@ final class CsvRecordReader(source: String, text: String, from: Int = 0, until: 
     i
   }
 
-  private def skipBlanks(): Unit = while (!atEnd && (text.charAt(pos) == ' ' || text.charAt(pos) == '\t')) pos += 1
+  private def skipBlanks(): Unit = while (!atEnd && (text.charAt(pos) == ' ' || text.charAt(pos) == '\t'))
+    pos += 1
 
   /**
-   * The next record, or None at the end. `fieldName(i)` describes field i (0-based) in errors, e.g.
-   * "column 'd1'" once the header is known.
+   * The next record, or None at the end. `fieldName(i)` describes field i (0-based) in errors, e.g. "column
+   * 'd1'" once the header is known.
    */
   def next(fieldName: Int => String): Option[CsvRecord] = {
     while (!atEnd) {
@@ -62,11 +74,11 @@ final class CsvRecordReader(source: String, text: String, from: Int = 0, until: 
   }
 
   /**
-   * The next record when it is a plain data row (the usual case, read without building strings):
-   * exactly `count` unquoted numbers ([[DecimalCell]]), then a line break or the end. Fills
-   * `into(at until at + count)` and returns the row's line; otherwise returns -1 and consumes nothing
-   * (it may have written some of `into`'s slots), and [[next]] reads the record (a comment, a blank
-   * line, quotes, a bad cell, a wrong count) by the full rules.
+   * The next record when it is a plain data row (the usual case, read without building strings): exactly
+   * `count` unquoted numbers ([[DecimalCell]]), then a line break or the end. Fills `into(at until at +
+   * count)` and returns the row's line; otherwise returns -1 and consumes nothing (it may have written some
+   * of `into`'s slots), and [[next]] reads the record (a comment, a blank line, quotes, a bad cell, a wrong
+   * count) by the full rules.
    */
   def nextNumbers(into: Array[Double], at: Int, count: Int): Int = {
     var i = pos
@@ -123,7 +135,9 @@ final class CsvRecordReader(source: String, text: String, from: Int = 0, until: 
     var closed = false
     while (!closed) {
       if (atEnd)
-        throw new InputError(s"$source:$openedOn: $name: unterminated quoted field (the '\"' opened on line $openedOn is never closed)")
+        throw new InputError(
+          s"$source:$openedOn: $name: unterminated quoted field (the '\"' opened on line $openedOn is never closed)"
+        )
       val c = text.charAt(pos)
       if (c == '"') {
         if (pos + 1 < end && text.charAt(pos + 1) == '"') { sb += '"'; pos += 2 }
@@ -136,14 +150,20 @@ final class CsvRecordReader(source: String, text: String, from: Int = 0, until: 
     }
     skipBlanks()
     if (!atEnd && text.charAt(pos) != ',' && !isBreak(text.charAt(pos)))
-      throw new InputError(s"$source:$line: $name: unexpected text after a closing quote " +
-        s"('${TraceCsv.printable(text.substring(pos, endOfPhysicalLine(pos)))}'; a quote inside a quoted field is written twice)")
+      throw new InputError(
+        s"$source:$line: $name: unexpected text after a closing quote " +
+          s"('${TraceCsv.printable(text.substring(pos, endOfPhysicalLine(pos)))}'; a quote inside a quoted field is written twice)"
+      )
     sb.result()
   }
 }
 
 object CsvRecordReader {
-  /** Line breaks in `text(from until until)`: LF, CRLF and lone CR count one each (CRLF must not straddle `until`). */
+
+  /**
+   * Line breaks in `text(from until until)`: LF, CRLF and lone CR count one each (CRLF must not straddle
+   * `until`).
+   */
   def lineBreaks(text: String, from: Int, until: Int): Int = {
     var count = 0 // runtime loop state
     var i = from

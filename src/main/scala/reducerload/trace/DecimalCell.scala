@@ -1,14 +1,15 @@
 package reducerload.trace
 
 /**
- * The number in a CSV cell, read straight from the text: what [[TraceCsv.parseNumber]] returns for
- * the trimmed cell, without a substring, a regular expression or (usually) a call to
- * `java.lang.Double.parseDouble`. Blanks (space, tab) around the number are allowed, as the reader
- * trims them. Anything else (an empty cell, other characters, an infinite value) gives NaN, which
- * [[TraceCsv.parseNumber]] never returns: the caller then takes the general path, which explains
- * the problem in its error message.
+ * The number in a CSV cell, read straight from the text: what [[TraceCsv.parseNumber]] returns for the
+ * trimmed cell, without a substring, a regular expression or (usually) a call to
+ * `java.lang.Double.parseDouble`. Blanks (space, tab) around the number are allowed, as the reader trims
+ * them. Anything else (an empty cell, other characters, an infinite value) gives NaN, which
+ * [[TraceCsv.parseNumber]] never returns: the caller then takes the general path, which explains the problem
+ * in its error message.
  */
 object DecimalCell {
+
   /** 10^0 .. 10^22: exactly representable doubles. */
   private val exactPowers: Array[Double] = Array.tabulate(23)(i => s"1e$i".toDouble)
 
@@ -16,12 +17,12 @@ object DecimalCell {
   private val exactMantissa = 1L << 53
 
   /**
-   * The number in `text(from until until)`, or NaN. Grammar (after blanks): `[+-]?` then digits with
-   * at most one `.` and at least one digit, then optionally `e|E [+-]? digits` (TraceCsv's). The value
-   * is correctly rounded, like `parseDouble`: with at most 2^53 as the mantissa and a power of ten up
-   * to 10^22, one IEEE multiplication or division of two exact doubles rounds once (Clinger's fast
-   * path); other numbers of at most 18 significant digits take the Eisel-Lemire algorithm (exact
-   * 128-bit products with a table of powers of five); anything it cannot decide goes to `parseDouble`.
+   * The number in `text(from until until)`, or NaN. Grammar (after blanks): `[+-]?` then digits with at most
+   * one `.` and at least one digit, then optionally `e|E [+-]? digits` (TraceCsv's). The value is correctly
+   * rounded, like `parseDouble`: with at most 2^53 as the mantissa and a power of ten up to 10^22, one IEEE
+   * multiplication or division of two exact doubles rounds once (Clinger's fast path); other numbers of at
+   * most 18 significant digits take the Eisel-Lemire algorithm (exact 128-bit products with a table of powers
+   * of five); anything it cannot decide goes to `parseDouble`.
    */
   def parse(text: CharSequence, from: Int, until: Int): Double = {
     var i = from
@@ -85,8 +86,8 @@ object DecimalCell {
   private val largestPower = 308
 
   /**
-   * 5^q for q = -342..308 as 128-bit numbers with the top bit set (hi, lo interleaved): truncated for
-   * q >= 0, floor(2^b / 5^-q) + 1 truncated to 128 bits for q < 0 (fast_float's table, computed here).
+   * 5^q for q = -342..308 as 128-bit numbers with the top bit set (hi, lo interleaved): truncated for q >= 0,
+   * floor(2^b / 5^-q) + 1 truncated to 128 bits for q < 0 (fast_float's table, computed here).
    */
   private val powersOfFive: Array[Long] = {
     val two128 = java.math.BigInteger.ONE.shiftLeft(128)
@@ -109,12 +110,12 @@ object DecimalCell {
     }
   }
 
-  private def unsignedMultiplyHigh(a: Long, b: Long): Long = Math.multiplyHigh(a, b) + ((a >> 63) & b) + ((b >> 63) & a)
+  private def unsignedMultiplyHigh(a: Long, b: Long): Long =
+    Math.multiplyHigh(a, b) + ((a >> 63) & b) + ((b >> 63) & a)
 
   /**
-   * The IEEE bits of the double nearest to `w * 10^q` (w exact, below 10^18, positive sign), or -1
-   * when this path cannot decide (subnormal, overflow, a product too close to call): the caller then
-   * asks parseDouble.
+   * The IEEE bits of the double nearest to `w * 10^q` (w exact, below 10^18, positive sign), or -1 when this
+   * path cannot decide (subnormal, overflow, a product too close to call): the caller then asks parseDouble.
    */
   private def eiselLemire(w0: Long, q: Int): Long = {
     if (w0 == 0) return 0L
@@ -134,8 +135,10 @@ object DecimalCell {
     var mantissa = high >>> (upper + 9)
     var power2 = (((152170 + 65536) * q) >> 16) + 63 + upper - lz + 1023
     if (power2 <= 0) return -1L
-    if (java.lang.Long.compareUnsigned(low, 1L) <= 0 && q >= -4 && q <= 23 && (mantissa & 3) == 1 &&
-      (mantissa << (upper + 9)) == high) mantissa &= ~1L
+    if (
+      java.lang.Long.compareUnsigned(low, 1L) <= 0 && q >= -4 && q <= 23 && (mantissa & 3) == 1 &&
+      (mantissa << (upper + 9)) == high
+    ) mantissa &= ~1L
     mantissa += mantissa & 1
     mantissa >>>= 1
     if (mantissa >= (2L << 52)) { mantissa = 1L << 52; power2 += 1 }

@@ -13,23 +13,32 @@ import scala.util.Try
 final class InputError(message: String) extends Exception(message)
 
 /**
- * A numeric CSV table: optional `#` comment lines, one header row, then rows of finite numbers.
- * Row numbers in errors are the file's line numbers (1-based). Fields may be quoted (RFC 4180), lines
- * may end in LF, CRLF or CR, and a UTF-8 byte-order mark is ignored (see [[CsvRecordReader]]).
+ * A numeric CSV table: optional `#` comment lines, one header row, then rows of finite numbers. Row numbers
+ * in errors are the file's line numbers (1-based). Fields may be quoted (RFC 4180), lines may end in LF, CRLF
+ * or CR, and a UTF-8 byte-order mark is ignored (see [[CsvRecordReader]]).
  *
- * The rows are kept flat, with no object per row (a million-row trajectory would otherwise be
- * millions of small objects for the collector): row r's value in column c is
- * `values(r * header.size + c)`, and row r starts on file line `lines(r)`. Treat both arrays as read-only.
+ * The rows are kept flat, with no object per row (a million-row trajectory would otherwise be millions of
+ * small objects for the collector): row r's value in column c is `values(r * header.size + c)`, and row r
+ * starts on file line `lines(r)`. Treat both arrays as read-only.
  */
-final class TraceTable(val source: String, val comments: Seq[String], val header: IndexedSeq[String],
-  val lines: Array[Int], val values: Array[Double]) {
-  require(values.length == lines.length * header.size, s"TraceTable: ${values.length} values for ${lines.length} rows of ${header.size}")
+final class TraceTable(
+    val source: String,
+    val comments: Seq[String],
+    val header: IndexedSeq[String],
+    val lines: Array[Int],
+    val values: Array[Double]
+) {
+  require(
+    values.length == lines.length * header.size,
+    s"TraceTable: ${values.length} values for ${lines.length} rows of ${header.size}"
+  )
 
   def width: Int = header.size
   def size: Int = lines.length
 
   /** Row `r`'s values (a copy). */
-  def row(r: Int): IndexedSeq[Double] = ArraySeq.unsafeWrapArray(java.util.Arrays.copyOfRange(values, r * width, (r + 1) * width))
+  def row(r: Int): IndexedSeq[Double] =
+    ArraySeq.unsafeWrapArray(java.util.Arrays.copyOfRange(values, r * width, (r + 1) * width))
 
   /** (file line, values) of every row, built on demand (one object per row: for small tables and tests). */
   def rows: IndexedSeq[(Int, IndexedSeq[Double])] = IndexedSeq.tabulate(size)(r => lines(r) -> row(r))
@@ -44,14 +53,19 @@ final class TraceTable(val source: String, val comments: Seq[String], val header
 
   /** `key=value` pairs from a comment line `# <tag>: k=v k=v`. */
   def commentFields(tag: String): Map[String, String] =
-    comments.map(_.stripPrefix("#").trim).find(_.startsWith(tag + ":")).toSeq.flatMap { line =>
-      line.stripPrefix(tag + ":").trim.split("\\s+").toSeq.flatMap { kv =>
-        kv.split("=", 2) match {
-          case Array(k, v) => Some(k -> v)
-          case _           => None
+    comments
+      .map(_.stripPrefix("#").trim)
+      .find(_.startsWith(tag + ":"))
+      .toSeq
+      .flatMap { line =>
+        line.stripPrefix(tag + ":").trim.split("\\s+").toSeq.flatMap { kv =>
+          kv.split("=", 2) match {
+            case Array(k, v) => Some(k -> v)
+            case _           => None
+          }
         }
       }
-    }.toMap
+      .toMap
 }
 
 /** A growing flat array of rows (values and their lines), for one segment of the file. */
@@ -87,7 +101,9 @@ object TraceCsv {
   /** Control characters (a line break inside a quoted header cell, say) shown as '?'. */
   private def oneLine(s: String): String = s.map(c => if (c.isControl) '?' else c)
 
-  /** Excel's "CSV UTF-8" starts the file with a byte-order mark; it is not part of the first column's name. */
+  /**
+   * Excel's "CSV UTF-8" starts the file with a byte-order mark; it is not part of the first column's name.
+   */
   private val byteOrderMark = '\uFEFF'
 
   /** A file whose name ends in `.gz` is gzip-compressed (e.g. `traj.csv.gz`), decompressed in memory. */
@@ -114,8 +130,17 @@ object TraceCsv {
     val text =
       // Plain ASCII (the usual trajectory) is valid UTF-8 as it is: no decoder pass.
       if (isAscii(bytes)) new String(bytes, StandardCharsets.ISO_8859_1)
-      else try StandardCharsets.UTF_8.newDecoder().onMalformedInput(CodingErrorAction.REPORT).decode(java.nio.ByteBuffer.wrap(bytes)).toString
-      catch { case _: CharacterCodingException => throw new InputError(s"$source: not a text file (invalid UTF-8)") }
+      else
+        try
+          StandardCharsets.UTF_8
+            .newDecoder()
+            .onMalformedInput(CodingErrorAction.REPORT)
+            .decode(java.nio.ByteBuffer.wrap(bytes))
+            .toString
+        catch {
+          case _: CharacterCodingException =>
+            throw new InputError(s"$source: not a text file (invalid UTF-8)")
+        }
     if (text.contains('\u0000')) throw new InputError(s"$source: not a text file (contains NUL bytes)")
     parse(source, text, required)
   }
@@ -126,48 +151,75 @@ object TraceCsv {
     i == bytes.length
   }
 
-  def parse(source: String, text: String, required: Seq[String]): TraceTable = parse(source, text, required, 1 << 22)
+  def parse(source: String, text: String, required: Seq[String]): TraceTable =
+    parse(source, text, required, 1 << 22)
 
-  /** [[parse]], the data after the header split into segments of about `segmentChars` characters, read in parallel. */
-  private[trace] def parse(source: String, text: String, required: Seq[String], segmentChars: Int): TraceTable = {
+  /**
+   * [[parse]], the data after the header split into segments of about `segmentChars` characters, read in
+   * parallel.
+   */
+  private[trace] def parse(
+      source: String,
+      text: String,
+      required: Seq[String],
+      segmentChars: Int
+  ): TraceTable = {
     require(segmentChars >= 1, s"segmentChars must be >= 1, got $segmentChars")
     val body = text.stripPrefix(byteOrderMark.toString)
     val reader = new CsvRecordReader(source, body)
     val comments = Vector.newBuilder[String]
     val (headerLine, header) = nextCells(reader, comments, i => s"header field ${i + 1}") match {
       case Some(CsvRecord.Cells(line, cells)) => (line, cells)
-      case None                               => throw new InputError(s"$source: empty (a header row ${required.mkString(",")} is required)")
+      case None =>
+        throw new InputError(s"$source: empty (a header row ${required.mkString(",")} is required)")
     }
     if (header.exists(h => h.nonEmpty && Try(h.toDouble).isSuccess))
-      throw new InputError(s"$source:$headerLine: the first row must be a header (${required.mkString(",")}), got numbers")
+      throw new InputError(
+        s"$source:$headerLine: the first row must be a header (${required.mkString(",")}), got numbers"
+      )
     header.groupBy(identity).collectFirst { case (h, hs) if hs.size > 1 => h }.foreach { dup =>
       throw new InputError(s"$source:$headerLine: column '${oneLine(dup)}' appears twice in the header")
     }
     val missing = required.filterNot(header.contains)
     if (missing.nonEmpty)
-      throw new InputError(s"$source:$headerLine: missing column(s) ${missing.map("'" + _ + "'").mkString(", ")} (header: ${oneLine(header.mkString(","))})")
+      throw new InputError(
+        s"$source:$headerLine: missing column(s) ${missing.map("'" + _ + "'").mkString(", ")} (header: ${oneLine(header.mkString(","))})"
+      )
     // Without quotes after the header every LF ends a record: the data splits into segments after
     // LFs, each read on its own (line numbers counted first); the earliest segment's error wins.
     val segments =
       if (body.indexOf('"', reader.position) >= 0) Seq(reader.position -> body.length)
       else {
-        val cuts = Iterator.iterate(reader.position)(at =>
-          if (segmentChars >= body.length - at) body.length
-          else body.indexOf('\n', at + segmentChars) match {
-            case -1 => body.length
-            case lf => lf + 1
-          }).takeWhile(_ < body.length).toSeq :+ body.length
+        val cuts = Iterator
+          .iterate(reader.position)(at =>
+            if (segmentChars >= body.length - at) body.length
+            else
+              body.indexOf('\n', at + segmentChars) match {
+                case -1 => body.length
+                case lf => lf + 1
+              }
+          )
+          .takeWhile(_ < body.length)
+          .toSeq :+ body.length
         cuts.zip(cuts.tail)
       }
     val jobs = Runtime.getRuntime.availableProcessors.max(1)
-    val firstLines = ChunkedRun(segments.size, 1, jobs)(r => CsvRecordReader.lineBreaks(body, segments(r.head)._1, segments(r.head)._2))
+    val firstLines = ChunkedRun(segments.size, 1, jobs)(r =>
+      CsvRecordReader.lineBreaks(body, segments(r.head)._1, segments(r.head)._2)
+    )
       .scanLeft(reader.lineNumber)(_ + _)
     val parts = ChunkedRun(segments.size, 1, jobs) { r =>
       val (from, until) = segments(r.head)
       val segmentComments = Vector.newBuilder[String]
       // At most one row per line (the segment's line breaks, plus a last line without one).
       val buffer = new RowBuffer(header.size, firstLines(r.head + 1) - firstLines(r.head) + 1)
-      readRows(source, new CsvRecordReader(source, body, from, until, firstLines(r.head)), header, segmentComments, buffer)
+      readRows(
+        source,
+        new CsvRecordReader(source, body, from, until, firstLines(r.head)),
+        header,
+        segmentComments,
+        buffer
+      )
       (segmentComments.result(), buffer)
     }
     parts.foreach(p => comments ++= p._1)
@@ -186,26 +238,43 @@ object TraceCsv {
 
   /** The next row of cells; comment lines on the way go to `comments`. */
   @annotation.tailrec
-  private def nextCells(reader: CsvRecordReader, comments: collection.mutable.Growable[String], fieldName: Int => String): Option[CsvRecord.Cells] =
+  private def nextCells(
+      reader: CsvRecordReader,
+      comments: collection.mutable.Growable[String],
+      fieldName: Int => String
+  ): Option[CsvRecord.Cells] =
     reader.next(fieldName) match {
       case Some(CsvRecord.Comment(_, c)) => comments += c; nextCells(reader, comments, fieldName)
       case Some(cells: CsvRecord.Cells)  => Some(cells)
       case None                          => None
     }
 
-  /** Every data row `reader` has left: plain rows by its fast path, any other record (comments, quotes, errors) by the general one. */
-  private def readRows(source: String, reader: CsvRecordReader, header: IndexedSeq[String],
-    comments: collection.mutable.Growable[String], into: RowBuffer): Unit = {
+  /**
+   * Every data row `reader` has left: plain rows by its fast path, any other record (comments, quotes,
+   * errors) by the general one.
+   */
+  private def readRows(
+      source: String,
+      reader: CsvRecordReader,
+      header: IndexedSeq[String],
+      comments: collection.mutable.Growable[String],
+      into: RowBuffer
+  ): Unit = {
     val columnName = (i: Int) => if (i < header.size) s"column '${oneLine(header(i))}'" else s"field ${i + 1}"
     def numbers(lineNo: Int, cells: IndexedSeq[String]): Array[Double] = {
       if (cells.size != header.size)
         throw new InputError(s"$source:$lineNo: ${cells.size} values, the header has ${header.size} columns")
-      cells.zip(header).map { case (cell, col) =>
-        parseNumber(cell).getOrElse {
-          val what = if (cell.toLowerCase.matches("[+-]?(nan|inf|infinity)")) "is not a finite number" else "is not a number"
-          throw new InputError(s"$source:$lineNo: column '${oneLine(col)}': '${printable(cell)}' $what")
+      cells
+        .zip(header)
+        .map { case (cell, col) =>
+          parseNumber(cell).getOrElse {
+            val what =
+              if (cell.toLowerCase.matches("[+-]?(nan|inf|infinity)")) "is not a finite number"
+              else "is not a number"
+            throw new InputError(s"$source:$lineNo: column '${oneLine(col)}': '${printable(cell)}' $what")
+          }
         }
-      }.toArray
+        .toArray
     }
     val width = header.size
     var more = true // runtime loop state
@@ -214,10 +283,11 @@ object TraceCsv {
       // Straight into the buffer; the row counts only once the reader says it was a plain row.
       val fast = reader.nextNumbers(into.values, into.size * width, width)
       if (fast >= 0) { into.lines(into.size) = fast; into.size += 1 }
-      else nextCells(reader, comments, columnName) match {
-        case Some(CsvRecord.Cells(lineNo, cells)) => into.add(lineNo, numbers(lineNo, cells))
-        case None                                 => more = false
-      }
+      else
+        nextCells(reader, comments, columnName) match {
+          case Some(CsvRecord.Cells(lineNo, cells)) => into.add(lineNo, numbers(lineNo, cells))
+          case None                                 => more = false
+        }
     }
   }
 }

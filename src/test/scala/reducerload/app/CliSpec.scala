@@ -16,7 +16,13 @@ class CliSpec extends AnyFlatSpec {
     assert(params() == LoadParams.default)
     assert(params("--preset", "paper") == LoadParams.paper)
     val p = params("--m3", "12", "--model", "paper", "--max-velocity", "1,2,3", "--cordic.iterations=20")
-    assert(p.robot.m3 == 12 && p.model == LoadModel.PaperEq6 && p.robot.maxVelocity == Seq(1.0, 2.0, 3.0) && p.cordic.iterations == 20)
+    assert(
+      p.robot.m3 == 12 && p.model == LoadModel.PaperEq6 && p.robot.maxVelocity == Seq(
+        1.0,
+        2.0,
+        3.0
+      ) && p.cordic.iterations == 20
+    )
   }
 
   it should "refuse bad flags with one line naming the flag" in {
@@ -36,12 +42,22 @@ class CliSpec extends AnyFlatSpec {
 
   it should "take a robot's every joint from --robot: the arm preset, model rnea, the URDF's velocity limits" in {
     val ur5 = params("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15")
-    assert(ur5.model == LoadModel.Rnea && ur5.cordic == LoadParams.arm.cordic && ur5.robot.maxVelocity.isEmpty)
+    assert(
+      ur5.model == LoadModel.Rnea && ur5.cordic == LoadParams.arm.cordic && ur5.robot.maxVelocity.isEmpty
+    )
     val arm = reducerload.arm.ArmConfig(ur5)
-    assert(arm.chain.size == 6 && arm.maxVelocity == Seq(3.15, 3.15, 3.15, 3.2, 3.2, 3.2) && arm.maxAcceleration == Seq.fill(6)(15.0))
+    assert(
+      arm.chain.size == 6 && arm.maxVelocity == Seq(3.15, 3.15, 3.15, 3.2, 3.2,
+        3.2) && arm.maxAcceleration == Seq.fill(6)(15.0)
+    )
     assert(params("--robot", "planar3") == LoadParams.arm)
     val hand = java.nio.file.Paths.get(getClass.getResource("/urdf/arm.urdf").toURI).toString
-    assert(reducerload.arm.ArmConfig(params("--robot", hand, "--tip", "l2", "--max-acceleration", "5", "--max-velocity", "2")).chain.size == 2)
+    assert(
+      reducerload.arm
+        .ArmConfig(params("--robot", hand, "--tip", "l2", "--max-acceleration", "5", "--max-velocity", "2"))
+        .chain
+        .size == 2
+    )
   }
 
   it should "refuse a robot's bad ranges, tip or file with one line naming it" in {
@@ -54,39 +70,139 @@ class CliSpec extends AnyFlatSpec {
     refused(ur5 ++ Seq("--max-acceleration", "[1, 2, 3, 4]"), "6 joints", "max-acceleration", "4 values")
     refused(ur5 ++ Seq("--max-acceleration", "15", "--max-velocity", "[1, 2]"), "max-velocity", "2 values")
     refused(Seq("--robot", "golden/robots/ur5_robot.urdf", "--max-acceleration", "15"), "--tip", "tool0")
-    refused(Seq("--robot", "golden/robots/ur5_robot.urdf", "--tip", "nowhere", "--max-acceleration", "15"), "nowhere")
+    refused(
+      Seq("--robot", "golden/robots/ur5_robot.urdf", "--tip", "nowhere", "--max-acceleration", "15"),
+      "nowhere"
+    )
     refused(Seq("--robot", "/nonexistent/arm.urdf", "--max-acceleration", "15"), "/nonexistent/arm.urdf")
     refused(ur5 ++ Seq("--max-acceleration", "15", "--model", "exact"), "model exact", "rnea")
     refused(Seq("--robot", "planar3", "--datapath.cordic-units", "1"), "cordic-units")
-    refused(ur5 ++ Seq("--max-acceleration", "15", "--max-multipliers", "5", "--clocks-per-sample", "auto"), "schedule.max-multipliers = 5", "use at least")
-    refused(ur5 ++ Seq("--max-acceleration", "15", "--max-multipliers", "66", "--clocks-per-sample", "4"), "schedule.max-multipliers = 66",
-      "clocks-per-sample >= 18")
-    refused(ur5 ++ Seq("--max-acceleration", "15", "--schedule.cordic-units", "2"), "schedule.cordic-units = 2", "5 sin/cos")
+    refused(
+      ur5 ++ Seq("--max-acceleration", "15", "--max-multipliers", "5", "--clocks-per-sample", "auto"),
+      "schedule.max-multipliers = 5",
+      "use at least"
+    )
+    refused(
+      ur5 ++ Seq("--max-acceleration", "15", "--max-multipliers", "66", "--clocks-per-sample", "4"),
+      "schedule.max-multipliers = 66",
+      "clocks-per-sample >= 18"
+    )
+    refused(
+      ur5 ++ Seq("--max-acceleration", "15", "--schedule.cordic-units", "2"),
+      "schedule.cordic-units = 2",
+      "5 sin/cos"
+    )
     refused(ur5 ++ Seq("--max-acceleration", "15", "--clocks-per-sample", "0"), "schedule.clocks-per-sample")
-    refused(ur5 ++ Seq("--max-acceleration", "15", "--clocks-per-sample", "fast"), "schedule.clocks-per-sample", "auto")
+    refused(
+      ur5 ++ Seq("--max-acceleration", "15", "--clocks-per-sample", "fast"),
+      "schedule.clocks-per-sample",
+      "auto"
+    )
     // The joint-3 closed form is a graph like any other: scheduled, not refused.
     assert(params("--clocks-per-sample", "4").arm.schedule.clocksPerSample == 4)
-    refused(Seq("--robot", "planar3", "--schedule.storage", "memory"), "schedule.storage = memory", "clocks-per-sample >= 2")
-    refused(Seq("--robot", "planar3", "--clocks-per-sample", "4", "--schedule.storage", "memory"), "schedule.storage = memory", "clocks-per-sample >= 6")
-    refused(Seq("--robot", "planar3", "--clocks-per-sample", "8", "--schedule.storage", "disk"), "schedule.storage", "registers", "memory")
-    refused(Seq("--robot", "planar3", "--clocks-per-sample", "8", "--schedule.list-order", "by-cycle"), "schedule.list-order = by-cycle", "schedule.storage = memory")
-    refused(Seq("--robot", "planar3", "--clocks-per-sample", "8", "--schedule.storage", "memory", "--schedule.list-order", "random"), "schedule.list-order",
-      "auto", "by-height", "by-cycle")
+    refused(
+      Seq("--robot", "planar3", "--schedule.storage", "memory"),
+      "schedule.storage = memory",
+      "clocks-per-sample >= 2"
+    )
+    refused(
+      Seq("--robot", "planar3", "--clocks-per-sample", "4", "--schedule.storage", "memory"),
+      "schedule.storage = memory",
+      "clocks-per-sample >= 6"
+    )
+    refused(
+      Seq("--robot", "planar3", "--clocks-per-sample", "8", "--schedule.storage", "disk"),
+      "schedule.storage",
+      "registers",
+      "memory"
+    )
+    refused(
+      Seq("--robot", "planar3", "--clocks-per-sample", "8", "--schedule.list-order", "by-cycle"),
+      "schedule.list-order = by-cycle",
+      "schedule.storage = memory"
+    )
+    refused(
+      Seq(
+        "--robot",
+        "planar3",
+        "--clocks-per-sample",
+        "8",
+        "--schedule.storage",
+        "memory",
+        "--schedule.list-order",
+        "random"
+      ),
+      "schedule.list-order",
+      "auto",
+      "by-height",
+      "by-cycle"
+    )
     val hand = java.nio.file.Paths.get(getClass.getResource("/urdf/arm.urdf").toURI).toString
-    refused(Seq("--robot", hand, "--tip", "l3", "--max-acceleration", "5", "--max-velocity", "2"), "wrist_slide", "prismatic")
+    refused(
+      Seq("--robot", hand, "--tip", "l3", "--max-acceleration", "5", "--max-velocity", "2"),
+      "wrist_slide",
+      "prismatic"
+    )
   }
 
   it should "derive the clocks per sample from a multiplier budget" in {
-    val ur5 = reducerload.arm.ArmConfig(params("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15",
-      "--max-multipliers", "66", "--clocks-per-sample", "auto"))
-    assert(ur5.schedule.clocksPerSample == 18 && ur5.schedule.multiplierBlocks <= 66, s"${ur5.schedule.clocksPerSample} clocks, ${ur5.schedule.multiplierBlocks} blocks")
+    val ur5 = reducerload.arm.ArmConfig(
+      params(
+        "--robot",
+        "golden/robots/ur5_robot.urdf",
+        "--tip",
+        "tool0",
+        "--max-acceleration",
+        "15",
+        "--max-multipliers",
+        "66",
+        "--clocks-per-sample",
+        "auto"
+      )
+    )
+    assert(
+      ur5.schedule.clocksPerSample == 18 && ur5.schedule.multiplierBlocks <= 66,
+      s"${ur5.schedule.clocksPerSample} clocks, ${ur5.schedule.multiplierBlocks} blocks"
+    )
     // With block-RAM storage, the fewest clocks from the budget's on whose bank read ports can be served.
-    val banked = reducerload.arm.ArmConfig(params("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15",
-      "--max-multipliers", "66", "--clocks-per-sample", "auto", "--schedule.storage", "memory"))
-    val fewer = scala.util.Try(reducerload.arm.ArmConfig(params("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15",
-      "--max-multipliers", "66", "--clocks-per-sample", (banked.schedule.clocksPerSample - 1).toString, "--schedule.storage", "memory")))
-    assert(banked.banked.isDefined && banked.schedule.multiplierBlocks <= 66 && fewer.isFailure,
-      s"memory: ${banked.schedule.clocksPerSample} clocks, ${banked.schedule.multiplierBlocks} blocks; one clock fewer ${if (fewer.isFailure) "refused" else "accepted"}")
+    val banked = reducerload.arm.ArmConfig(
+      params(
+        "--robot",
+        "golden/robots/ur5_robot.urdf",
+        "--tip",
+        "tool0",
+        "--max-acceleration",
+        "15",
+        "--max-multipliers",
+        "66",
+        "--clocks-per-sample",
+        "auto",
+        "--schedule.storage",
+        "memory"
+      )
+    )
+    val fewer = scala.util.Try(
+      reducerload.arm.ArmConfig(
+        params(
+          "--robot",
+          "golden/robots/ur5_robot.urdf",
+          "--tip",
+          "tool0",
+          "--max-acceleration",
+          "15",
+          "--max-multipliers",
+          "66",
+          "--clocks-per-sample",
+          (banked.schedule.clocksPerSample - 1).toString,
+          "--schedule.storage",
+          "memory"
+        )
+      )
+    )
+    assert(
+      banked.banked.isDefined && banked.schedule.multiplierBlocks <= 66 && fewer.isFailure,
+      s"memory: ${banked.schedule.clocksPerSample} clocks, ${banked.schedule.multiplierBlocks} blocks; one clock fewer ${if (fewer.isFailure) "refused" else "accepted"}"
+    )
   }
 
   it should "name the file when a configuration file is not HOCON" in {

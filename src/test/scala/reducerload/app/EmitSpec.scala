@@ -28,12 +28,19 @@ class EmitSpec extends AnyFlatSpec {
     val json = new String(Files.readAllBytes(d.resolve("report.json")), "UTF-8")
     assert(json.contains("\"latency_cycles\"") && json.contains("\"error_bound_nm\""))
     // The emitted config reproduces the design.
-    assert(Cli.parse("emit", Seq("--config", d.resolve("config.conf").toString), Emit.options).params == LoadParams.default)
+    assert(
+      Cli
+        .parse("emit", Seq("--config", d.resolve("config.conf").toString), Emit.options)
+        .params == LoadParams.default
+    )
   }
 
   it should "emit byte-identical files on every run" in {
     val d = tempDir()
-    def snapshot() = { Main.run(Seq("emit", "--preset", "paper", "--target-dir", d.toString)); listing(d).map(f => f -> Files.readAllBytes(d.resolve(f)).toSeq) }
+    def snapshot() = {
+      Main.run(Seq("emit", "--preset", "paper", "--target-dir", d.toString));
+      listing(d).map(f => f -> Files.readAllBytes(d.resolve(f)).toSeq)
+    }
     val first = snapshot()
     val second = snapshot()
     assert(first.map(_._1) == second.map(_._1))
@@ -68,7 +75,9 @@ class EmitSpec extends AnyFlatSpec {
       assert(e.getMessage.contains(f.toString) && !e.getMessage.contains("\n"), s"$what: ${e.getMessage}")
       assert(!Files.exists(d), s"$what: something was written")
     }
-    println(s"[fuzz] emit: ${corpus.size} bad configuration files, each refused with one line naming the file")
+    println(
+      s"[fuzz] emit: ${corpus.size} bad configuration files, each refused with one line naming the file"
+    )
   }
 
   it should "emit a single CORDIC unit with --top sincos" in {
@@ -77,7 +86,10 @@ class EmitSpec extends AnyFlatSpec {
     assert(listing(d).contains(s"CordicSinCos_${LoadParams.default.cordic.tag}.sv"))
   }
 
-  /** Verilator lint -Wall with lint/waivers.vlt of module `top` (and what it instantiates) in the emitted files of `d`. */
+  /**
+   * Verilator lint -Wall with lint/waivers.vlt of module `top` (and what it instantiates) in the emitted
+   * files of `d`.
+   */
   private def lint(d: Path, top: String, what: String): Unit = {
     val sv = listing(d).filter(_.endsWith(".sv")).map(d.resolve(_).toString)
     val log = new StringBuilder
@@ -98,8 +110,23 @@ class EmitSpec extends AnyFlatSpec {
   it should "pass Verilator lint -Wall on the reducer monitor of an emitted monitored arm" in {
     assume(Try(Seq("verilator", "--version").!!).isSuccess, "verilator is not installed")
     val d = tempDir()
-    Main.run(Seq("emit", "--robot", "planar3", "--monitor.enabled", "true", "--monitor.repeated-peak", "[80, 30, 20]",
-      "--monitor.momentary-peak", "[100, 40, 28]", "--monitor.exponent", "[3, 3.3333333333333335, 1.5]", "--target-dir", d.toString))
+    Main.run(
+      Seq(
+        "emit",
+        "--robot",
+        "planar3",
+        "--monitor.enabled",
+        "true",
+        "--monitor.repeated-peak",
+        "[80, 30, 20]",
+        "--monitor.momentary-peak",
+        "[100, 40, 28]",
+        "--monitor.exponent",
+        "[3, 3.3333333333333335, 1.5]",
+        "--target-dir",
+        d.toString
+      )
+    )
     lint(d, "ReducerMonitor_3j", "the monitor of MonitoredArm_planar3")
   }
 }

@@ -24,11 +24,14 @@ class SimulateSpec extends AnyFlatSpec {
   private def text(s: String) = file(s.getBytes(StandardCharsets.UTF_8))
 
   /** A malformed input: one line naming the file, a non-zero exit (InputError), and no output file. */
-  private def refused(input: Path, words: String*): Unit = refusedWith(input, Nil, input.toString +: words: _*)
+  private def refused(input: Path, words: String*): Unit =
+    refusedWith(input, Nil, input.toString +: words: _*)
 
   private def refusedWith(input: Path, args: Seq[String], words: String*): Unit = {
     val out = Scratch.dir("sim-out-").resolve("loads.csv")
-    val e = intercept[InputError](Main.run(Seq("simulate", "--input", input.toString, "--output", out.toString) ++ args))
+    val e = intercept[InputError](
+      Main.run(Seq("simulate", "--input", input.toString, "--output", out.toString) ++ args)
+    )
     assert(!e.getMessage.contains("\n"), s"error spans lines: ${e.getMessage}")
     words.foreach(w => assert(e.getMessage.contains(w), s"'${e.getMessage}' does not mention '$w'"))
     assert(!Files.exists(out), "an output file was written for a bad input")
@@ -59,8 +62,16 @@ class SimulateSpec extends AnyFlatSpec {
     refusedWith(ok, Seq("--jobs", "two"), "--jobs", "'two'")
     refusedWith(ok, Seq("--robot", "planar3"), "missing column(s) 'q1'")
     val arm = text("q1,q2,q3,qd1,qd2,qd3,qdd1,qdd2,qdd3\n0,0,0,0,3.5,0,0,0,0\n")
-    refusedWith(arm, Seq("--robot", "planar3", "--engine", "model"), arm.toString + ":2:", "'qd2'", "beyond the declared range")
-    val e = intercept[InputError](Main.run(Seq("simulate", "--input", ok.toString, "--output", "/nonexistent-dir/x/loads.csv")))
+    refusedWith(
+      arm,
+      Seq("--robot", "planar3", "--engine", "model"),
+      arm.toString + ":2:",
+      "'qd2'",
+      "beyond the declared range"
+    )
+    val e = intercept[InputError](
+      Main.run(Seq("simulate", "--input", ok.toString, "--output", "/nonexistent-dir/x/loads.csv"))
+    )
     assert(e.getMessage.contains("does not exist") && !e.getMessage.contains("\n"), e.getMessage)
   }
 
@@ -71,11 +82,22 @@ class SimulateSpec extends AnyFlatSpec {
     (0 until cases).foreach { _ =>
       val chars = valid.toCharArray
       val junk = "x,.-e9\n\u0000;\u00ff"
-      (0 until 1 + rng.nextInt(4)).foreach(_ => chars(rng.nextInt(chars.length)) = junk(rng.nextInt(junk.length)))
+      (0 until 1 + rng.nextInt(4)).foreach(_ =>
+        chars(rng.nextInt(chars.length)) = junk(rng.nextInt(junk.length))
+      )
       val f = text(new String(chars))
       val out = Scratch.dir("sim-fuzz-").resolve("o.csv")
       // Every check runs before the simulation; a corruption that leaves a valid file is accepted.
-      Try(Simulate.prepare(Cli.parse("simulate", Seq("--input", f.toString, "--output", out.toString), Simulate.options, Simulate.flags))).failed.foreach {
+      Try(
+        Simulate.prepare(
+          Cli.parse(
+            "simulate",
+            Seq("--input", f.toString, "--output", out.toString),
+            Simulate.options,
+            Simulate.flags
+          )
+        )
+      ).failed.foreach {
         case e: InputError => assert(!e.getMessage.contains("\n"), e.getMessage); assert(!Files.exists(out))
         case other         => fail(s"corrupted input gave ${other.getClass.getName}: ${other.getMessage}")
       }
@@ -85,7 +107,8 @@ class SimulateSpec extends AnyFlatSpec {
 
   it should "stream a hand-written trajectory through the RTL and write idx,load_hw,load_ref,error" in {
     assume(Try(Seq("verilator", "--version").!!).isSuccess, "verilator is not installed")
-    val in = text(s"$header\n$good\n1.5,-0.7,2.9,2.5,0.5,-1,-9,9,1\n0,0,0,0,0,0,0,0,0\n4,5,6,3,-3,3,-10,10,-10\n")
+    val in =
+      text(s"$header\n$good\n1.5,-0.7,2.9,2.5,0.5,-1,-9,9,1\n0,0,0,0,0,0,0,0,0\n4,5,6,3,-3,3,-10,10,-10\n")
     val out = Scratch.dir("sim-ok-").resolve("loads.csv")
     Main.run(Seq("simulate", "--input", in.toString, "--output", out.toString, "--model", "paper"))
     val lines = new String(Files.readAllBytes(out), StandardCharsets.UTF_8).trim.split("\n").toSeq
@@ -102,7 +125,9 @@ class SimulateSpec extends AnyFlatSpec {
     val seed = Seeds("trajectory-command", 81L)
     def write(args: String*): Path = {
       val out = Scratch.dir("trajectory-").resolve("t.csv")
-      Main.run(Seq("trajectory", "--output", out.toString, "--samples", "500", "--seed", seed.toString) ++ args)
+      Main.run(
+        Seq("trajectory", "--output", out.toString, "--samples", "500", "--seed", seed.toString) ++ args
+      )
       out
     }
     val joint3 = write()
@@ -115,11 +140,15 @@ class SimulateSpec extends AnyFlatSpec {
       assert(column.exists(v => math.abs(v) > limit / 2), s"column ${d.columns(c)} does not cover its range")
     }
     assert(table.column("t1").forall(v => math.abs(v) <= math.Pi))
-    assert(Files.readAllBytes(joint3).sameElements(Files.readAllBytes(write())), "the same seed wrote another file")
+    assert(
+      Files.readAllBytes(joint3).sameElements(Files.readAllBytes(write())),
+      "the same seed wrote another file"
+    )
     val out = Scratch.dir("trajectory-sim-").resolve("loads.csv")
     Main.run(Seq("simulate", "--input", joint3.toString, "--output", out.toString, "--engine", "model"))
     assert(new String(Files.readAllBytes(out), StandardCharsets.UTF_8).linesIterator.size == 501)
-    val arm = reducerload.trace.TraceCsv.read(write("--robot", "planar3"), reducerload.arm.ArmTrajectory.columns(3))
+    val arm =
+      reducerload.trace.TraceCsv.read(write("--robot", "planar3"), reducerload.arm.ArmTrajectory.columns(3))
     assert(arm.rows.size == 500)
     val e = intercept[InputError](Main.run(Seq("trajectory", "--output", joint3.toString, "--samples", "0")))
     assert(e.getMessage.contains("--samples"))

@@ -12,21 +12,30 @@ import scala.collection.mutable.ArrayBuffer
 import scala.util.Random
 import reducerload.testutil.SimBackend.multiplierImpl // the JVM simulator builds the multipliers' Chisel twin
 
-/** One clock of the test: an arm sample (index into the stream) or none, the host pulses and a read address. */
-final case class ArmMonitorCycle(sample: Option[Int], snapshot: Boolean = false, clear: Boolean = false, readAddress: Option[Int] = None)
+/**
+ * One clock of the test: an arm sample (index into the stream) or none, the host pulses and a read address.
+ */
+final case class ArmMonitorCycle(
+    sample: Option[Int],
+    snapshot: Boolean = false,
+    clear: Boolean = false,
+    readAddress: Option[Int] = None
+)
 
 /**
- * One simulation per robot (planar3: every golden sample; UR5: ur5_rest_to_rest): the arm with its monitor, interleaved with
- * seeded samples beyond the declared ranges and bubbles, snapshots and clears at random times.
- * Checked: every shadow bank read through the host port equals, word for word, the bank of
- * MonitorModel fed by ArmModel's outputs (torques, clamped velocities, flags) in the monitor's input
- * cycles (arm input + latency); every snapshot's summary is within the derived bounds of
- * MonitorReference fed by double-precision RNEA torques over the same samples.
+ * One simulation per robot (planar3: every golden sample; UR5: ur5_rest_to_rest): the arm with its monitor,
+ * interleaved with seeded samples beyond the declared ranges and bubbles, snapshots and clears at random
+ * times. Checked: every shadow bank read through the host port equals, word for word, the bank of
+ * MonitorModel fed by ArmModel's outputs (torques, clamped velocities, flags) in the monitor's input cycles
+ * (arm input + latency); every snapshot's summary is within the derived bounds of MonitorReference fed by
+ * double-precision RNEA torques over the same samples.
  */
 class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "MonitoredArm"
 
-  /** Limits where the golden trajectories cross them: T_R at 60 %, T_M at 85 % of each joint's golden peak. */
+  /**
+   * Limits where the golden trajectories cross them: T_R at 60 %, T_M at 85 % of each joint's golden peak.
+   */
   private def settings(peaks: Seq[Double], joints: Int, samplePeriodS: Double) = MonitorSettings(
     enabled = true,
     exponent = Seq(3.0, 10.0 / 3.0, 1.5, 3.0, 10.0 / 3.0, 3.0).take(joints),
@@ -34,7 +43,8 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
     momentaryPeakNm = peaks.map(x => math.rint(8.5 * x) / 10),
     gearRatio = Seq(120.0, 100.0, 80.0, 101.0, 101.0, 101.0).take(joints),
     samplePeriodS = samplePeriodS,
-    histogramBins = Seq(12))
+    histogramBins = Seq(12)
+  )
 
   private def poke(dut: MonitoredArm, c: ArmMonitorCycle, codes: IndexedSeq[SampleCodes]): Unit = {
     c.sample match {
@@ -54,7 +64,10 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
   }
 
   /** The arm of a robot's golden traces, and its monitor with limits where the traces cross them. */
-  private def armAndMonitor(traces: Seq[ArmGoldenTrace], samplePeriodS: Double): (ArmParams, MonitorParams) = {
+  private def armAndMonitor(
+      traces: Seq[ArmGoldenTrace],
+      samplePeriodS: Double
+  ): (ArmParams, MonitorParams) = {
     val first = traces.head
     val arm = ArmParams(first.chain, first.config.robot.maxVelocity, first.config.robot.maxAcceleration)
     val peaks = arm.jointNames.indices.map(j => traces.flatMap(_.torques).map(t => math.abs(t(j))).max)
@@ -71,29 +84,46 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
     val traces = Seq(ArmGolden.load("ur5_rest_to_rest.csv"))
     val (arm, m) = armAndMonitor(traces, 0.005)
     // A shorter stream: snapshots and clears more often, so several periods are checked.
-    simulate("ur5", arm, m, traces.flatMap(_.samples).toIndexedSeq, Seeds("monitored-arm-ur5", 1314L), snapshotOdds = 60, clearOdds = 600)
+    simulate(
+      "ur5",
+      arm,
+      m,
+      traces.flatMap(_.samples).toIndexedSeq,
+      Seeds("monitored-arm-ur5", 1314L),
+      snapshotOdds = 60,
+      clearOdds = 600
+    )
   }
 
   /**
-   * One simulation of `golden` (with seeded out-of-range samples slipped in, bubbles, snapshots and
-   * clears, one in `snapshotOdds` and `clearOdds` cycles): every bank read equals the model's, every period is
-   * within the derived bounds of the reference.
+   * One simulation of `golden` (with seeded out-of-range samples slipped in, bubbles, snapshots and clears,
+   * one in `snapshotOdds` and `clearOdds` cycles): every bank read equals the model's, every period is within
+   * the derived bounds of the reference.
    */
-  private def simulate(label: String, arm: ArmParams, m: MonitorParams, golden: IndexedSeq[ArmSample], seed: Long,
-    snapshotOdds: Int = 400, clearOdds: Int = 900): Unit = {
+  private def simulate(
+      label: String,
+      arm: ArmParams,
+      m: MonitorParams,
+      golden: IndexedSeq[ArmSample],
+      seed: Long,
+      snapshotOdds: Int = 400,
+      clearOdds: Int = 900
+  ): Unit = {
     val model = new ArmModel(arm)
     val rng = new Random(seed)
 
     // Golden samples in order, with seeded out-of-range samples (about 1 in 20) slipped in between.
     val outside = IndexedSeq.fill(SimBackend.scale(golden.size / 20)) {
-      val (q, qd, qdd) = RandomChains.sample(rng, arm.maxVelocity.map(_ * 1.4), arm.maxAcceleration.map(_ * 1.4))
+      val (q, qd, qdd) =
+        RandomChains.sample(rng, arm.maxVelocity.map(_ * 1.4), arm.maxAcceleration.map(_ * 1.4))
       ArmSample(q, qd, qdd)
     }
     val goldenUsed = golden.take(SimBackend.scale(golden.size))
     val positions = outside.map(_ => rng.nextInt(goldenUsed.size + 1)).sorted
-    val samples = goldenUsed.indices.foldLeft((Vector.empty[ArmSample], positions.toList, outside.toList)) { case ((acc, ps, os), i) =>
-      val (here, later) = ps.span(_ <= i)
-      (acc ++ os.take(here.size) :+ goldenUsed(i), later, os.drop(here.size))
+    val samples = goldenUsed.indices.foldLeft((Vector.empty[ArmSample], positions.toList, outside.toList)) {
+      case ((acc, ps, os), i) =>
+        val (here, later) = ps.span(_ <= i)
+        (acc ++ os.take(here.size) :+ goldenUsed(i), later, os.drop(here.size))
     } match { case (acc, _, os) => acc ++ os }
     val codes = samples.map(model.encode)
     val fed = TrajectorySummary.monitorInputs(arm, codes).toIndexedSeq
@@ -104,7 +134,9 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
     val snapshots = ArrayBuffer.empty[Int]
     val reads = scala.collection.mutable.Map.empty[Int, Int]
     val words = m.registerMap.words
-    def snapshotAt(t: Int): Unit = { snapshots += t; (0 until words).foreach(k => reads(t + m.snapshotLatency + k) = k) }
+    def snapshotAt(t: Int): Unit = {
+      snapshots += t; (0 until words).foreach(k => reads(t + m.snapshotLatency + k) = k)
+    }
     def free(t: Int) = snapshots.lastOption.forall(s => t >= s + m.snapshotLatency + words)
     val next = samples.indices.iterator.buffered
     while (next.hasNext || drive.size < samples.size + latency + 2 || !free(drive.size)) {
@@ -116,7 +148,8 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
       drive += ArmMonitorCycle(sample, snap, clear, reads.get(t))
     }
     snapshotAt(drive.size); drive += ArmMonitorCycle(None, snapshot = true)
-    while (drive.size < snapshots.last + m.snapshotLatency + words) drive += ArmMonitorCycle(None, readAddress = reads.get(drive.size))
+    while (drive.size < snapshots.last + m.snapshotLatency + words)
+      drive += ArmMonitorCycle(None, readAddress = reads.get(drive.size))
 
     // The model in the monitor's input cycles: cycle t carries the arm sample given at t - latency.
     val arrivals = drive.indices.map(t => if (t >= latency) drive(t - latency).sample else None)
@@ -128,8 +161,10 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
       if (c.snapshot) expected += (next.shadow -> period)
       ((next, (if (c.clear) Vector.empty else period) ++ arrivals(t).toSeq))
     }
-    println(s"[monitored-arm] $label: ${goldenUsed.size} golden + ${outside.size} out-of-range samples, ${drive.size} cycles, " +
-      s"${snapshots.size} snapshots, ${drive.count(_.clear)} clears, arm latency $latency, monitor snapshot latency ${m.snapshotLatency}, bank $words words")
+    println(
+      s"[monitored-arm] $label: ${goldenUsed.size} golden + ${outside.size} out-of-range samples, ${drive.size} cycles, " +
+        s"${snapshots.size} snapshots, ${drive.count(_.clear)} clears, arm latency $latency, monitor snapshot latency ${m.snapshotLatency}, bank $words words"
+    )
 
     test(new MonitoredArm(arm, m)).withAnnotations(SimBackend.annotations) { dut =>
       dut.clock.setTimeout(0)
@@ -141,14 +176,22 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
         dut.clock.step()
         data += dut.io.host.readData.peek().litValue
       }
-      assert(done.indices.filter(done(_)) == snapshots.map(_ + m.snapshotLatency), "snapshotDone not snapshotLatency cycles after each pulse")
+      assert(
+        done.indices.filter(done(_)) == snapshots.map(_ + m.snapshotLatency),
+        "snapshotDone not snapshotLatency cycles after each pulse"
+      )
       val banks = snapshots.map(t => (0 until words).map(k => data(t + m.snapshotLatency + k)))
       banks.zip(expected).zipWithIndex.foreach { case ((hw, (snap, _)), k) =>
         val want = snap.bank(m)
         if (hw != want) {
           val (h, w) = (m.registerMap.decode(hw), m.registerMap.decode(want))
-          fail(s"snapshot $k (cycle ${snapshots(k)}): " +
-            m.registerMap.entries.filter(e => h(e.key) != w(e.key)).map(e => s"${e.name}: RTL ${h(e.key)}, model ${w(e.key)}").mkString("; "))
+          fail(
+            s"snapshot $k (cycle ${snapshots(k)}): " +
+              m.registerMap.entries
+                .filter(e => h(e.key) != w(e.key))
+                .map(e => s"${e.name}: RTL ${h(e.key)}, model ${w(e.key)}")
+                .mkString("; ")
+          )
         }
       }
       // Every period against the double reference over the same samples.
@@ -169,12 +212,16 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
       val lastRef = MonitorReference.summarize(m, lastValues)
       val lastBounds = TrajectorySummary.bounds(arm, m, last, lastRef, lastValues)
       MonitorSummary.fromSnapshot(m, last).zip(lastRef).zip(lastBounds).foreach { case ((h, r), b) =>
-        println(f"[monitored-arm] $label last period ${h.name}: T_av ${h.avgTorqueNm.getOrElse(Double.NaN)}%.6f N·m (ref ${r.avgTorqueNm.getOrElse(Double.NaN)}%.6f, " +
-          f"bound ${b.avgTorqueNm.getOrElse(Double.NaN)}%.2e), peak ${h.peakAbsNm.getOrElse(Double.NaN)}%.4f, ${h.repeatedPeakSamples} > T_R, " +
-          f"${h.momentaryPeakEvents} events, ${h.samples} samples")
+        println(
+          f"[monitored-arm] $label last period ${h.name}: T_av ${h.avgTorqueNm.getOrElse(Double.NaN)}%.6f N·m (ref ${r.avgTorqueNm.getOrElse(Double.NaN)}%.6f, " +
+            f"bound ${b.avgTorqueNm.getOrElse(Double.NaN)}%.2e), peak ${h.peakAbsNm.getOrElse(Double.NaN)}%.4f, ${h.repeatedPeakSamples} > T_R, " +
+            f"${h.momentaryPeakEvents} events, ${h.samples} samples"
+        )
       }
-      println(s"[monitored-arm] $label: ${banks.size} banks bit-exact with the model; periods of ${checked.map(_._1).mkString(", ")} samples " +
-        s"within the derived bounds of the double reference")
+      println(
+        s"[monitored-arm] $label: ${banks.size} banks bit-exact with the model; periods of ${checked.map(_._1).mkString(", ")} samples " +
+          s"within the derived bounds of the double reference"
+      )
     }
   }
 }

@@ -10,10 +10,16 @@ object CordicChecks {
   /** Max |error| of (cos, sin) codes against double precision at each code's exact angle. */
   def maxError(p: CordicParams, results: Iterable[(BigInt, (BigInt, BigInt))]): Double = {
     val model = new CordicModel(p)
-    results.iterator.map { case (code, (c, s)) =>
-      val theta = model.angleOf(code)
-      math.max(math.abs(p.outputFormat.toDouble(c) - math.cos(theta)), math.abs(p.outputFormat.toDouble(s) - math.sin(theta)))
-    }.maxOption.getOrElse(0.0)
+    results.iterator
+      .map { case (code, (c, s)) =>
+        val theta = model.angleOf(code)
+        math.max(
+          math.abs(p.outputFormat.toDouble(c) - math.cos(theta)),
+          math.abs(p.outputFormat.toDouble(s) - math.sin(theta))
+        )
+      }
+      .maxOption
+      .getOrElse(0.0)
   }
 
   /** Angles just either side of every quadrant boundary, in an order that crosses quadrants every cycle. */
@@ -30,13 +36,24 @@ object CordicChecks {
     IndexedSeq.fill(n)(BigInt(p.angleBits, rng.self))
 
   /** Stream with bubbles and resets, flushed with `latency` bubbles at the end. */
-  def stimulus(p: CordicParams, angles: IndexedSeq[BigInt], rng: Random, resets: Int): IndexedSeq[Cycle[BigInt]] =
-    Stream.randomStimulus(rng, angles, bubble = 0.1, resets = resets) ++ IndexedSeq.fill(p.latency + 2)(Cycle.Bubble)
+  def stimulus(
+      p: CordicParams,
+      angles: IndexedSeq[BigInt],
+      rng: Random,
+      resets: Int
+  ): IndexedSeq[Cycle[BigInt]] =
+    Stream.randomStimulus(rng, angles, bubble = 0.1, resets = resets) ++ IndexedSeq.fill(p.latency + 2)(
+      Cycle.Bubble
+    )
 
   /** Check a simulated stream: timing and bits against the model, error against double precision. */
   final case class Verdict(mismatches: Seq[String], checked: Int, maxError: Double)
 
-  def check(p: CordicParams, stim: IndexedSeq[Cycle[BigInt]], observed: IndexedSeq[Option[(BigInt, BigInt)]]): Verdict = {
+  def check(
+      p: CordicParams,
+      stim: IndexedSeq[Cycle[BigInt]],
+      observed: IndexedSeq[Option[(BigInt, BigInt)]]
+  ): Verdict = {
     val model = new CordicModel(p)
     val expectedCodes = Stream.expected(stim, p.latency)
     val expected = expectedCodes.map(_.map(code => model.sinCosRaw(code)))

@@ -15,7 +15,8 @@ object CordicDriver {
         case Cycle.Sample(a) => dut.io.in.valid.poke(true.B); dut.io.in.bits.poke(a.U)
       }
       val out =
-        if (dut.io.out.valid.peek().litToBoolean) Some((dut.io.out.bits.cos.peek().litValue, dut.io.out.bits.sin.peek().litValue))
+        if (dut.io.out.valid.peek().litToBoolean)
+          Some((dut.io.out.bits.cos.peek().litValue, dut.io.out.bits.sin.peek().litValue))
         else None
       dut.clock.step()
       dut.reset.poke(false.B)

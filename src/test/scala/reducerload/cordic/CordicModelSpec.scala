@@ -12,7 +12,9 @@ class CordicModelSpec extends AnyFlatSpec {
   private def sweep(label: String, p: CordicParams, codes: Iterable[BigInt]): Unit = {
     val model = new CordicModel(p)
     val err = CordicChecks.maxError(p, codes.map(c => c -> model.sinCosRaw(c)))
-    println(f"[cordic-model] $label ${p.tag}: ${codes.size} codes, max |error| $err%.3e, bound ${p.errorBound}%.3e (${p.errorBound / err}%.1fx margin)")
+    println(
+      f"[cordic-model] $label ${p.tag}: ${codes.size} codes, max |error| $err%.3e, bound ${p.errorBound}%.3e (${p.errorBound / err}%.1fx margin)"
+    )
     assert(err <= p.errorBound, s"$label: max error $err exceeds the derived bound ${p.errorBound}")
   }
 
@@ -20,7 +22,8 @@ class CordicModelSpec extends AnyFlatSpec {
   private def dense(p: CordicParams, label: String, seed: Long): IndexedSeq[BigInt] = {
     val rng = new Random(Seeds(label, seed))
     val step = BigInt(1) << (p.angleBits - 18)
-    (0 until (1 << 18)).map(i => BigInt(i) * step + BigInt(p.angleBits - 18, rng.self)) ++ CordicChecks.quadrantCrossers(p)
+    (0 until (1 << 18)).map(i => BigInt(i) * step + BigInt(p.angleBits - 18, rng.self)) ++ CordicChecks
+      .quadrantCrossers(p)
   }
 
   it should "stay within the derived bound on every code of the paper and small presets" in {
@@ -39,7 +42,10 @@ class CordicModelSpec extends AnyFlatSpec {
     sweep("exhaustive", small, (0 until (1 << small.angleBits)).map(BigInt(_)))
     val p = CordicParams.residual
     sweep("dense", p, dense(p, "residual-dense", 12L))
-    assert(p.errorBound <= CordicParams.precise.errorBound * 1.5, s"residual bound ${p.errorBound} vs precise ${CordicParams.precise.errorBound}")
+    assert(
+      p.errorBound <= CordicParams.precise.errorBound * 1.5,
+      s"residual bound ${p.errorBound} vs precise ${CordicParams.precise.errorBound}"
+    )
   }
 
   it should "stay within the derived bound with a start table (exhaustive small, dense precise)" in {
@@ -60,7 +66,9 @@ class CordicModelSpec extends AnyFlatSpec {
   }
 
   it should "refuse a residual unit whose products would not fit 18x18 multipliers" in {
-    val e = intercept[IllegalArgumentException](CordicParams(iterations = 6, architecture = CordicArchitecture.ResidualRotation))
+    val e = intercept[IllegalArgumentException](
+      CordicParams(iterations = 6, architecture = CordicArchitecture.ResidualRotation)
+    )
     assert(e.getMessage.contains("iterations"))
   }
 
@@ -71,7 +79,10 @@ class CordicModelSpec extends AnyFlatSpec {
     val expect = Seq((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0))
     expect.zipWithIndex.foreach { case ((c, s), q) =>
       val (mc, ms) = model.sinCos(quarter * q)
-      assert(math.abs(mc - c) <= p.errorBound && math.abs(ms - s) <= p.errorBound, s"quadrant $q: got ($mc, $ms)")
+      assert(
+        math.abs(mc - c) <= p.errorBound && math.abs(ms - s) <= p.errorBound,
+        s"quadrant $q: got ($mc, $ms)"
+      )
     }
   }
 

@@ -11,9 +11,9 @@ import reducerload.testutil.{Golden, Seeds}
 import scala.util.Random
 
 /**
- * The dynamics compiler without hardware: RNEA against independent references (Pinocchio's golden
- * traces, the closed form, Euler-Lagrange on random arms), the graph's double interpretation
- * against RNEA, and the bit-accurate model within its derived bound.
+ * The dynamics compiler without hardware: RNEA against independent references (Pinocchio's golden traces, the
+ * closed form, Euler-Lagrange on random arms), the graph's double interpretation against RNEA, and the
+ * bit-accurate model within its derived bound.
  */
 class DynamicsSpec extends AnyFlatSpec {
   behavior of "Rnea and the dynamics graph"
@@ -23,10 +23,15 @@ class DynamicsSpec extends AnyFlatSpec {
     val worst = Golden.all.flatMap { t =>
       t.samples.zip(t.rnea).map { case (s, pin) =>
         val tau = Rnea.reference(chain, s.q, s.qd, s.qdd)
-        math.max(math.abs(tau(2) - pin), math.abs(tau(2) - LoadReference.torque(RobotParams(), LoadModel.Exact, s)))
+        math.max(
+          math.abs(tau(2) - pin),
+          math.abs(tau(2) - LoadReference.torque(RobotParams(), LoadModel.Exact, s))
+        )
       }
     }.max
-    println(f"[dynamics] planar3: max |rnea tau3 - (pinocchio, closed form)| = $worst%.2e N·m over ${Golden.all.map(_.samples.size).sum} samples")
+    println(
+      f"[dynamics] planar3: max |rnea tau3 - (pinocchio, closed form)| = $worst%.2e N·m over ${Golden.all.map(_.samples.size).sum} samples"
+    )
     assert(worst < 1e-9)
   }
 
@@ -50,12 +55,17 @@ class DynamicsSpec extends AnyFlatSpec {
     (2 to 7).foreach { n =>
       val chain = RandomChains.chain(rng, n)
       val graph = ArmParams.rneaGraph(chain, Seq.fill(n)(3.0), Seq.fill(n)(10.0))._1
-      assert(!graph.ops.exists { case Op.Mul(a, b) => graph(a).isInstanceOf[Op.Const] && graph(b).isInstanceOf[Op.Const]; case _ => false })
+      assert(!graph.ops.exists {
+        case Op.Mul(a, b) => graph(a).isInstanceOf[Op.Const] && graph(b).isInstanceOf[Op.Const];
+        case _            => false
+      })
       (0 until 20).foreach { _ =>
         val (q, qd, qdd) = RandomChains.sample(rng, Seq.fill(n)(3.0), Seq.fill(n)(10.0))
         val a = Rnea.reference(chain, q, qd, qdd)
         val b = GraphReference.outputs(graph, q, qd, qdd)
-        a.zip(b).foreach { case (x, y) => assert(math.abs(x - y) <= 1e-9 * (1 + math.abs(x)), s"$n joints: rnea $x, graph $y") }
+        a.zip(b).foreach { case (x, y) =>
+          assert(math.abs(x - y) <= 1e-9 * (1 + math.abs(x)), s"$n joints: rnea $x, graph $y")
+        }
       }
     }
     val planar = ArmParams.rneaGraph(Planar3.chain(), Seq.fill(3)(3.0), Seq.fill(3)(10.0))._1.counts
@@ -65,13 +75,23 @@ class DynamicsSpec extends AnyFlatSpec {
 
   it should "keep the bit-accurate model within its derived bound on random arms (and every value in its format)" in {
     val rng = new Random(Seeds("model-bound", 33L))
-    val cordic = CordicParams(angleBits = 20, outputBits = 20, iterations = 16, guardBits = 3, angleGuardBits = 4)
+    val cordic =
+      CordicParams(angleBits = 20, outputBits = 20, iterations = 16, guardBits = 3, angleGuardBits = 4)
     (2 to 7).foreach { n =>
       val chain = RandomChains.chain(rng, n)
       val vmax = Seq.fill(n)(1 + 3 * rng.nextDouble())
       val amax = Seq.fill(n)(5 + 10 * rng.nextDouble())
-      val p = ArmParams(chain, vmax, amax, cordic = cordic, velocityFracBits = 16, accelerationFracBits = 14,
-        constantFracBits = 18, internalFracBits = 18, outputFracBits = 16)
+      val p = ArmParams(
+        chain,
+        vmax,
+        amax,
+        cordic = cordic,
+        velocityFracBits = 16,
+        accelerationFracBits = 14,
+        constantFracBits = 18,
+        internalFracBits = 18,
+        outputFracBits = 16
+      )
       val model = new ArmModel(p)
       val worst = (0 until 40).map { _ =>
         val (q, qd, qdd) = RandomChains.sample(rng, vmax, amax)
@@ -79,11 +99,16 @@ class DynamicsSpec extends AnyFlatSpec {
         val ref = Rnea.reference(chain, q, qd, qdd)
         hw.indices.map { j =>
           val err = math.abs(hw(j) - ref(j))
-          assert(err <= p.errorBounds(j), s"$n joints, joint ${j + 1}: error $err above the bound ${p.errorBounds(j)}")
+          assert(
+            err <= p.errorBounds(j),
+            s"$n joints, joint ${j + 1}: error $err above the bound ${p.errorBounds(j)}"
+          )
           err / p.errorBounds(j)
         }.max
       }.max
-      println(f"[dynamics] random $n-joint arm: ${p.graph.counts.multiplications} multiplications, worst error at ${worst * 100}%.1f%% of the bound (max bound ${p.errorBound}%.2e N·m)")
+      println(
+        f"[dynamics] random $n-joint arm: ${p.graph.counts.multiplications} multiplications, worst error at ${worst * 100}%.1f%% of the bound (max bound ${p.errorBound}%.2e N·m)"
+      )
     }
   }
 }

@@ -3,20 +3,30 @@ package reducerload.dynamics
 import reducerload.robot.{JointKind, Mat3, SerialChain, Transform, Vec3}
 
 /**
- * An independent formulation of inverse dynamics, for tests: Euler-Lagrange with the mass matrix
- * from geometric Jacobians, tau = M(q) qdd + dM/dt qd - 1/2 d(qd' M qd)/dq - sum m_j g . dp_j/dq,
- * dM/dq by central differences. Shares nothing with [[Rnea]] but the robot description.
+ * An independent formulation of inverse dynamics, for tests: Euler-Lagrange with the mass matrix from
+ * geometric Jacobians, tau = M(q) qdd + dM/dt qd - 1/2 d(qd' M qd)/dq - sum m_j g . dp_j/dq, dM/dq by central
+ * differences. Shares nothing with [[Rnea]] but the robot description.
  */
 object LagrangeReference {
-  private final case class Frames(origins: IndexedSeq[Vec3], axes: IndexedSeq[Vec3], poses: IndexedSeq[Transform])
+  private final case class Frames(
+      origins: IndexedSeq[Vec3],
+      axes: IndexedSeq[Vec3],
+      poses: IndexedSeq[Transform]
+  )
 
   private def kinematics(chain: SerialChain, q: Seq[Double]): Frames = {
-    val poses = chain.joints.indices.scanLeft(Transform.identity) { (parent, j) =>
-      val joint = chain.joints(j)
-      require(joint.kind != JointKind.Prismatic, "LagrangeReference: revolute joints only")
-      parent.compose(joint.origin).compose(Transform(Mat3.axisAngle(joint.axis, q(j)), Vec3.zero))
-    }.tail
-    Frames(poses.map(_.translation), poses.zip(chain.joints).map { case (t, j) => t.rotation * j.axis }, poses)
+    val poses = chain.joints.indices
+      .scanLeft(Transform.identity) { (parent, j) =>
+        val joint = chain.joints(j)
+        require(joint.kind != JointKind.Prismatic, "LagrangeReference: revolute joints only")
+        parent.compose(joint.origin).compose(Transform(Mat3.axisAngle(joint.axis, q(j)), Vec3.zero))
+      }
+      .tail
+    Frames(
+      poses.map(_.translation),
+      poses.zip(chain.joints).map { case (t, j) => t.rotation * j.axis },
+      poses
+    )
   }
 
   /** Jacobian columns (linear at the body's centre of mass, angular) of body j. */
@@ -40,7 +50,13 @@ object LagrangeReference {
     IndexedSeq.tabulate(n, n)((a, b) => parts.map(_(a)(b)).sum)
   }
 
-  def torques(chain: SerialChain, q: Seq[Double], qd: Seq[Double], qdd: Seq[Double], h: Double = 1e-6): IndexedSeq[Double] = {
+  def torques(
+      chain: SerialChain,
+      q: Seq[Double],
+      qd: Seq[Double],
+      qdd: Seq[Double],
+      h: Double = 1e-6
+  ): IndexedSeq[Double] = {
     val n = chain.size
     val m = massMatrix(chain, q)
     val dM = (0 until n).map { k => // dM/dq_k
@@ -50,7 +66,9 @@ object LagrangeReference {
     }
     val f = kinematics(chain, q)
     val gravity = (0 until n).map { i =>
-      chain.joints.indices.map { j => chain.joints(j).body.mass * chain.gravity.dot(jacobian(f, chain, j)._1(i)) }.sum
+      chain.joints.indices.map { j =>
+        chain.joints(j).body.mass * chain.gravity.dot(jacobian(f, chain, j)._1(i))
+      }.sum
     }
     (0 until n).map { i =>
       val inertial = (0 until n).map(k => m(i)(k) * qdd(k)).sum

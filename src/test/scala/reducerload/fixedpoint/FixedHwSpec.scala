@@ -47,7 +47,9 @@ class FixedHwSpec extends AnyFlatSpec with ChiselScalatestTester {
         }
       }
       assert(bad.isEmpty, bad.take(10).mkString("\n"))
-      println(s"[fixedpoint] constant comparisons: 32 values x ${constants.size} constants, both directions, all equal to integer compare")
+      println(
+        s"[fixedpoint] constant comparisons: 32 values x ${constants.size} constants, both directions, all equal to integer compare"
+      )
     }
   }
 
@@ -55,19 +57,32 @@ class FixedHwSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   it should "equal the model's rescale (half up) then saturate for every 8-bit value, narrow and wide formats, every drop" in {
     val width = 8
-    val formats = Seq(FixedFormat(0, 1), FixedFormat(1, 1), FixedFormat(2, 1), FixedFormat(3, 0), FixedFormat(4, 1), FixedFormat(5, 2), FixedFormat(7, 0))
+    val formats = Seq(
+      FixedFormat(0, 1),
+      FixedFormat(1, 1),
+      FixedFormat(2, 1),
+      FixedFormat(3, 0),
+      FixedFormat(4, 1),
+      FixedFormat(5, 2),
+      FixedFormat(7, 0)
+    )
     val cases = for (drop <- -1 to 4; f <- formats) yield (drop, f)
     test(new RoundSaturate(width, cases)).withAnnotations(SimBackend.annotations) { dut =>
       val bad = (-128 to 127).flatMap { x =>
         dut.io.x.poke(x.S)
         cases.zipWithIndex.flatMap { case ((drop, f), i) =>
-          val (want, wantFlag) = FixedFormat.saturate(FixedFormat.rescale(BigInt(x), drop, Rounding.HalfUp), f)
+          val (want, wantFlag) =
+            FixedFormat.saturate(FixedFormat.rescale(BigInt(x), drop, Rounding.HalfUp), f)
           val (got, gotFlag) = (dut.io.code(i).peek().litValue, dut.io.saturated(i).peek().litToBoolean)
-          if (got != want || gotFlag != wantFlag) Some(s"x=$x drop=$drop to=$f: got $got/$gotFlag, model $want/$wantFlag") else None
+          if (got != want || gotFlag != wantFlag)
+            Some(s"x=$x drop=$drop to=$f: got $got/$gotFlag, model $want/$wantFlag")
+          else None
         }
       }
       assert(bad.isEmpty, bad.take(10).mkString("\n"))
-      println(s"[fixedpoint] roundSaturate: 256 values x ${cases.size} (drop, format) cases, all equal to the model")
+      println(
+        s"[fixedpoint] roundSaturate: 256 values x ${cases.size} (drop, format) cases, all equal to the model"
+      )
     }
   }
 }

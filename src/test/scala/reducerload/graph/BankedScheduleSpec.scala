@@ -8,13 +8,12 @@ import reducerload.testutil.ArmGolden
 import scala.util.chaining._
 
 /**
- * The memory-storage schedule's promises, checked from the graph and the hardware's timing rules
- * (block RAM: written in the cycle a value is ready, its unit's result registered once on the way; the
- * array read a clock after the address, the word `readLatency` cycles after it), not
- * from the schedule's bookkeeping: every operation computes its graph node from the right operands,
- * each operand is in its bank (or on its unit's output) when taken, no unit, read port or write port
- * serves two values in one residue, no later sample overwrites a word before its last read; and
- * requests it cannot serve are refused naming the setting.
+ * The memory-storage schedule's promises, checked from the graph and the hardware's timing rules (block RAM:
+ * written in the cycle a value is ready, its unit's result registered once on the way; the array read a clock
+ * after the address, the word `readLatency` cycles after it), not from the schedule's bookkeeping: every
+ * operation computes its graph node from the right operands, each operand is in its bank (or on its unit's
+ * output) when taken, no unit, read port or write port serves two values in one residue, no later sample
+ * overwrites a word before its last read; and requests it cannot serve are refused naming the setting.
  */
 class BankedScheduleSpec extends AnyFlatSpec {
   behavior of "BankedSchedule"
@@ -31,45 +30,82 @@ class BankedScheduleSpec extends AnyFlatSpec {
     def readyOf(x: NodeId) = b.ready(x).getOrElse(fail(s"node ${x.index} is never ready"))
     g.ids.foreach { id =>
       g(id) match {
-        case Op.Const(_) => assert(b.ready(id).isEmpty && !placed.contains(id))
+        case Op.Const(_)                 => assert(b.ready(id).isEmpty && !placed.contains(id))
         case Op.Input(_) | Op.Trig(_, _) => assert(!placed.contains(id))
         case op =>
           val o = placed.getOrElse(id, fail(s"node ${id.index} ($op) is on no unit"))
-          val (lead, forwardLead) = if (o.kind == UnitKind.Multiplier) (b.mulLead, b.mulForwardLead) else (b.addLead, b.addForwardLead)
+          val (lead, forwardLead) =
+            if (o.kind == UnitKind.Multiplier) (b.mulLead, b.mulForwardLead)
+            else (b.addLead, b.addForwardLead)
           // The operation computes its node: the graph's operands, in an order the unit's arithmetic allows.
           o.operands.foreach {
-            case Operand.Constant(n) => assert(g(n).isInstanceOf[Op.Const], s"node ${id.index}: constant operand ${n.index} is no constant")
+            case Operand.Constant(n) =>
+              assert(
+                g(n).isInstanceOf[Op.Const],
+                s"node ${id.index}: constant operand ${n.index} is no constant"
+              )
             case Operand.Zero => ()
-            case stored => stored.carried.foreach(n => assert(!g(n).isInstanceOf[Op.Const], s"node ${id.index}: constant ${n.index} read as a value"))
+            case stored =>
+              stored.carried.foreach(n =>
+                assert(!g(n).isInstanceOf[Op.Const], s"node ${id.index}: constant ${n.index} read as a value")
+              )
           }
           val taken = o.operands.map(_.carried)
           op match {
-            case Op.Mul(x, y) => assert(o.kind == UnitKind.Multiplier && taken.flatten.sortBy(_.index) == Seq(x, y).sortBy(_.index) && !o.subtract)
-            case Op.Add(x, y) => assert(o.kind == UnitKind.Adder && taken.flatten.sortBy(_.index) == Seq(x, y).sortBy(_.index) && !o.subtract)
-            case Op.Sub(x, y) => assert(o.kind == UnitKind.Adder && taken == Seq(Some(x), Some(y)) && o.subtract)
-            case Op.Neg(x)    => assert(o.kind == UnitKind.Adder && taken == Seq(None, Some(x)) && o.subtract)
-            case other        => fail(s"$other on a unit")
+            case Op.Mul(x, y) =>
+              assert(
+                o.kind == UnitKind.Multiplier && taken.flatten.sortBy(_.index) == Seq(x, y).sortBy(
+                  _.index
+                ) && !o.subtract
+              )
+            case Op.Add(x, y) =>
+              assert(
+                o.kind == UnitKind.Adder && taken.flatten.sortBy(_.index) == Seq(x, y).sortBy(
+                  _.index
+                ) && !o.subtract
+              )
+            case Op.Sub(x, y) =>
+              assert(o.kind == UnitKind.Adder && taken == Seq(Some(x), Some(y)) && o.subtract)
+            case Op.Neg(x) => assert(o.kind == UnitKind.Adder && taken == Seq(None, Some(x)) && o.subtract)
+            case other     => fail(s"$other on a unit")
           }
           // Each operand is there when taken.
           o.operands.zipWithIndex.foreach {
             case (Operand.Stored(x, port), _) =>
               val cycle = o.issue - lead
-              assert(cycle >= readyOf(x), s"node ${id.index} reads node ${x.index} in cycle $cycle, written only in ${readyOf(x) - 1}")
-              assert(b.reads.contains(BankRead(x, b.bankOf(x).get, port, cycle)), s"node ${id.index}: no read of node ${x.index} in cycle $cycle")
+              assert(
+                cycle >= readyOf(x),
+                s"node ${id.index} reads node ${x.index} in cycle $cycle, written only in ${readyOf(x) - 1}"
+              )
+              assert(
+                b.reads.contains(BankRead(x, b.bankOf(x).get, port, cycle)),
+                s"node ${id.index}: no read of node ${x.index} in cycle $cycle"
+              )
             case (Operand.Forwarded(x), _) =>
-              assert(readyOf(x) + forwardLead == o.issue, s"node ${id.index} takes node ${x.index} off its unit in cycle ${o.issue}, there only in ${readyOf(x)}")
+              assert(
+                readyOf(x) + forwardLead == o.issue,
+                s"node ${id.index} takes node ${x.index} off its unit in cycle ${o.issue}, there only in ${readyOf(x)}"
+              )
             case _ =>
           }
           val latency = op match {
             case Op.Mul(_, _) =>
               val shape = p.schedule.unitShape(o.unit)
               o.operands.zip(Seq(shape.wide, shape.narrow)).foreach { case (x, w) =>
-                x.carried.foreach(n => assert(p.analysis(n).format.width <= w, s"node ${id.index}: a ${p.analysis(n).format.width}-bit operand on a $w-bit port"))
+                x.carried.foreach(n =>
+                  assert(
+                    p.analysis(n).format.width <= w,
+                    s"node ${id.index}: a ${p.analysis(n).format.width}-bit operand on a $w-bit port"
+                  )
+                )
               }
               PipelinedMultiplier.latency(shape.wide, shape.narrow) + p.multiplierLatency - 1 + 1
             case _ => 1
           }
-          assert(readyOf(id) == o.issue + latency, s"node ${id.index}: ready ${readyOf(id)}, issued ${o.issue} + latency $latency")
+          assert(
+            readyOf(id) == o.issue + latency,
+            s"node ${id.index}: ready ${readyOf(id)}, issued ${o.issue} + latency $latency"
+          )
       }
     }
     // One operation per unit and residue.
@@ -77,7 +113,10 @@ class BankedScheduleSpec extends AnyFlatSpec {
     assert(units.distinct.size == units.size, "two operations share a unit in one residue")
     // One value per read port and residue (two readers of one value in one cycle share it).
     b.reads.groupBy(r => (r.bank, r.port, r.cycle % ii)).foreach { case (key, rs) =>
-      assert(rs.map(r => (r.node, r.cycle)).distinct.size == 1, s"read port $key serves ${rs.map(_.node.index).distinct} in one residue")
+      assert(
+        rs.map(r => (r.node, r.cycle)).distinct.size == 1,
+        s"read port $key serves ${rs.map(_.node.index).distinct} in one residue"
+      )
     }
     // One write per bank and residue: the values read from it, each in the cycle before it is ready.
     b.values.zipWithIndex.foreach { case (vs, bank) =>
@@ -91,53 +130,100 @@ class BankedScheduleSpec extends AnyFlatSpec {
       vs.foreach { v =>
         b.reads.filter(_.node == v).foreach { r =>
           val arrayRead = r.cycle + 1
-          assert(b.copies(bank) * ii + readyOf(v) > arrayRead,
-            s"bank $bank keeps ${b.copies(bank)} copies: node ${v.index} (ready ${readyOf(v)}) is overwritten in or before cycle $arrayRead, when its read reads the array")
+          assert(
+            b.copies(bank) * ii + readyOf(v) > arrayRead,
+            s"bank $bank keeps ${b.copies(bank)} copies: node ${v.index} (ready ${readyOf(v)}) is overwritten in or before cycle $arrayRead, when its read reads the array"
+          )
         }
       }
     }
-    assert(b.reads.forall(r => b.values(r.bank).contains(r.node)), "a value is read from a bank that does not keep it")
+    assert(
+      b.reads.forall(r => b.values(r.bank).contains(r.node)),
+      "a value is read from a bank that does not keep it"
+    )
     assert(b.latency == g.outputs.map(o => readyOf(o.node)).max + BankedSchedule.outputStages)
-    assert(b.latency >= b.dependenceBound, s"latency ${b.latency} below the dependence bound ${b.dependenceBound}")
+    assert(
+      b.latency >= b.dependenceBound,
+      s"latency ${b.latency} below the dependence bound ${b.dependenceBound}"
+    )
     b
   }
 
   it should "schedule planar3 and the UR5 at several intervals, every promise kept" in {
-    Seq(("planar3", 6, Nil), ("planar3", 8, Nil), ("planar3", 40, Nil), ("ur5", 32, Seq(1e-3)), ("ur5", 64, Seq(1e-3)), ("ur5", 64, Nil),
-      ("ur5", 512, Seq(1e-3)), ("panda", 64, Seq(1e-3)), ("panda", 114, Seq(1e-3))).foreach { case (robot, ii, target) =>
+    Seq(
+      ("planar3", 6, Nil),
+      ("planar3", 8, Nil),
+      ("planar3", 40, Nil),
+      ("ur5", 32, Seq(1e-3)),
+      ("ur5", 64, Seq(1e-3)),
+      ("ur5", 64, Nil),
+      ("ur5", 512, Seq(1e-3)),
+      ("panda", 64, Seq(1e-3)),
+      ("panda", 114, Seq(1e-3))
+    ).foreach { case (robot, ii, target) =>
       val p = params(robot, ii, target)
       val b = check(p)
       val latencies = b.latencyByOrder.flatMap(_._2)
-      assert(latencies.nonEmpty && b.latency == latencies.min, s"$robot at $ii clocks: latency ${b.latency}, the list orders gave ${b.latencyByOrder}")
-      println(f"[banked] $robot%-8s II $ii%4d  latency ${b.latency}%4d (dependences ${b.dependenceBound}%4d)  mul units ${p.schedule.multiplierUnits}%3d " +
-        f"adder units ${b.adderUnits}%3d  banks ${b.banks.size}%3d  bank bits ${b.memoryBits}%7d  blocks ${p.schedule.multiplierBlocks}")
+      assert(
+        latencies.nonEmpty && b.latency == latencies.min,
+        s"$robot at $ii clocks: latency ${b.latency}, the list orders gave ${b.latencyByOrder}"
+      )
+      println(
+        f"[banked] $robot%-8s II $ii%4d  latency ${b.latency}%4d (dependences ${b.dependenceBound}%4d)  mul units ${p.schedule.multiplierUnits}%3d " +
+          f"adder units ${b.adderUnits}%3d  banks ${b.banks.size}%3d  bank bits ${b.memoryBits}%7d  blocks ${p.schedule.multiplierBlocks}"
+      )
     }
   }
 
   it should "keep the Panda at 114 clocks per sample with 5 adder units within 2 us at 130 MHz (issue 12's target is 2 us)" in {
-    val p = params("panda", 114, Seq(1e-3)).pipe(q => q.copy(scheduleRequest = q.scheduleRequest.copy(adderUnits = Some(5))))
+    val p = params("panda", 114, Seq(1e-3)).pipe(q =>
+      q.copy(scheduleRequest = q.scheduleRequest.copy(adderUnits = Some(5)))
+    )
     val b = p.banked.get
     assert(b.adderUnits == 5)
     assert(b.latency <= 260, s"latency ${b.latency} cycles (${b.latencyByOrder})")
     // The tries pay: the plain order alone is longer.
     val plain = p.copy(scheduleRequest = p.scheduleRequest.copy(listTries = 1)).banked.get
-    assert(plain.latency > b.latency, s"plain order ${plain.latency} cycles, best of ${p.scheduleRequest.listTries} ${b.latency}")
+    assert(
+      plain.latency > b.latency,
+      s"plain order ${plain.latency} cycles, best of ${p.scheduleRequest.listTries} ${b.latency}"
+    )
     // schedule.list-order asks for one order: that order's schedule, every promise kept.
     ListOrder.all.foreach { order =>
       val one = check(p.copy(scheduleRequest = p.scheduleRequest.copy(listOrder = Some(order))))
-      assert(one.listOrder == order && one.latencyByOrder == Seq(order -> Some(one.latency)), s"$order: ${one.latencyByOrder}")
-      assert(b.latencyByOrder.contains(order -> Some(one.latency)), s"$order: ${one.latency} cycles alone, ${b.latencyByOrder} in auto")
+      assert(
+        one.listOrder == order && one.latencyByOrder == Seq(order -> Some(one.latency)),
+        s"$order: ${one.latencyByOrder}"
+      )
+      assert(
+        b.latencyByOrder.contains(order -> Some(one.latency)),
+        s"$order: ${one.latency} cycles alone, ${b.latencyByOrder} in auto"
+      )
     }
   }
 
   it should "refuse intervals it cannot serve, naming the setting" in {
-    val adders = intercept[IllegalArgumentException](params("ur5", 64, Seq(1e-3)).pipe(q => q.copy(scheduleRequest = q.scheduleRequest.copy(adderUnits = Some(1)))).banked)
-    assert(adders.getMessage.contains("schedule.adder-units = 1") && adders.getMessage.contains("adder-units >= 4"), adders.getMessage)
+    val adders = intercept[IllegalArgumentException](
+      params("ur5", 64, Seq(1e-3))
+        .pipe(q => q.copy(scheduleRequest = q.scheduleRequest.copy(adderUnits = Some(1))))
+        .banked
+    )
+    assert(
+      adders.getMessage.contains("schedule.adder-units = 1") && adders.getMessage.contains(
+        "adder-units >= 4"
+      ),
+      adders.getMessage
+    )
     val one = intercept[IllegalArgumentException](params("planar3", 1).banked)
     assert(one.getMessage.contains("schedule.clocks-per-sample >= 2"), one.getMessage)
     val few = intercept[IllegalArgumentException](params("planar3", 4).banked)
     assert(few.getMessage.contains("schedule.clocks-per-sample >= 6"), few.getMessage)
     val tight = intercept[IllegalArgumentException](params("ur5", 16, Seq(1e-3)).banked)
-    assert(tight.getMessage.contains("schedule.clocks-per-sample") && tight.getMessage.contains("schedule.storage = registers"), tight.getMessage)
+    assert(
+      tight.getMessage.contains("schedule.clocks-per-sample") && tight.getMessage.contains(
+        "schedule.storage = registers"
+      ),
+      tight.getMessage
+    )
   }
 }

@@ -6,10 +6,10 @@ import reducerload.pipeline.PipelinedMultiplier
 import reducerload.testutil.ArmGolden
 
 /**
- * The modulo schedule's promises, checked from the graph and the hardware's timing rules, not from
- * the schedule's own bookkeeping: every operand is ready when read, no unit takes two operations in
- * one residue, every value is read before a later sample overwrites it, the budget holds; and
- * infeasible requests are refused naming the setting.
+ * The modulo schedule's promises, checked from the graph and the hardware's timing rules, not from the
+ * schedule's own bookkeeping: every operand is ready when read, no unit takes two operations in one residue,
+ * every value is read before a later sample overwrites it, the budget holds; and infeasible requests are
+ * refused naming the setting.
  */
 class ScheduleSpec extends AnyFlatSpec {
   behavior of "Schedule"
@@ -33,10 +33,21 @@ class ScheduleSpec extends AnyFlatSpec {
           op.operands.foreach { x =>
             // A forwarded product is read off its unit's output, the cycle before its register would hold it.
             val readable = s(x).map(r => if (s.forwarded(x)) r - 1 else r)
-            readable.foreach(ready => assert(ready <= issue, s"node ${id.index} reads node ${x.index} in cycle $issue, ready only in $ready"))
+            readable.foreach(ready =>
+              assert(
+                ready <= issue,
+                s"node ${id.index} reads node ${x.index} in cycle $issue, ready only in $ready"
+              )
+            )
             if (s.forwarded(x)) {
-              assert(readable.get == issue, s"forwarded node ${x.index} read in cycle $issue, on the unit's output only in ${readable.get}")
-              assert(g.ids.count(u => g(u).operands.contains(x)) == 1 && !g.outputs.exists(_.node == x), s"forwarded node ${x.index} has other readers")
+              assert(
+                readable.get == issue,
+                s"forwarded node ${x.index} read in cycle $issue, on the unit's output only in ${readable.get}"
+              )
+              assert(
+                g.ids.count(u => g(u).operands.contains(x)) == 1 && !g.outputs.exists(_.node == x),
+                s"forwarded node ${x.index} has other readers"
+              )
               assert(op.isInstanceOf[Op.Add] || op.isInstanceOf[Op.Sub] || op.isInstanceOf[Op.Neg])
             }
           }
@@ -44,35 +55,54 @@ class ScheduleSpec extends AnyFlatSpec {
             case Op.Mul(a, b) =>
               val own = MulShape.of(p.analysis(a).format.width, p.analysis(b).format.width)
               val shape = s.unitShape(s.slot(id).get.unit.get)
-              assert(shape.wide >= own.wide && shape.narrow >= own.narrow, s"node ${id.index}: a $own multiply on a $shape unit")
+              assert(
+                shape.wide >= own.wide && shape.narrow >= own.narrow,
+                s"node ${id.index}: a $own multiply on a $shape unit"
+              )
               val rounds = p.analysis.productRounding(id).drop > 0 &&
                 p.productRounding != reducerload.fixedpoint.Rounding.Truncate
-              PipelinedMultiplier.latency(shape.wide, shape.narrow) + p.multiplierLatency - 1 + (if (ii > 1 || rounds) 1 else 0)
-            case Op.Trig(_, _) => 1 + p.cordic.latency + (if (ii > 1 || s.cordicUnits < g.angles.size) 1 else 0)
-            case Op.Input(_)   => 1
-            case _             => 1
+              PipelinedMultiplier
+                .latency(shape.wide, shape.narrow) + p.multiplierLatency - 1 + (if (ii > 1 || rounds) 1
+                                                                                else 0)
+            case Op.Trig(_, _) =>
+              1 + p.cordic.latency + (if (ii > 1 || s.cordicUnits < g.angles.size) 1 else 0)
+            case Op.Input(_) => 1
+            case _           => 1
           }
-          assert(s(id).get == issue + latency, s"node ${id.index} ($op): ready ${s(id).get}, issued $issue + latency $latency")
+          assert(
+            s(id).get == issue + latency,
+            s"node ${id.index} ($op): ready ${s(id).get}, issued $issue + latency $latency"
+          )
       }
     }
     // One operation per unit and residue; every multiply and every angle on a unit.
     val mulSlots = g.ids.filter(g(_).isInstanceOf[Op.Mul]).map(id => s.slot(id).get)
-    assert(mulSlots.map(sl => (sl.unit.get, sl.issue % ii)).distinct.size == mulSlots.size, "two multiplies share a unit in one residue")
+    assert(
+      mulSlots.map(sl => (sl.unit.get, sl.issue % ii)).distinct.size == mulSlots.size,
+      "two multiplies share a unit in one residue"
+    )
     assert(mulSlots.forall(_.unit.get < s.multiplierUnits))
     val angleSlots = g.angles.map(s.angleSlot)
-    assert(angleSlots.map(sl => (sl.unit.get, sl.issue % ii)).distinct.size == angleSlots.size, "two angles share a CORDIC unit in one residue")
+    assert(
+      angleSlots.map(sl => (sl.unit.get, sl.issue % ii)).distinct.size == angleSlots.size,
+      "two angles share a CORDIC unit in one residue"
+    )
     // Readers: the output stage reads after every output is ready; latency is that plus its registers.
     g.outputs.foreach(o => assert(s(o.node).get <= s.outputsReady))
     assert(s.latency == g.outputs.map(o => s(o.node).get).max + Schedule.outputStages)
-    s.request.maxMultipliers.foreach(b => assert(s.multiplierBlocks <= b, s"${s.multiplierBlocks} blocks above the budget $b"))
+    s.request.maxMultipliers.foreach(b =>
+      assert(s.multiplierBlocks <= b, s"${s.multiplierBlocks} blocks above the budget $b")
+    )
     assert(s.multiplierUnits.toLong * ii >= mulSlots.size)
     s
   }
 
   private def figures(label: String, p: ArmParams): Unit = {
     val s = p.schedule
-    println(f"[schedule] $label%-28s II ${s.clocksPerSample}%3d  mul units ${s.multiplierUnits}%3d (${s.unitSummary}%-20s) " +
-      f"blocks ${s.multiplierBlocks}%4d  cordic ${s.cordicUnits}%2d  latency ${s.latency}%4d  held bits ${s.heldBits}%7d")
+    println(
+      f"[schedule] $label%-28s II ${s.clocksPerSample}%3d  mul units ${s.multiplierUnits}%3d (${s.unitSummary}%-20s) " +
+        f"blocks ${s.multiplierBlocks}%4d  cordic ${s.cordicUnits}%2d  latency ${s.latency}%4d  held bits ${s.heldBits}%7d"
+    )
   }
 
   it should "give every operation its own operator at one sample per clock (the ASAP schedule)" in {
@@ -84,8 +114,9 @@ class ScheduleSpec extends AnyFlatSpec {
       p.graph.ids.foreach { id =>
         val earliest = p.graph(id).operands.flatMap(s(_)).maxOption.getOrElse(0)
         p.graph(id) match {
-          case _: Op.Mul | _: Op.Add | _: Op.Sub | _: Op.Neg => assert(s.slot(id).get.issue == earliest, s"node ${id.index} not ASAP")
-          case _                                              =>
+          case _: Op.Mul | _: Op.Add | _: Op.Sub | _: Op.Neg =>
+            assert(s.slot(id).get.issue == earliest, s"node ${id.index} not ASAP")
+          case _ =>
         }
       }
     }
@@ -104,21 +135,28 @@ class ScheduleSpec extends AnyFlatSpec {
   }
 
   it should "derive the fewest clocks per sample from a multiplier budget" in {
-    Seq(66, 40, 16, ur5.schedule.classes.map(_.shape.blocks).sum + ur5.cordic.multiplierBlocks).foreach { budget =>
-      val q = scheduled(ur5, ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(budget)))
-      val s = check(q)
-      figures(s"ur5 budget $budget", q)
-      assert(s.multiplierBlocks <= budget)
-      // One clock fewer would need more blocks than the budget.
-      if (s.clocksPerSample > 1) {
-        val tighter = scala.util.Try(scheduled(ur5, ScheduleRequest(Some(s.clocksPerSample - 1), Some(budget))).schedule)
-        assert(tighter.isFailure, s"budget $budget: ${s.clocksPerSample - 1} clocks per sample would also fit")
-      }
+    Seq(66, 40, 16, ur5.schedule.classes.map(_.shape.blocks).sum + ur5.cordic.multiplierBlocks).foreach {
+      budget =>
+        val q = scheduled(ur5, ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(budget)))
+        val s = check(q)
+        figures(s"ur5 budget $budget", q)
+        assert(s.multiplierBlocks <= budget)
+        // One clock fewer would need more blocks than the budget.
+        if (s.clocksPerSample > 1) {
+          val tighter = scala.util.Try(
+            scheduled(ur5, ScheduleRequest(Some(s.clocksPerSample - 1), Some(budget))).schedule
+          )
+          assert(
+            tighter.isFailure,
+            s"budget $budget: ${s.clocksPerSample - 1} clocks per sample would also fit"
+          )
+        }
     }
   }
 
   it should "refuse infeasible requests naming the setting and what would work" in {
-    def refusal(r: ScheduleRequest): String = intercept[IllegalArgumentException](scheduled(ur5, r).schedule).getMessage
+    def refusal(r: ScheduleRequest): String =
+      intercept[IllegalArgumentException](scheduled(ur5, r).schedule).getMessage
     val least = ur5.schedule.classes.map(_.shape.blocks).sum + ur5.cordic.multiplierBlocks
     val few = refusal(ScheduleRequest(None, Some(least - 1)))
     assert(few.contains("schedule.max-multipliers") && few.contains(s"use at least $least"), few)
@@ -126,13 +164,26 @@ class ScheduleSpec extends AnyFlatSpec {
     assert(tight.contains("schedule.max-multipliers = 66") && tight.contains("clocks-per-sample >="), tight)
     val cordic = refusal(ScheduleRequest(Some(1), None, Some(1)))
     assert(cordic.contains("schedule.cordic-units = 1"), cordic)
-    assert(intercept[IllegalArgumentException](ScheduleRequest(Some(0))).getMessage.contains("schedule.clocks-per-sample"))
-    val shiftAddInBanks = intercept[IllegalArgumentException](ScheduleRequest(Some(8), storage = Storage.Memory, constantMultiplies = ConstantMultiplies.ShiftAdd))
-    assert(shiftAddInBanks.getMessage.contains("schedule.constant-multiplies = shift-add needs schedule.storage = registers"), shiftAddInBanks.getMessage)
+    assert(
+      intercept[IllegalArgumentException](ScheduleRequest(Some(0))).getMessage
+        .contains("schedule.clocks-per-sample")
+    )
+    val shiftAddInBanks = intercept[IllegalArgumentException](
+      ScheduleRequest(Some(8), storage = Storage.Memory, constantMultiplies = ConstantMultiplies.ShiftAdd)
+    )
+    assert(
+      shiftAddInBanks.getMessage.contains(
+        "schedule.constant-multiplies = shift-add needs schedule.storage = registers"
+      ),
+      shiftAddInBanks.getMessage
+    )
   }
 }
 
-/** `numeric.target-error`: the fewest fraction bits whose derived bounds meet the target, checked against one bit fewer. */
+/**
+ * `numeric.target-error`: the fewest fraction bits whose derived bounds meet the target, checked against one
+ * bit fewer.
+ */
 class TargetErrorSpec extends AnyFlatSpec {
   behavior of "numeric.target-error"
 
@@ -142,26 +193,48 @@ class TargetErrorSpec extends AnyFlatSpec {
     Seq(1e-2, 1e-3, 4e-4).foreach { target =>
       val p = ArmConfig(ur5.copy(targetError = Seq(target)))
       assert(p.errorBounds.forall(_ <= target), s"target $target: bounds ${p.errorBounds}")
-      val fewer = ArmConfig.fitted(p, Seq.fill(p.chain.size)(Double.MaxValue)) // any bits meet this: the fewest allowed
-      val oneLess = scala.util.Try(p.copy(velocityFracBits = p.velocityFracBits - 1, accelerationFracBits = p.accelerationFracBits - 1,
-        constantFracBits = p.constantFracBits - 1, internalFracBits = p.internalFracBits - 1, outputFracBits = p.outputFracBits - 1))
-      oneLess.foreach(q => assert(q.errorBounds.zipWithIndex.exists { case (b, _) => b > target }, s"target $target: one bit fewer also meets it"))
+      val fewer =
+        ArmConfig.fitted(p, Seq.fill(p.chain.size)(Double.MaxValue)) // any bits meet this: the fewest allowed
+      val oneLess = scala.util.Try(
+        p.copy(
+          velocityFracBits = p.velocityFracBits - 1,
+          accelerationFracBits = p.accelerationFracBits - 1,
+          constantFracBits = p.constantFracBits - 1,
+          internalFracBits = p.internalFracBits - 1,
+          outputFracBits = p.outputFracBits - 1
+        )
+      )
+      oneLess.foreach(q =>
+        assert(
+          q.errorBounds.zipWithIndex.exists { case (b, _) => b > target },
+          s"target $target: one bit fewer also meets it"
+        )
+      )
       // No kind of value can lose a bit on its own either (the fit narrows each kind after the common shift).
       val kinds = Seq[(String, ArmParams => ArmParams)](
         "velocity" -> (q => q.copy(velocityFracBits = q.velocityFracBits - 1)),
         "acceleration" -> (q => q.copy(accelerationFracBits = q.accelerationFracBits - 1)),
         "constant" -> (q => q.copy(constantFracBits = q.constantFracBits - 1)),
         "internal" -> (q => q.copy(internalFracBits = q.internalFracBits - 1)),
-        "output" -> (q => q.copy(outputFracBits = q.outputFracBits - 1)))
+        "output" -> (q => q.copy(outputFracBits = q.outputFracBits - 1))
+      )
       // (With per-node caps chosen, the constants' and products' minimality is each node's, checked below.)
-      kinds.filter { case (kind, _) => p.fracBitLimits.isEmpty || !Set("constant", "internal")(kind) }.foreach { case (kind, less) =>
-        scala.util.Try(less(p)).flatMap(q => scala.util.Try(q.errorBounds)).foreach(bounds =>
-          assert(bounds.exists(_ > target), s"target $target: one $kind fraction bit fewer also meets it"))
-      }
+      kinds
+        .filter { case (kind, _) => p.fracBitLimits.isEmpty || !Set("constant", "internal")(kind) }
+        .foreach { case (kind, less) =>
+          scala.util
+            .Try(less(p))
+            .flatMap(q => scala.util.Try(q.errorBounds))
+            .foreach(bounds =>
+              assert(bounds.exists(_ > target), s"target $target: one $kind fraction bit fewer also meets it")
+            )
+        }
       TargetErrorSpec.checkNodes(p, Seq.fill(p.chain.size)(target), s"ur5 target $target")
       assert(fewer.internalFracBits <= p.internalFracBits)
-      println(f"[target] ur5 target $target%.0e N·m: internal frac bits ${p.internalFracBits}, worst bound ${p.errorBound}%.3e, " +
-        s"widest node ${p.analysis.widest._2.format}, ${p.copy(scheduleRequest = ScheduleRequest(None, Some(66))).schedule.unitSummary}")
+      println(
+        f"[target] ur5 target $target%.0e N·m: internal frac bits ${p.internalFracBits}, worst bound ${p.errorBound}%.3e, " +
+          s"widest node ${p.analysis.widest._2.format}, ${p.copy(scheduleRequest = ScheduleRequest(None, Some(66))).schedule.unitSummary}"
+      )
     }
     val perJoint = ArmConfig(ur5.copy(targetError = Seq(1e-3, 1e-3, 1e-3, 1e-4, 1e-4, 1e-5)))
     assert(perJoint.errorBounds.zip(Seq(1e-3, 1e-3, 1e-3, 1e-4, 1e-4, 1e-5)).forall { case (b, t) => b <= t })
@@ -173,41 +246,56 @@ class TargetErrorSpec extends AnyFlatSpec {
     assert(!joint3.fracBitLimits.isEmpty, "the shared preset's fit caps no node")
     TargetErrorSpec.checkNodes(joint3, shared.targetError, "preset shared")
     // Capped nodes mix widths; in the UR5's 64-clock memory schedule that splits a multiplier class, so the fit keeps the kinds' bits.
-    val memory = ArmConfig(ur5.copy(targetError = Seq(1e-3), schedule = ScheduleRequest(Some(64), storage = Storage.Memory)))
+    val memory = ArmConfig(
+      ur5.copy(targetError = Seq(1e-3), schedule = ScheduleRequest(Some(64), storage = Storage.Memory))
+    )
     TargetErrorSpec.checkNodes(memory, Seq.fill(memory.chain.size)(1e-3), "ur5 memory ii64")
   }
 
   it should "refuse a target the sin/cos unit cannot reach, and a wrong number of targets" in {
     val e = intercept[IllegalArgumentException](ArmConfig(ur5.copy(targetError = Seq(1e-12))))
-    assert(e.getMessage.contains("numeric.target-error") && e.getMessage.contains("cordic.output-bits"), e.getMessage)
+    assert(
+      e.getMessage.contains("numeric.target-error") && e.getMessage.contains("cordic.output-bits"),
+      e.getMessage
+    )
     val n = intercept[IllegalArgumentException](ArmConfig(ur5.copy(targetError = Seq(1e-3, 1e-3))))
     assert(n.getMessage.contains("numeric.target-error gives 2 values"), n.getMessage)
   }
 }
 
 object TargetErrorSpec {
+
   /**
-   * `p` meets its targets and costs no more than the other fit: with per-node caps, no capped-able
-   * node (constant or product) can lose one more bit, and the kinds' fit alone is not cheaper; without,
-   * the per-node caps would not be cheaper.
+   * `p` meets its targets and costs no more than the other fit: with per-node caps, no capped-able node
+   * (constant or product) can lose one more bit, and the kinds' fit alone is not cheaper; without, the
+   * per-node caps would not be cheaper.
    */
   def checkNodes(p: ArmParams, targets: Seq[Double], label: String): Unit = {
-    def under(limits: FracBitLimits) = scala.util.Try(new Analysis(p.graph, p.numerics, p.rangeHints, limits)).toOption
+    def under(limits: FracBitLimits) =
+      scala.util.Try(new Analysis(p.graph, p.numerics, p.rangeHints, limits)).toOption
     def meets(a: Analysis) = a.outputs.map(_.errorBound).zip(targets).forall { case (b, t) => b <= t }
     assert(meets(p.analysis), s"$label: bounds ${p.errorBounds} miss $targets")
     val alternative =
-      if (p.fracBitLimits.isEmpty) p.copy(fracBitLimits = ArmConfig.narrowedNodes(p.analysis, l => under(l).filter(meets)))
+      if (p.fracBitLimits.isEmpty)
+        p.copy(fracBitLimits = ArmConfig.narrowedNodes(p.analysis, l => under(l).filter(meets)))
       else p.copy(fracBitLimits = FracBitLimits.none)
-    assert(Ordering[(Int, Int, Int)].lteq(ArmConfig.cost(p), ArmConfig.cost(alternative)),
-      s"$label: the fit chose cost ${ArmConfig.cost(p)} over ${ArmConfig.cost(alternative)}")
+    assert(
+      Ordering[(Int, Int, Int)].lteq(ArmConfig.cost(p), ArmConfig.cost(alternative)),
+      s"$label: the fit chose cost ${ArmConfig.cost(p)} over ${ArmConfig.cost(alternative)}"
+    )
     if (!p.fracBitLimits.isEmpty) p.graph.ids.foreach { id =>
       val bits = p.analysis(id).format.fracBits
       val cappable = p.graph(id) match { case Op.Const(_) | Op.Mul(_, _) => bits > 0; case _ => false }
       if (cappable) under(p.fracBitLimits.capped(id, bits - 1)).foreach { a =>
-        assert(!meets(a) || a(id).raw.contains(BigInt(0)), s"$label: ${p.graph.describe(id)} can lose a fraction bit and still meet the target")
+        assert(
+          !meets(a) || a(id).raw.contains(BigInt(0)),
+          s"$label: ${p.graph.describe(id)} can lose a fraction bit and still meet the target"
+        )
       }
     }
-    println(s"[target] $label: ${p.fracBitLimits.byNode.size} node(s) capped below their kind; cost (blocks, units, bits) ${ArmConfig.cost(p)}, " +
-      s"the other fit ${ArmConfig.cost(alternative)}")
+    println(
+      s"[target] $label: ${p.fracBitLimits.byNode.size} node(s) capped below their kind; cost (blocks, units, bits) ${ArmConfig.cost(p)}, " +
+        s"the other fit ${ArmConfig.cost(alternative)}"
+    )
   }
 }

@@ -17,7 +17,11 @@ object LoadChecks {
       case _ => (2 * rng.nextDouble() - 1) * m
     }
     def angle() = (rng.nextDouble() * 4 - 2) * math.Pi
-    ArmSample(IndexedSeq.fill(3)(angle()), r.maxVelocity.map(within).toIndexedSeq, r.maxAcceleration.map(within).toIndexedSeq)
+    ArmSample(
+      IndexedSeq.fill(3)(angle()),
+      r.maxVelocity.map(within).toIndexedSeq,
+      r.maxAcceleration.map(within).toIndexedSeq
+    )
   }
 
   /** Like randomSample, but one velocity or acceleration is beyond its declared range (either sign). */
@@ -29,7 +33,10 @@ object LoadChecks {
     ArmSample.fromRow(s.toSeq)
   }
 
-  /** The joint-3 design's bit-accurate model on planar3 samples: the arm model of its graph (one output, the load). */
+  /**
+   * The joint-3 design's bit-accurate model on planar3 samples: the arm model of its graph (one output, the
+   * load).
+   */
   final class Joint3Model(p: LoadParams) {
     val model = new ArmModel(p.arm)
     def encode(s: ArmSample): SampleCodes = model.encode(s)

@@ -38,7 +38,9 @@ class LoadModelSpec extends AnyFlatSpec {
     for ((name, p) <- LoadParams.presets; t <- Golden.all) {
       val m = new LoadChecks.Joint3Model(p)
       val err = t.samples.map(s => math.abs(m.evaluate(s) - LoadReference.torque(p.robot, p.model, s))).max
-      println(f"[load-model] $name%-8s ${t.name}%-13s max |model - double| $err%.3e N·m, bound ${p.errorBound}%.3e")
+      println(
+        f"[load-model] $name%-8s ${t.name}%-13s max |model - double| $err%.3e N·m, bound ${p.errorBound}%.3e"
+      )
       assert(err <= p.errorBound)
     }
   }
@@ -49,13 +51,25 @@ class LoadModelSpec extends AnyFlatSpec {
     val configs = 150
     val worst = (0 until configs).map { _ =>
       val robot = RobotParams(
-        m3 = pick(5, 20), l1 = pick(0.2, 0.6), l2 = pick(0.2, 0.6), l3 = pick(0.2, 0.6), g = pick(0, 9.81),
-        maxVelocity = Seq.fill(3)(pick(0.5, 3)), maxAcceleration = Seq.fill(3)(pick(1, 10)))
+        m3 = pick(5, 20),
+        l1 = pick(0.2, 0.6),
+        l2 = pick(0.2, 0.6),
+        l3 = pick(0.2, 0.6),
+        g = pick(0, 9.81),
+        maxVelocity = Seq.fill(3)(pick(0.5, 3)),
+        maxAcceleration = Seq.fill(3)(pick(1, 10))
+      )
       val bits = 12 + rng.nextInt(14)
       val p = LoadParams(
         robot = robot,
         model = if (rng.nextBoolean()) LoadModel.Exact else LoadModel.PaperEq6,
-        cordic = CordicParams(angleBits = bits + 2, outputBits = bits + 2, iterations = bits, guardBits = 1 + rng.nextInt(5), angleGuardBits = 3 + rng.nextInt(3)),
+        cordic = CordicParams(
+          angleBits = bits + 2,
+          outputBits = bits + 2,
+          iterations = bits,
+          guardBits = 1 + rng.nextInt(5),
+          angleGuardBits = 3 + rng.nextInt(3)
+        ),
         velocityFracBits = 10 + rng.nextInt(12),
         accelerationFracBits = 10 + rng.nextInt(12),
         constantFracBits = 12 + rng.nextInt(14),
@@ -70,7 +84,9 @@ class LoadModelSpec extends AnyFlatSpec {
         err / p.errorBound
       }.max
     }
-    println(f"[load-model] $configs random configurations x 100 samples: worst error / bound = ${worst.max}%.3f")
+    println(
+      f"[load-model] $configs random configurations x 100 samples: worst error / bound = ${worst.max}%.3f"
+    )
   }
 
   it should "clamp inputs beyond the declared ranges, flag them, and never flag in-range inputs" in {
@@ -89,7 +105,10 @@ class LoadModelSpec extends AnyFlatSpec {
       val beyond = base.clone(); beyond(i) = sign * limit * 1.25
       val outBeyond = m.evaluate(m.encode(ArmSample.fromRow(beyond.toSeq)))
       val outClamped = m.evaluate(m.encode(ArmSample.fromRow(clamped.toSeq)))
-      assert(outBeyond.outOfRange.exists(identity), s"input ${Joint3Columns.names(i)} = ${beyond(i)} not flagged")
+      assert(
+        outBeyond.outOfRange.exists(identity),
+        s"input ${Joint3Columns.names(i)} = ${beyond(i)} not flagged"
+      )
       assert(!outClamped.outOfRange.exists(identity), s"input ${Joint3Columns.names(i)} at its limit flagged")
       assert(outBeyond.tau == outClamped.tau, s"input ${Joint3Columns.names(i)} beyond range is not clamped")
     }

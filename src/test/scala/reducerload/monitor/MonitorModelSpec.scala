@@ -11,29 +11,50 @@ import scala.util.Random
 class MonitorModelSpec extends AnyFlatSpec {
   behavior of "MonitorModel and MonitorSummary"
 
-  /** One joint fed like the datapath: the golden tau3 in the load output format, d3 in the velocity format. */
+  /**
+   * One joint fed like the datapath: the golden tau3 in the load output format, d3 in the velocity format.
+   */
   private def goldenParams(exponent: Double): MonitorParams = {
     val lp = LoadParams.default
-    MonitorParams(Seq("joint3"), Seq(lp.arm.analysis.outputPortFormat), Seq(lp.arm.numerics.velocityFormats(2)), Seq(60.0), Seq(90.0), Seq(exponent), Seq(101.0),
-      Seq(12), Seq(10.0), samplePeriodS = 5e-3)
+    MonitorParams(
+      Seq("joint3"),
+      Seq(lp.arm.analysis.outputPortFormat),
+      Seq(lp.arm.numerics.velocityFormats(2)),
+      Seq(60.0),
+      Seq(90.0),
+      Seq(exponent),
+      Seq(101.0),
+      Seq(12),
+      Seq(10.0),
+      samplePeriodS = 5e-3
+    )
   }
 
   private def compare(p: MonitorParams, samples: Seq[MonitorSampleCodes], label: String): Unit = {
     val model = new MonitorModel(p)
-    val end = model.run((samples.map(s => MonitorCycle(Some(s))) :+ MonitorCycle(None, snapshot = true)).iterator)
+    val end =
+      model.run((samples.map(s => MonitorCycle(Some(s))) :+ MonitorCycle(None, snapshot = true)).iterator)
     val hw = MonitorSummary.fromSnapshot(p, end.shadow)
     val ref = MonitorReference.summarize(p, samples.map(MonitorReference.values(p, _)))
     (0 until p.joints).foreach { j =>
       val (h, r) = (hw(j), ref(j))
       assert(h.histogram == r.histogram, s"$label ${h.name}: histogram ${h.histogram} vs ${r.histogram}")
-      assert(h.repeatedPeakSamples == r.repeatedPeakSamples && h.momentaryPeakEvents == r.momentaryPeakEvents, s"$label ${h.name}: counts")
-      assert(h.peakAbsNm == r.peakAbsNm && h.lastEventPeakNm == r.lastEventPeakNm && h.lastEventDurationSamples == r.lastEventDurationSamples)
+      assert(
+        h.repeatedPeakSamples == r.repeatedPeakSamples && h.momentaryPeakEvents == r.momentaryPeakEvents,
+        s"$label ${h.name}: counts"
+      )
+      assert(
+        h.peakAbsNm == r.peakAbsNm && h.lastEventPeakNm == r.lastEventPeakNm && h.lastEventDurationSamples == r.lastEventDurationSamples
+      )
       val damageBound = MonitorSummary.damageSumBound(p, j, h.damageSum, r.speedSumRad)
       val tavBound = MonitorSummary.avgTorqueBound(p, j, end.shadow.joints(j)).get
-      val (dErr, tErr) = (math.abs(h.damageSum - r.damageSum), math.abs(h.avgTorqueNm.get - r.avgTorqueNm.get))
-      println(f"[monitor] $label ${h.name} p=${p.lifeExponents(j)}%.3f: T_av ${h.avgTorqueNm.get}%.6f N·m (ref ${r.avgTorqueNm.get}%.6f, " +
-        f"error $tErr%.2e, bound $tavBound%.2e), damage error ${dErr / r.damageSum}%.2e relative (bound ${damageBound / r.damageSum}%.2e), " +
-        f"peak ${h.peakAbsNm.get}%.3f N·m, ${h.repeatedPeakSamples} > T_R, ${h.momentaryPeakEvents} events")
+      val (dErr, tErr) =
+        (math.abs(h.damageSum - r.damageSum), math.abs(h.avgTorqueNm.get - r.avgTorqueNm.get))
+      println(
+        f"[monitor] $label ${h.name} p=${p.lifeExponents(j)}%.3f: T_av ${h.avgTorqueNm.get}%.6f N·m (ref ${r.avgTorqueNm.get}%.6f, " +
+          f"error $tErr%.2e, bound $tavBound%.2e), damage error ${dErr / r.damageSum}%.2e relative (bound ${damageBound / r.damageSum}%.2e), " +
+          f"peak ${h.peakAbsNm.get}%.3f N·m, ${h.repeatedPeakSamples} > T_R, ${h.momentaryPeakEvents} events"
+      )
       assert(dErr <= damageBound && tErr <= tavBound, s"$label ${h.name}: beyond the derived bound")
       assert(math.abs(h.avgSpeedRadS.get - r.avgSpeedRadS.get) <= 1e-12 * (1 + r.avgSpeedRadS.get))
     }
@@ -43,8 +64,11 @@ class MonitorModelSpec extends AnyFlatSpec {
     for (exponent <- Seq(3.0, 10.0 / 3.0); t <- Golden.all) {
       val p = goldenParams(exponent)
       val samples = t.samples.indices.map { i =>
-        MonitorSampleCodes(IndexedSeq(p.torqueFormats(0).quantize(t.exact(i), Rounding.HalfUp)),
-          IndexedSeq(p.velocityFormats(0).quantize(t.samples(i).qd(2), Rounding.HalfUp)), IndexedSeq(false))
+        MonitorSampleCodes(
+          IndexedSeq(p.torqueFormats(0).quantize(t.exact(i), Rounding.HalfUp)),
+          IndexedSeq(p.velocityFormats(0).quantize(t.samples(i).qd(2), Rounding.HalfUp)),
+          IndexedSeq(false)
+        )
       }
       compare(p, samples, t.name)
     }
@@ -63,20 +87,36 @@ class MonitorModelSpec extends AnyFlatSpec {
     assert(math.abs(MonitorSummary.life(p, 0, Some(50.0), Some(w), Some(rated)).get - 35000.0) < 1e-6)
     assert(math.abs(MonitorSummary.life(p, 0, Some(100.0), Some(w), Some(rated)).get - 35000.0 / 8) < 1e-6)
     assert(math.abs(MonitorSummary.life(p, 0, Some(50.0), Some(w * 2), Some(rated)).get - 17500.0) < 1e-6)
-    assert(MonitorSummary.life(p, 0, None, Some(w), Some(rated)).isEmpty && MonitorSummary.life(p, 0, Some(50.0), Some(w), None).isEmpty)
+    assert(
+      MonitorSummary.life(p, 0, None, Some(w), Some(rated)).isEmpty && MonitorSummary
+        .life(p, 0, Some(50.0), Some(w), None)
+        .isEmpty
+    )
   }
 
   it should "render the summary as JSON with null for a joint that never moved" in {
     val p = MonitorStimulus.threeJoints
-    val still = MonitorSampleCodes(IndexedSeq(BigInt(1000), BigInt(-5), BigInt(0)), IndexedSeq(BigInt(0), BigInt(0), BigInt(0)), IndexedSeq(false, false, true))
+    val still = MonitorSampleCodes(
+      IndexedSeq(BigInt(1000), BigInt(-5), BigInt(0)),
+      IndexedSeq(BigInt(0), BigInt(0), BigInt(0)),
+      IndexedSeq(false, false, true)
+    )
     val m = new MonitorModel(p)
     val end = m.run(Iterator(MonitorCycle(Some(still)), MonitorCycle(None, snapshot = true)))
     val hw = MonitorSummary.fromSnapshot(p, end.shadow, Seq(Some(RatedReducer(50, 2000, 35000)), None, None))
     val ref = MonitorReference.summarize(p, Seq(MonitorReference.values(p, still)))
     val json = MonitorSummary.json(p, hw, Some(ref))
     println(json.linesIterator.take(26).mkString("\n"))
-    assert(json.contains("\"avg_torque_nm\": null") && json.contains("\"peak_abs_nm\": null") && json.contains("\"out_of_range_samples\": 1"))
-    assert(json.contains("\"name\": \"base\"") && json.contains("\"difference\"") && json.contains("\"histogram\": [1, 0,"))
+    assert(
+      json.contains("\"avg_torque_nm\": null") && json.contains("\"peak_abs_nm\": null") && json.contains(
+        "\"out_of_range_samples\": 1"
+      )
+    )
+    assert(
+      json.contains("\"name\": \"base\"") && json.contains("\"difference\"") && json.contains(
+        "\"histogram\": [1, 0,"
+      )
+    )
     assert(json.count(_ == '{') == json.count(_ == '}') && json.count(_ == '[') == json.count(_ == ']'))
   }
 }

@@ -9,21 +9,32 @@ object MonitorStimulus {
   /** A 3-joint monitor with three formats, exponents (3, 10/3, 1.5), dyadic and non-dyadic limits. */
   val threeJoints: MonitorParams = MonitorParams(
     jointNames = Seq("base", "elbow", "wrist"),
-    torqueFormats = Seq(reducerload.fixedpoint.FixedFormat(8, 16), reducerload.fixedpoint.FixedFormat(6, 20),
-      reducerload.fixedpoint.FixedFormat(4, 13)),
-    velocityFormats = Seq(reducerload.fixedpoint.FixedFormat(2, 16), reducerload.fixedpoint.FixedFormat(3, 18),
-      reducerload.fixedpoint.FixedFormat(2, 12)),
+    torqueFormats = Seq(
+      reducerload.fixedpoint.FixedFormat(8, 16),
+      reducerload.fixedpoint.FixedFormat(6, 20),
+      reducerload.fixedpoint.FixedFormat(4, 13)
+    ),
+    velocityFormats = Seq(
+      reducerload.fixedpoint.FixedFormat(2, 16),
+      reducerload.fixedpoint.FixedFormat(3, 18),
+      reducerload.fixedpoint.FixedFormat(2, 12)
+    ),
     repeatedPeakNm = Seq(40.0, 12.3, 3.5),
     momentaryPeakNm = Seq(100.0, 30.7, 7.25),
     lifeExponents = Seq(3.0, 10.0 / 3.0, 1.5),
     gearRatios = Seq(100.0, 81.0, 50.0),
     histogramBins = Seq(16, 10, 8),
     histogramBinWidthNm = Seq(16.0, 5.5, 1.9),
-    samplePeriodS = 1e-3)
+    samplePeriodS = 1e-3
+  )
 
-  private def uniform(rng: Random, lo: BigInt, hi: BigInt): BigInt = lo + (BigInt(62, rng.self) mod (hi - lo + 1))
+  private def uniform(rng: Random, lo: BigInt, hi: BigInt): BigInt =
+    lo + (BigInt(62, rng.self) mod (hi - lo + 1))
 
-  /** One joint's torque for a dwell `mode`: 0 quiet, 1 between T_R and T_M, 2 above T_M, 3 within 3 codes of a limit, 4 anywhere. */
+  /**
+   * One joint's torque for a dwell `mode`: 0 quiet, 1 between T_R and T_M, 2 above T_M, 3 within 3 codes of a
+   * limit, 4 anywhere.
+   */
   def torque(p: MonitorParams, j: Int, mode: Int, rng: Random): BigInt = {
     val max = p.torqueFormats(j).maxRaw // never the most negative code: a datapath clamps symmetrically
     val (r, m) = (p.repeatedPeakCode(j), p.momentaryPeakCode(j))
@@ -54,14 +65,15 @@ object MonitorStimulus {
       MonitorSampleCodes(
         (0 until p.joints).map(j => torque(p, j, modes(j), rng)),
         (0 until p.joints).map(j => velocity(p, j, modes(j), rng)),
-        (0 until p.joints).map(_ => rng.nextInt(16) == 0))
+        (0 until p.joints).map(_ => rng.nextInt(16) == 0)
+      )
     }
   }
 
   /**
-   * Each joint's magnitudes around its limits, in this order (signs alternate):
-   * r-1, r, r+1, -(r-1), -r, -(r+1), m-1, m, m+1, m+2, m, m+1 (r, m: the T_R and T_M codes).
-   * Expected: 8 samples above T_R; events {m+1, m+2} and {m+1}: 2 events, the last of 1 sample, peak m+1.
+   * Each joint's magnitudes around its limits, in this order (signs alternate): r-1, r, r+1, -(r-1), -r,
+   * -(r+1), m-1, m, m+1, m+2, m, m+1 (r, m: the T_R and T_M codes). Expected: 8 samples above T_R; events
+   * {m+1, m+2} and {m+1}: 2 events, the last of 1 sample, peak m+1.
    */
   def thresholdSamples(p: MonitorParams, rng: Random): IndexedSeq[MonitorSampleCodes] = {
     def row(j: Int): Seq[BigInt] = {
@@ -70,7 +82,11 @@ object MonitorStimulus {
     }
     val rows = (0 until p.joints).map(row)
     rows.head.indices.map { i =>
-      MonitorSampleCodes(rows.map(_(i)).toIndexedSeq, (0 until p.joints).map(j => velocity(p, j, 4, rng)), IndexedSeq.fill(p.joints)(false))
+      MonitorSampleCodes(
+        rows.map(_(i)).toIndexedSeq,
+        (0 until p.joints).map(j => velocity(p, j, 4, rng)),
+        IndexedSeq.fill(p.joints)(false)
+      )
     }
   }
 }

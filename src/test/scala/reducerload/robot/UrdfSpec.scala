@@ -13,10 +13,18 @@ class UrdfSpec extends AnyFlatSpec {
 
   private def close(a: Double, b: Double): Boolean = math.abs(a - b) <= tolerance
   private def assertVec(actual: Vec3, expected: Vec3, what: String): Unit =
-    assert(actual.toSeq.zip(expected.toSeq).forall { case (a, b) => close(a, b) }, s"$what: $actual, expected $expected")
+    assert(
+      actual.toSeq.zip(expected.toSeq).forall { case (a, b) => close(a, b) },
+      s"$what: $actual, expected $expected"
+    )
   private def assertMat(actual: Mat3, expected: Mat3, what: String): Unit =
-    assert(actual.rows.flatten.zip(expected.rows.flatten).forall { case (a, b) => close(a, b) }, s"$what: $actual, expected $expected")
-  private def rows(r0: Seq[Double], r1: Seq[Double], r2: Seq[Double]) = Mat3(IndexedSeq(r0, r1, r2).map(_.toIndexedSeq))
+    assert(
+      actual.rows.flatten.zip(expected.rows.flatten).forall { case (a, b) => close(a, b) },
+      s"$what: $actual, expected $expected"
+    )
+  private def rows(r0: Seq[Double], r1: Seq[Double], r2: Seq[Double]) = Mat3(
+    IndexedSeq(r0, r1, r2).map(_.toIndexedSeq)
+  )
   private def diag(x: Double, y: Double, z: Double) = Mat3.diagonal(Vec3(x, y, z))
 
   // Rotations by a quarter turn, written out (rpy 1.5707963267948966 snaps to exact 0/1 entries).
@@ -70,7 +78,11 @@ class UrdfSpec extends AnyFlatSpec {
     // l2: rod inertia diag(0.02, 0.02, 0.001) pitched by 90 degrees -> diag(0.001, 0.02, 0.02); bracket is massless.
     assert(close(elbow.body.mass, 1.5))
     assertVec(elbow.body.com, Vec3(0.25, 0, 0), "elbow com")
-    assertMat(elbow.body.inertia, rotY90 * diag(0.02, 0.02, 0.001) * rotY90.transpose, "elbow inertia (rotation)")
+    assertMat(
+      elbow.body.inertia,
+      rotY90 * diag(0.02, 0.02, 0.001) * rotY90.transpose,
+      "elbow inertia (rotation)"
+    )
     assertMat(elbow.body.inertia, diag(0.001, 0.02, 0.02), "elbow inertia")
     // l3 0.5 kg at z 0.05 and tool 0.5 kg at z 0.1 (a child of the tip): 1 kg at z 0.075, each 0.025
     // from it: diag(0.001) + 2 * 0.5 * 0.025^2 on x and y.
@@ -95,23 +107,51 @@ class UrdfSpec extends AnyFlatSpec {
     val body = chain.joints(1).body
     assert(close(body.mass, 2.5))
     assertVec(body.com, Vec3(0.35, 0, 0.03), "elbow com")
-    assertMat(body.inertia, rows(Seq(0.006, 0, -0.01125), Seq(0, 0.0625, 0), Seq(-0.01125, 0, 0.0585)), "elbow inertia")
+    assertMat(
+      body.inertia,
+      rows(Seq(0.006, 0, -0.01125), Seq(0, 0.0625, 0), Seq(-0.01125, 0, 0.0585)),
+      "elbow inertia"
+    )
   }
 
   it should "read the UR5 (published kinematics) like Pinocchio, with tip tool0" in {
     val ur5 = resource("ur5_kinematics.urdf")
     val e = intercept[InputError](Urdf.read(ur5, None))
-    assert(e.getMessage.endsWith("robot 'ur5': --tip is needed: leaves are ee_link, base, tool0"), e.getMessage)
+    assert(
+      e.getMessage.endsWith("robot 'ur5': --tip is needed: leaves are ee_link, base, tool0"),
+      e.getMessage
+    )
     val chain = Urdf.read(ur5, Some("tool0"))
-    assert(chain.joints.map(_.name) == Seq("shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint", "wrist_3_joint"))
-    val translations = Seq(Vec3(0, 0, 0.089159), Vec3(0, 0.13585, 0), Vec3(0, -0.1197, 0.425), Vec3(0, 0, 0.39225), Vec3(0, 0.093, 0), Vec3(0, 0, 0.09465))
+    assert(
+      chain.joints.map(_.name) == Seq(
+        "shoulder_pan_joint",
+        "shoulder_lift_joint",
+        "elbow_joint",
+        "wrist_1_joint",
+        "wrist_2_joint",
+        "wrist_3_joint"
+      )
+    )
+    val translations = Seq(
+      Vec3(0, 0, 0.089159),
+      Vec3(0, 0.13585, 0),
+      Vec3(0, -0.1197, 0.425),
+      Vec3(0, 0, 0.39225),
+      Vec3(0, 0.093, 0),
+      Vec3(0, 0, 0.09465)
+    )
     val rotations = Seq(Mat3.identity, rotY90, Mat3.identity, rotY90, Mat3.identity, Mat3.identity)
     val axes = Seq(Vec3(0, 0, 1), Vec3(0, 1, 0), Vec3(0, 1, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec3(0, 1, 0))
     val masses = Seq(3.7, 8.393, 2.275, 1.219, 1.219, 0.1879)
     val coms = Seq(Vec3.zero, Vec3(0, 0, 0.28), Vec3(0, 0, 0.25), Vec3.zero, Vec3.zero, Vec3.zero)
-    val inertias = Seq(diag(0.010267495893, 0.010267495893, 0.00666), diag(0.22689067591, 0.22689067591, 0.0151074),
-      diag(0.049443313556, 0.049443313556, 0.004095), diag(0.111172755531, 0.111172755531, 0.21942),
-      diag(0.111172755531, 0.111172755531, 0.21942), diag(0.0171364731454, 0.0171364731454, 0.033822))
+    val inertias = Seq(
+      diag(0.010267495893, 0.010267495893, 0.00666),
+      diag(0.22689067591, 0.22689067591, 0.0151074),
+      diag(0.049443313556, 0.049443313556, 0.004095),
+      diag(0.111172755531, 0.111172755531, 0.21942),
+      diag(0.111172755531, 0.111172755531, 0.21942),
+      diag(0.0171364731454, 0.0171364731454, 0.033822)
+    )
     chain.joints.zipWithIndex.foreach { case (j, k) =>
       assertVec(j.origin.translation, translations(k), s"${j.name} translation")
       assertMat(j.origin.rotation, rotations(k), s"${j.name} rotation")
@@ -125,8 +165,15 @@ class UrdfSpec extends AnyFlatSpec {
 
   // A minimal valid robot the refusal cases start from.
   private val unitInertia = """<inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>"""
-  private def massive(name: String) = s"""<link name="$name"><inertial><mass value="1"/>$unitInertia</inertial></link>"""
-  private def joint(name: String, parent: String, child: String, kind: String = "revolute", extra: String = "") =
+  private def massive(name: String) =
+    s"""<link name="$name"><inertial><mass value="1"/>$unitInertia</inertial></link>"""
+  private def joint(
+      name: String,
+      parent: String,
+      child: String,
+      kind: String = "revolute",
+      extra: String = ""
+  ) =
     s"""<joint name="$name" type="$kind"><parent link="$parent"/><child link="$child"/>$extra</joint>"""
   private def robot(body: String*) = s"""<?xml version="1.0"?><robot name="r">${body.mkString}</robot>"""
   private val minimal = robot("""<link name="a"/>""", massive("b"), joint("j", "a", "b"))
@@ -135,20 +182,61 @@ class UrdfSpec extends AnyFlatSpec {
     val j = Urdf.parse("ok.urdf", minimal, None).joints.head
     assert(j.axis == Vec3(1, 0, 0) && j.origin == Transform.identity && j.body.mass == 1.0)
     assert(j.velocityLimit.isEmpty && j.effortLimit.isEmpty)
-    val massless = Urdf.parse("ok.urdf", robot("""<link name="a"/><link name="b"/>""", joint("j", "a", "b")), None)
+    val massless =
+      Urdf.parse("ok.urdf", robot("""<link name="a"/><link name="b"/>""", joint("j", "a", "b")), None)
     assert(massless.joints.head.body == RigidBody.massless)
   }
 
   it should "check the inertia of every link the chain carries, and only those" in {
-    val rod = """<link name="c"><inertial><mass value="1"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="1"/></inertial></link>"""
+    val rod =
+      """<link name="c"><inertial><mass value="1"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="1"/></inertial></link>"""
     // Fixed to the base: never loads a joint, so a sloppy camera or base tensor does not stop the reader.
-    assert(Urdf.parse("ok.urdf", robot("""<link name="a"/>""", massive("b"), rod, joint("j", "a", "b"), joint("k", "a", "c", kind = "fixed")), Some("b")).size == 1)
+    assert(
+      Urdf
+        .parse(
+          "ok.urdf",
+          robot(
+            """<link name="a"/>""",
+            massive("b"),
+            rod,
+            joint("j", "a", "b"),
+            joint("k", "a", "c", kind = "fixed")
+          ),
+          Some("b")
+        )
+        .size == 1
+    )
     // Carried by j through a locked side branch: refused.
-    val e = intercept[InputError](Urdf.parse("bad.urdf", robot("""<link name="a"/>""", massive("b"), rod, joint("j", "a", "b"), joint("k", "b", "c", kind = "prismatic")), Some("b")))
-    assert(e.getMessage.startsWith("bad.urdf: link 'c': principal moments") && e.getMessage.contains("triangle inequality"), e.getMessage)
+    val e = intercept[InputError](
+      Urdf.parse(
+        "bad.urdf",
+        robot(
+          """<link name="a"/>""",
+          massive("b"),
+          rod,
+          joint("j", "a", "b"),
+          joint("k", "b", "c", kind = "prismatic")
+        ),
+        Some("b")
+      )
+    )
+    assert(
+      e.getMessage.startsWith("bad.urdf: link 'c': principal moments") && e.getMessage.contains(
+        "triangle inequality"
+      ),
+      e.getMessage
+    )
     // Zero up to rounding (as in iCub's URDF) is a point mass.
-    val point = """<link name="b"><inertial><mass value="1"/><inertia ixx="0" ixy="0" ixz="2.4e-35" iyy="0" iyz="0" izz="0"/></inertial></link>"""
-    assert(Urdf.parse("ok.urdf", robot("""<link name="a"/>""", point, joint("j", "a", "b")), None).joints.head.body.mass == 1.0)
+    val point =
+      """<link name="b"><inertial><mass value="1"/><inertia ixx="0" ixy="0" ixz="2.4e-35" iyy="0" iyz="0" izz="0"/></inertial></link>"""
+    assert(
+      Urdf
+        .parse("ok.urdf", robot("""<link name="a"/>""", point, joint("j", "a", "b")), None)
+        .joints
+        .head
+        .body
+        .mass == 1.0
+    )
   }
 
   it should "refuse malformed or unsupported URDFs with one line naming the file and the element" in {
@@ -165,13 +253,22 @@ class UrdfSpec extends AnyFlatSpec {
     refused("""<model name="r"/>""", "<model>", "<robot>")
     refused("""<robot><link name="a"/></robot>""", "<robot>", "name")
     // No DTDs, so no external entities (file or network reads) either.
-    refused("""<?xml version="1.0"?><!DOCTYPE robot [<!ENTITY x SYSTEM "file:///etc/passwd">]><robot name="&x;"/>""", "XML", "DOCTYPE")
+    refused(
+      """<?xml version="1.0"?><!DOCTYPE robot [<!ENTITY x SYSTEM "file:///etc/passwd">]><robot name="&x;"/>""",
+      "XML",
+      "DOCTYPE"
+    )
     refused(replaced("""<link name="a"/>""", "<link/>"), "link #1", "name")
     refused(replaced("""type="revolute"""", ""), "joint 'j'", "type")
     refused(replaced("""<parent link="a"/>""", ""), "joint 'j'", "<parent")
     refused(replaced("""<child link="b"/>""", """<child/>"""), "joint 'j'", "<child")
     refused(replaced("<parent ", """<origin xyz="0 0 x"/><parent """), "joint 'j'", "origin xyz", "0 0 x")
-    refused(replaced("<parent ", """<origin rpy="0 0"/><parent """), "joint 'j'", "origin rpy", "3 finite numbers")
+    refused(
+      replaced("<parent ", """<origin rpy="0 0"/><parent """),
+      "joint 'j'",
+      "origin rpy",
+      "3 finite numbers"
+    )
     refused(replaced("<parent ", """<origin xyz="0 0 1e999"/><parent """), "joint 'j'", "origin xyz")
     refused(replaced("<parent ", """<origin/><origin/><parent """), "joint 'j'", "more than one <origin>")
     refused(replaced("""<mass value="1"/>""", """<mass value="NaN"/>"""), "link 'b'", "<mass value>", "NaN")
@@ -186,24 +283,74 @@ class UrdfSpec extends AnyFlatSpec {
     refused(replaced("""ixy="0"""", """ixy="2""""), "link 'b'", "not positive semi-definite")
     refused(replaced("""type="revolute"""", """type="floating""""), "joint 'j'", "floating")
     refused(replaced("""type="revolute"""", """type="planar""""), "joint 'j'", "planar")
-    refused(replaced("""type="revolute"""", """type="spherical""""), "joint 'j'", "unknown joint type 'spherical'")
+    refused(
+      replaced("""type="revolute"""", """type="spherical""""),
+      "joint 'j'",
+      "unknown joint type 'spherical'"
+    )
     refused(replaced("<parent ", """<axis xyz="0 0 0"/><parent """), "joint 'j'", "zero <axis")
-    refused(replaced("<parent ", """<limit velocity="-1"/><parent """), "joint 'j'", "negative <limit velocity>")
+    refused(
+      replaced("<parent ", """<limit velocity="-1"/><parent """),
+      "joint 'j'",
+      "negative <limit velocity>"
+    )
     refused(replaced("<parent ", """<limit effort="a lot"/><parent """), "joint 'j'", "<limit effort>")
     refused(replaced("<parent ", """<mimic joint="k"/><parent """), "joint 'j'", "mimic")
     refused(replaced("""<child link="b"/>""", """<child link="c"/>"""), "joint 'j'", "unknown child link 'c'")
-    refused(replaced("""<parent link="a"/>""", """<parent link="z"/>"""), "joint 'j'", "unknown parent link 'z'")
-    refused(replaced("""<child link="b"/>""", """<child link="c&#10;d"/>"""), "joint 'j'", "unknown child link 'c d'")
-    refused(robot("""<link name="a"/>""", massive("b"), massive("b"), joint("j", "a", "b")), "link 'b'", "defined twice")
-    refused(robot("""<link name="a"/>""", massive("b"), massive("c"), joint("j", "a", "b"), joint("j", "a", "c")), "joint 'j'", "defined twice")
-    refused(robot("""<link name="a"/><link name="c"/>""", massive("b"), joint("j", "a", "b"), joint("k", "c", "b")),
-      "link 'b'", "two parents", "'j', 'k'", "loop")
-    refused(robot("""<link name="a"/>""", massive("b"), joint("j", "a", "b"), joint("k", "b", "a")), "robot 'r'", "no root link")
-    refused(robot("""<link name="a"/>""", massive("b"), massive("c"), joint("j", "a", "b"), joint("k", "c", "c")), "link 'c'", "loop")
-    refused(robot("""<link name="a"/><link name="x"/>""", massive("b"), joint("j", "a", "b")), "robot 'r'", "several root links 'a', 'x'")
-    refused(robot("""<link name="a"/>""", massive("b"), massive("c"), joint("j", "a", "b"), joint("k", "a", "c")),
-      "robot 'r'", "--tip is needed: leaves are b, c")
-    refused(robot("""<link name="a"/>""", massive("b"), joint("j", "a", "b", kind = "fixed")), "robot 'r'", "no moving joint", "'a'", "'b'")
+    refused(
+      replaced("""<parent link="a"/>""", """<parent link="z"/>"""),
+      "joint 'j'",
+      "unknown parent link 'z'"
+    )
+    refused(
+      replaced("""<child link="b"/>""", """<child link="c&#10;d"/>"""),
+      "joint 'j'",
+      "unknown child link 'c d'"
+    )
+    refused(
+      robot("""<link name="a"/>""", massive("b"), massive("b"), joint("j", "a", "b")),
+      "link 'b'",
+      "defined twice"
+    )
+    refused(
+      robot("""<link name="a"/>""", massive("b"), massive("c"), joint("j", "a", "b"), joint("j", "a", "c")),
+      "joint 'j'",
+      "defined twice"
+    )
+    refused(
+      robot("""<link name="a"/><link name="c"/>""", massive("b"), joint("j", "a", "b"), joint("k", "c", "b")),
+      "link 'b'",
+      "two parents",
+      "'j', 'k'",
+      "loop"
+    )
+    refused(
+      robot("""<link name="a"/>""", massive("b"), joint("j", "a", "b"), joint("k", "b", "a")),
+      "robot 'r'",
+      "no root link"
+    )
+    refused(
+      robot("""<link name="a"/>""", massive("b"), massive("c"), joint("j", "a", "b"), joint("k", "c", "c")),
+      "link 'c'",
+      "loop"
+    )
+    refused(
+      robot("""<link name="a"/><link name="x"/>""", massive("b"), joint("j", "a", "b")),
+      "robot 'r'",
+      "several root links 'a', 'x'"
+    )
+    refused(
+      robot("""<link name="a"/>""", massive("b"), massive("c"), joint("j", "a", "b"), joint("k", "a", "c")),
+      "robot 'r'",
+      "--tip is needed: leaves are b, c"
+    )
+    refused(
+      robot("""<link name="a"/>""", massive("b"), joint("j", "a", "b", kind = "fixed")),
+      "robot 'r'",
+      "no moving joint",
+      "'a'",
+      "'b'"
+    )
     val e = intercept[InputError](Urdf.parse("bad.urdf", minimal, Some("hand")))
     assert(e.getMessage == "bad.urdf: robot 'r': unknown tip link 'hand' (links: 'a', 'b')")
     val missing = intercept[InputError](Urdf.read(Paths.get("no/such/robot.urdf"), None))

@@ -15,16 +15,28 @@ import scala.util.Random
 class FastFixedSpec extends AnyFlatSpec {
   behavior of "FastFixed"
 
-  private val formats = Seq(FixedFormat(3, 20), FixedFormat(5, 20), FixedFormat(10, 24), FixedFormat(62, 26), FixedFormat(2, 40))
+  private val formats =
+    Seq(FixedFormat(3, 20), FixedFormat(5, 20), FixedFormat(10, 24), FixedFormat(62, 26), FixedFormat(2, 40))
 
   /** Random values at every scale, exact ties (k + 1/2 codes), and their neighbours one ulp away. */
   private def values(f: FixedFormat, rng: Random): Seq[Double] = {
     val random = Seq.fill(20000)((rng.nextDouble() * 2 - 1) * math.pow(10, rng.nextInt(12) - 6))
-    val ties = Seq.fill(5000) {
-      val tie = math.scalb(rng.nextInt(1 << 24) - (1 << 23) + 0.5, -f.fracBits) * math.pow(2, rng.nextInt(4))
-      Seq(tie, math.nextUp(tie), math.nextDown(tie))
-    }.flatten
-    random ++ ties ++ Seq(0.0, -0.0, 1 + math.scalb(1.0, -f.fracBits - 1), 1e30, -1e30, Double.MinPositiveValue, 4.9e-300)
+    val ties = Seq
+      .fill(5000) {
+        val tie =
+          math.scalb(rng.nextInt(1 << 24) - (1 << 23) + 0.5, -f.fracBits) * math.pow(2, rng.nextInt(4))
+        Seq(tie, math.nextUp(tie), math.nextDown(tie))
+      }
+      .flatten
+    random ++ ties ++ Seq(
+      0.0,
+      -0.0,
+      1 + math.scalb(1.0, -f.fracBits - 1),
+      1e30,
+      -1e30,
+      Double.MinPositiveValue,
+      4.9e-300
+    )
   }
 
   it should "quantize and convert like FixedFormat, bit for bit" in {
@@ -35,7 +47,12 @@ class FastFixedSpec extends AnyFlatSpec {
       assert(wrong.isEmpty, s"$f: quantize differs at ${wrong.take(5).map(x => f"$x%.20g").mkString(", ")}")
       val saturated = xs.filter(x => FastFixed.codeHalfUp(x, f) != f.fromDouble(x, Rounding.HalfUp)._1)
       assert(saturated.isEmpty, s"$f: fromDouble differs at ${saturated.take(5)}")
-      val codes = xs.map(x => f.quantize(x, Rounding.HalfUp)) ++ Seq(f.minRaw, f.maxRaw, BigInt(1) << 60, -(BigInt(1) << 70) + 1)
+      val codes = xs.map(x => f.quantize(x, Rounding.HalfUp)) ++ Seq(
+        f.minRaw,
+        f.maxRaw,
+        BigInt(1) << 60,
+        -(BigInt(1) << 70) + 1
+      )
       val back = codes.filter(c => FastFixed.toDouble(c, f.fracBits) != FixedFormat.scaleDown(c, f.fracBits))
       assert(back.isEmpty, s"$f: toDouble differs at ${back.take(5)}")
     }
@@ -46,7 +63,13 @@ class FastFixedSpec extends AnyFlatSpec {
     val model = new ArmModel(LoadParams.default.arm)
     val bits = LoadParams.default.arm.numerics.angleBits
     val angles = Seq.fill(20000)((rng.nextDouble() * 2 - 1) * math.pow(10, rng.nextInt(5) - 1)) ++
-      Seq.fill(2000)(2 * math.Pi * math.scalb(rng.nextInt(1 << 20) + 0.5, -bits)) ++ Seq(0.0, math.Pi, -math.Pi, 2 * math.Pi, 1e6)
+      Seq.fill(2000)(2 * math.Pi * math.scalb(rng.nextInt(1 << 20) + 0.5, -bits)) ++ Seq(
+        0.0,
+        math.Pi,
+        -math.Pi,
+        2 * math.Pi,
+        1e6
+      )
     val wrong = angles.filter(a => FastFixed.angleCode(a, FastFixed.angleFormat(bits)) != model.angleCode(a))
     assert(wrong.isEmpty, s"angle codes differ at ${wrong.take(5)}")
   }
@@ -55,10 +78,18 @@ class FastFixedSpec extends AnyFlatSpec {
     val rng = new Random(Seeds("fast-fixed-multiply", 63L))
     def long(bits: Int) = rng.nextLong() >> (64 - bits)
     val cases = Seq.fill(50000)((long(1 + rng.nextInt(63)), long(1 + rng.nextInt(63)), rng.nextInt(127))) ++
-      Seq((Long.MinValue, Long.MinValue, 126), (Long.MaxValue, Long.MinValue, 63), (-1L, 1L, 1), (3L, 1L, 1), (-3L, 1L, 1), (5L, -7L, 0))
+      Seq(
+        (Long.MinValue, Long.MinValue, 126),
+        (Long.MaxValue, Long.MinValue, 63),
+        (-1L, 1L, 1),
+        (3L, 1L, 1),
+        (-3L, 1L, 1),
+        (5L, -7L, 0)
+      )
     for ((a, b, drop) <- cases; rounding <- Seq(Rounding.HalfUp, Rounding.Truncate)) {
       val exact = FixedFormat.shiftRound(BigInt(a) * BigInt(b), drop, rounding)
-      if (exact.isValidLong) assert(FastFixed.mulShiftRound(a, b, drop, rounding) == exact.toLong, s"$a * $b >> $drop ($rounding)")
+      if (exact.isValidLong)
+        assert(FastFixed.mulShiftRound(a, b, drop, rounding) == exact.toLong, s"$a * $b >> $drop ($rounding)")
       else assertThrows[ArithmeticException](FastFixed.mulShiftRound(a, b, drop, rounding))
     }
   }
@@ -68,7 +99,9 @@ class FastFixedSpec extends AnyFlatSpec {
     LoadParams.allPresets.values.map(_.cordic).toSeq.distinct.foreach { c =>
       val model = new CordicModel(c)
       val fast = new FastCordic(c)
-      val angles = if (c.angleBits <= 16) (0L until (1L << c.angleBits)) else Seq.fill(30000)(rng.nextLong() & ((1L << c.angleBits) - 1))
+      val angles =
+        if (c.angleBits <= 16) (0L until (1L << c.angleBits))
+        else Seq.fill(30000)(rng.nextLong() & ((1L << c.angleBits) - 1))
       val out = new Array[Long](2)
       val wrong = angles.filter { a =>
         fast.sinCosRaw(a, out, 0)
@@ -79,7 +112,10 @@ class FastFixedSpec extends AnyFlatSpec {
     }
   }
 
-  /** `p`'s long model against its BigInt model on `samples` plus random extreme port codes (clamped and flagged). */
+  /**
+   * `p`'s long model against its BigInt model on `samples` plus random extreme port codes (clamped and
+   * flagged).
+   */
   private def checkFastModel(label: String, p: ArmParams, samples: Seq[SampleCodes], rng: Random): Unit = {
     assert(FastArmModel.supports(p), s"$label: the long model does not cover it")
     val model = new ArmModel(p)
@@ -88,12 +124,20 @@ class FastFixedSpec extends AnyFlatSpec {
     val extremes = Seq.fill(200) {
       val e = samples(rng.nextInt(samples.size))
       def extreme(f: FixedFormat) = if (rng.nextBoolean()) f.maxRaw else f.minRaw
-      SampleCodes(e.angles, e.velocities.map(_ => extreme(n.velocityPortFormat)), e.accelerations.map(_ => extreme(n.accelerationPortFormat)))
+      SampleCodes(
+        e.angles,
+        e.velocities.map(_ => extreme(n.velocityPortFormat)),
+        e.accelerations.map(_ => extreme(n.accelerationPortFormat))
+      )
     }
     val all = samples ++ extremes
     val wrong = all.filter(s => fast.evaluate(s) != model.evaluate(s))
     assert(wrong.isEmpty, s"$label: differs at ${wrong.take(3)}")
-    assert(all.exists(s => model.evaluate(s).outOfRange.exists(identity)) && all.exists(s => !model.evaluate(s).outOfRange.exists(identity)))
+    assert(
+      all.exists(s => model.evaluate(s).outOfRange.exists(identity)) && all.exists(s =>
+        !model.evaluate(s).outOfRange.exists(identity)
+      )
+    )
   }
 
   it should "evaluate the joint-3 datapath like its BigInt model, out-of-range inputs included, for every preset" in {

@@ -9,17 +9,26 @@ import scala.util.Random
 class FixedDecimalSpec extends AnyFlatSpec {
   behavior of "FixedDecimal"
 
-  private def text(code: Long, fracBits: Int): String = FixedDecimal.append(new java.lang.StringBuilder, code, fracBits).toString
-  private def exact(code: BigInt, fracBits: Int): String = FixedDecimal.appendExact(new java.lang.StringBuilder, code, fracBits).toString
+  private def text(code: Long, fracBits: Int): String =
+    FixedDecimal.append(new java.lang.StringBuilder, code, fracBits).toString
+  private def exact(code: BigInt, fracBits: Int): String =
+    FixedDecimal.appendExact(new java.lang.StringBuilder, code, fracBits).toString
 
-  /** The rule, checked on the text alone: the exact value, plain, `.0` only for integers, no other trailing zero. */
+  /**
+   * The rule, checked on the text alone: the exact value, plain, `.0` only for integers, no other trailing
+   * zero.
+   */
   private def obeysRule(t: String, code: BigInt, fracBits: Int): Boolean = {
     val c = new java.math.BigDecimal(code.bigInteger)
-    val value = if (fracBits >= 0) c.divide(new java.math.BigDecimal(java.math.BigInteger.ONE.shiftLeft(fracBits))) // exact: 2^-f terminates
-                else c.multiply(new java.math.BigDecimal(java.math.BigInteger.ONE.shiftLeft(-fracBits)))
+    val value =
+      if (fracBits >= 0)
+        c.divide(
+          new java.math.BigDecimal(java.math.BigInteger.ONE.shiftLeft(fracBits))
+        ) // exact: 2^-f terminates
+      else c.multiply(new java.math.BigDecimal(java.math.BigInteger.ONE.shiftLeft(-fracBits)))
     val isInteger = value.signum == 0 || value.stripTrailingZeros.scale <= 0
     t.matches("-?(0|[1-9][0-9]*)\\.(0|[0-9]*[1-9])") && new java.math.BigDecimal(t).compareTo(value) == 0 &&
-      t.startsWith("-") == (code < 0) && t.endsWith(".0") == isInteger
+    t.startsWith("-") == (code < 0) && t.endsWith(".0") == isInteger
   }
 
   it should "write the documented examples" in {
@@ -40,7 +49,20 @@ class FixedDecimalSpec extends AnyFlatSpec {
 
   it should "give the exact value by its rule on the long and the BigDecimal path alike" in {
     val rng = new Random(Seeds("fixed-decimal", 81L))
-    val edges = Seq(0L, 1L, -1L, 2L, -2L, 9L, 10L, -10L, Long.MaxValue, Long.MinValue, Long.MaxValue - 1, Long.MinValue + 1) ++
+    val edges = Seq(
+      0L,
+      1L,
+      -1L,
+      2L,
+      -2L,
+      9L,
+      10L,
+      -10L,
+      Long.MaxValue,
+      Long.MinValue,
+      Long.MaxValue - 1,
+      Long.MinValue + 1
+    ) ++
       (0 until 63).flatMap(k => Seq(1L << k, -(1L << k), (1L << k) - 1, -(1L << k) + 1, (1L << k) + 1))
     val fracs = (-3 to 66)
     def check(code: Long, f: Int): Unit = {

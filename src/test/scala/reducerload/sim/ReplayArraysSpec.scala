@@ -10,16 +10,21 @@ import scala.collection.immutable.ArraySeq
 import scala.util.Random
 
 /**
- * The replay in arrays ([[ArrayReplay]]: long codes, the long model, the reference as a
- * [[DoubleTape]]) writes the same lines, errors and flags as the design's `encode`, `evaluate` and
- * `result`, and the tapes give the references' doubles bit for bit: for every joint-3 preset and
- * every joint of planar3, the UR5 and the Panda, on random rows in and beyond the declared ranges,
- * signed zeros, rounding ties of the input codes and large angles.
+ * The replay in arrays ([[ArrayReplay]]: long codes, the long model, the reference as a [[DoubleTape]])
+ * writes the same lines, errors and flags as the design's `encode`, `evaluate` and `result`, and the tapes
+ * give the references' doubles bit for bit: for every joint-3 preset and every joint of planar3, the UR5 and
+ * the Panda, on random rows in and beyond the declared ranges, signed zeros, rounding ties of the input codes
+ * and large angles.
  */
 class ReplayArraysSpec extends AnyFlatSpec {
   behavior of "the replay in arrays"
 
-  private def rows(design: ReplayDesign[_, _], golden: Seq[IndexedSeq[Double]], rng: Random, fracBits: Int): Seq[IndexedSeq[Double]] = {
+  private def rows(
+      design: ReplayDesign[_, _],
+      golden: Seq[IndexedSeq[Double]],
+      rng: Random,
+      fracBits: Int
+  ): Seq[IndexedSeq[Double]] = {
     val width = design.columns.size
     val n = width / 3
     val limit = Array.fill(width)(3.0)
@@ -27,19 +32,26 @@ class ReplayArraysSpec extends AnyFlatSpec {
     val tie = 1 + math.scalb(1.0, -fracBits - 1)
     def random(scale: Double) = IndexedSeq.tabulate(width)(c => (rng.nextDouble() * 2 - 1) * limit(c) * scale)
     golden ++ Seq.fill(3000)(random(1.0)) ++ Seq.fill(300)(random(1.6)) ++ Seq(
-      IndexedSeq.fill(width)(0.0), IndexedSeq.fill(width)(-0.0),
+      IndexedSeq.fill(width)(0.0),
+      IndexedSeq.fill(width)(-0.0),
       IndexedSeq.tabulate(width)(c => if (c % 2 == 0) -0.0 else 0.0),
       IndexedSeq.tabulate(width)(c => if (c < n) -0.0 else 0.5),
-      IndexedSeq.fill(width)(tie), IndexedSeq.fill(width)(-tie),
+      IndexedSeq.fill(width)(tie),
+      IndexedSeq.fill(width)(-tie),
       IndexedSeq.tabulate(width)(c => if (c < n) 1e6 + c else 1e7),
-      IndexedSeq.tabulate(width)(c => if (c < n) math.Pi * (c + 1) else -limit(c)))
+      IndexedSeq.tabulate(width)(c => if (c < n) math.Pi * (c + 1) else -limit(c))
+    )
   }
 
   private def check(label: String, design: ReplayDesign[_, _], rows: Seq[IndexedSeq[Double]]): Unit = {
     val fast = design.arrays.getOrElse(fail(s"$label: no replay in arrays"))
     val worker = fast.worker()
     val labels = design.errorLabels.size
-    def old[In, Out](d: ReplayDesign[In, Out], i: Int, row: IndexedSeq[Double]): (String, Seq[Double], Boolean) = {
+    def old[In, Out](
+        d: ReplayDesign[In, Out],
+        i: Int,
+        row: IndexedSeq[Double]
+    ): (String, Seq[Double], Boolean) = {
       val text = new java.lang.StringBuilder
       val errors = new Array[Double](labels)
       val flagged = d.result(i.toLong, row, d.evaluate(d.encode(row)), text, errors)
@@ -78,13 +90,23 @@ class ReplayArraysSpec extends AnyFlatSpec {
       val traces = ArmGolden.of(robot)
       val p = ArmConfig(traces.head.config)
       val design = new ArmReplay(p)
-      check(robot, design, rows(design, traces.flatMap(_.samples).take(500).map(_.toSeq), rng, p.numerics.velocityPortFormat.fracBits))
+      check(
+        robot,
+        design,
+        rows(
+          design,
+          traces.flatMap(_.samples).take(500).map(_.toSeq),
+          rng,
+          p.numerics.velocityPortFormat.fracBits
+        )
+      )
     }
   }
 
   it should "give the references' doubles bit for bit (DoubleTape)" in {
     val rng = new Random(Seeds("replay-arrays-tape", 73L))
-    def same(a: Double, b: Double) = java.lang.Double.doubleToRawLongBits(a) == java.lang.Double.doubleToRawLongBits(b)
+    def same(a: Double, b: Double) =
+      java.lang.Double.doubleToRawLongBits(a) == java.lang.Double.doubleToRawLongBits(b)
     def row(width: Int) = Array.fill(width)(rng.nextInt(8) match {
       case 0 => -0.0
       case 1 => 0.0
@@ -108,8 +130,16 @@ class ReplayArraysSpec extends AnyFlatSpec {
       (0 until 2000).foreach { _ =>
         val r = row(3 * n)
         tape.evaluate(r, v)
-        val expected = Rnea.reference(chain, r.slice(0, n).toIndexedSeq, r.slice(n, 2 * n).toIndexedSeq, r.slice(2 * n, 3 * n).toIndexedSeq)
-        assert((0 until n).forall(j => same(tape.tape.output(v, j), expected(j))), s"$robot at ${r.mkString(",")}")
+        val expected = Rnea.reference(
+          chain,
+          r.slice(0, n).toIndexedSeq,
+          r.slice(n, 2 * n).toIndexedSeq,
+          r.slice(2 * n, 3 * n).toIndexedSeq
+        )
+        assert(
+          (0 until n).forall(j => same(tape.tape.output(v, j), expected(j))),
+          s"$robot at ${r.mkString(",")}"
+        )
       }
     }
   }

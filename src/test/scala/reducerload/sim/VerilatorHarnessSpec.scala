@@ -13,45 +13,69 @@ import scala.sys.process._
 import scala.util.{Random, Try}
 
 /**
- * The compiled Verilator harness on the load datapath: bit-exact with the model on the golden traces
- * and on random, out-of-range and extreme codes, ready/valid honoured with a shared CORDIC unit,
- * and the build cached. Needs Verilator (CI always has it).
+ * The compiled Verilator harness on the load datapath: bit-exact with the model on the golden traces and on
+ * random, out-of-range and extreme codes, ready/valid honoured with a shared CORDIC unit, and the build
+ * cached. Needs Verilator (CI always has it).
  */
 class VerilatorHarnessSpec extends AnyFlatSpec {
   behavior of "VerilatorHarness"
 
-  private def verilatorPresent: Boolean = Try(Seq("verilator", "--version").!!(ProcessLogger(_ => ()))).isSuccess
+  private def verilatorPresent: Boolean = Try(
+    Seq("verilator", "--version").!!(ProcessLogger(_ => ()))
+  ).isSuccess
 
   private def emitted(p: LoadParams) = Emit.emit(p, Top.Load, "test")
 
-  /** Golden traces, then seeded random samples (1 in 8 beyond the declared ranges), then every port at its extreme codes. */
+  /**
+   * Golden traces, then seeded random samples (1 in 8 beyond the declared ranges), then every port at its
+   * extreme codes.
+   */
   private def samples(p: LoadParams, label: String, seed: Long, randomCount: Int): IndexedSeq[SampleCodes] = {
     val model = new LoadChecks.Joint3Model(p)
     val rng = new Random(Seeds(label, seed))
     val golden = Golden.all.flatMap(_.samples.map(model.encode))
     val random = Seq.fill(randomCount) {
-      model.encode(if (rng.nextInt(8) == 0) LoadChecks.outOfRangeSample(p.robot, rng) else LoadChecks.randomSample(p.robot, rng))
+      model.encode(
+        if (rng.nextInt(8) == 0) LoadChecks.outOfRangeSample(p.robot, rng)
+        else LoadChecks.randomSample(p.robot, rng)
+      )
     }
     val ports = ArmHarnessPorts(p.arm).inputs
     def at(pick: HarnessPort => BigInt) = {
       val v = ports.map(pick)
       SampleCodes(v.slice(0, 3).toIndexedSeq, v.slice(3, 6).toIndexedSeq, v.slice(6, 9).toIndexedSeq)
     }
-    (golden ++ random ++ Seq(at(_.minValue), at(_.maxValue), at(q => if (q.signed) q.minValue else q.maxValue))).toIndexedSeq
+    (golden ++ random ++ Seq(
+      at(_.minValue),
+      at(_.maxValue),
+      at(q => if (q.signed) q.minValue else q.maxValue)
+    )).toIndexedSeq
   }
 
-  private def codes(p: LoadParams, out: IndexedSeq[BigInt]) = ArmHarnessPorts.codes(out, p.arm.graph.outputs.size)
+  private def codes(p: LoadParams, out: IndexedSeq[BigInt]) =
+    ArmHarnessPorts.codes(out, p.arm.graph.outputs.size)
 
-  private def checkBitExact(label: String, p: LoadParams, in: IndexedSeq[SampleCodes], r: HarnessResult): Unit = {
+  private def checkBitExact(
+      label: String,
+      p: LoadParams,
+      in: IndexedSeq[SampleCodes],
+      r: HarnessResult
+  ): Unit = {
     val model = new ArmModel(p.arm)
     assert(r.outputs.size == in.size, s"$label: ${r.outputs.size} outputs for ${in.size} samples")
     assert(r.acceptedCycles.size == in.size)
     val wrong = in.indices.filter(i => codes(p, r.outputs(i)) != model.evaluate(in(i)))
-    assert(wrong.isEmpty, s"$label: ${wrong.size} outputs differ from the model, first at sample ${wrong.headOption.getOrElse(-1)}: " +
-      wrong.headOption.map(i => s"${r.outputs(i)} vs ${model.evaluate(in(i))}").getOrElse(""))
+    assert(
+      wrong.isEmpty,
+      s"$label: ${wrong.size} outputs differ from the model, first at sample ${wrong.headOption.getOrElse(-1)}: " +
+        wrong.headOption.map(i => s"${r.outputs(i)} vs ${model.evaluate(in(i))}").getOrElse("")
+    )
     // Fixed latency: each output appears exactly `latency` clocks after its sample was taken.
     val latency = p.arm.latency
-    assert(in.indices.forall(i => r.outputCycles(i) == r.acceptedCycles(i) + latency), s"$label: an output is not $latency clocks after its sample")
+    assert(
+      in.indices.forall(i => r.outputCycles(i) == r.acceptedCycles(i) + latency),
+      s"$label: an output is not $latency clocks after its sample"
+    )
   }
 
   it should "reproduce the bit-accurate model on the golden traces, random, out-of-range and extreme codes (default preset)" in {
@@ -66,10 +90,15 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
     val flagged = r.outputs.count(o => codes(p, o).outOfRange.exists(identity))
     assert(flagged > 0, "no out-of-range sample was flagged")
     // The process's own CPU time: positive, and (one thread) not beyond its wall time by more than the clock's granularity.
-    assert(r.stats.cpuSeconds > 0 && r.stats.cpuSeconds <= r.stats.seconds + 0.05, s"harness CPU ${r.stats.cpuSeconds} s, wall ${r.stats.seconds} s")
-    println(f"[harness] default: ${in.size} samples bit-exact ($flagged flagged out of range), " +
-      f"${r.stats.cycles} cycles, ${r.stats.samplesPerSecond}%.0f samples/s, ${r.stats.cyclesPerCpuSecond}%.0f clocks per CPU second " +
-      f"(${if (harness.fromCache) "cached build" else "fresh build"})")
+    assert(
+      r.stats.cpuSeconds > 0 && r.stats.cpuSeconds <= r.stats.seconds + 0.05,
+      s"harness CPU ${r.stats.cpuSeconds} s, wall ${r.stats.seconds} s"
+    )
+    println(
+      f"[harness] default: ${in.size} samples bit-exact ($flagged flagged out of range), " +
+        f"${r.stats.cycles} cycles, ${r.stats.samplesPerSecond}%.0f samples/s, ${r.stats.cyclesPerCpuSecond}%.0f clocks per CPU second " +
+        f"(${if (harness.fromCache) "cached build" else "fresh build"})"
+    )
   }
 
   it should "wait for ready with a shared CORDIC unit: samples offered every clock are taken every third (compact preset)" in {
@@ -87,9 +116,18 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
     // A longer period than the design needs is honoured: samples 5 clocks apart or more, taken on the design's one-in-3 input clocks.
     val slow = harness.run(in.take(500).map(ArmHarnessPorts.values), samplePeriod = 5, drainCycles = drain)
     checkBitExact("compact, period 5", p, in.take(500), slow)
-    assert(slow.acceptedCycles.zip(slow.acceptedCycles.tail).forall { case (a, b) => b - a >= 5 && (b - a) % 3 == 0 })
+    assert(slow.acceptedCycles.zip(slow.acceptedCycles.tail).forall { case (a, b) =>
+      b - a >= 5 && (b - a) % 3 == 0
+    })
     // A stall limit shorter than the design's refusal fails loudly instead of hanging or dropping.
-    val e = intercept[IllegalStateException](harness.run(in.take(10).map(ArmHarnessPorts.values), samplePeriod = 1, drainCycles = drain, maxStallCycles = 1))
+    val e = intercept[IllegalStateException](
+      harness.run(
+        in.take(10).map(ArmHarnessPorts.values),
+        samplePeriod = 1,
+        drainCycles = drain,
+        maxStallCycles = 1
+      )
+    )
     assert(e.getMessage.contains("io_in_ready stayed low"), e.getMessage)
   }
 
@@ -105,7 +143,9 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
     assert(second.directory == first.directory)
     assert(second.directory.startsWith(VerilatorHarness.cacheRoot))
     assert(seconds < 5.0, f"a cache hit took $seconds%.1f s")
-    Seq("harness.cpp", "design.sv", "build.log").foreach(f => assert(java.nio.file.Files.exists(second.directory.resolve(f)), f))
+    Seq("harness.cpp", "design.sv", "build.log").foreach(f =>
+      assert(java.nio.file.Files.exists(second.directory.resolve(f)), f)
+    )
     println(f"[harness] cache hit in $seconds%.2f s: ${second.directory}")
   }
 
@@ -118,12 +158,26 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
       val e = intercept[IllegalArgumentException](f)
       words.foreach(w => assert(e.getMessage.contains(w), s"'${e.getMessage}' does not mention '$w'"))
     }
-    val wrongWidth = ports.copy(inputs = ports.inputs.updated(0, ports.inputs(0).copy(width = ports.inputs(0).width + 1)))
+    val wrongWidth =
+      ports.copy(inputs = ports.inputs.updated(0, ports.inputs(0).copy(width = ports.inputs(0).width + 1)))
     refused("io_in_bits_q_0", "bits wide")(VerilatorHarness.checkPorts(verilog, top, wrongWidth))
-    refused("no port 'io_in_bits_t1'")(VerilatorHarness.checkPorts(verilog, top, ports.copy(inputs = ports.inputs :+ HarnessPort("io_in_bits_t1", 3, signed = false))))
-    refused("io_in_bits_qdd_2", "not in the harness description")(VerilatorHarness.checkPorts(verilog, top, ports.copy(inputs = ports.inputs.init)))
-    refused("'io_in_ready' is an output")(VerilatorHarness.checkPorts(verilog, top,
-      ports.copy(inReady = None, inputs = ports.inputs :+ HarnessPort("io_in_ready", 1, signed = false))))
+    refused("no port 'io_in_bits_t1'")(
+      VerilatorHarness.checkPorts(
+        verilog,
+        top,
+        ports.copy(inputs = ports.inputs :+ HarnessPort("io_in_bits_t1", 3, signed = false))
+      )
+    )
+    refused("io_in_bits_qdd_2", "not in the harness description")(
+      VerilatorHarness.checkPorts(verilog, top, ports.copy(inputs = ports.inputs.init))
+    )
+    refused("'io_in_ready' is an output")(
+      VerilatorHarness.checkPorts(
+        verilog,
+        top,
+        ports.copy(inReady = None, inputs = ports.inputs :+ HarnessPort("io_in_ready", 1, signed = false))
+      )
+    )
     refused("no module 'Nope'")(VerilatorHarness.checkPorts(verilog, "Nope", ports))
     refused("wide", "1 to 64 bits")(HarnessPort("io_wide", 65, signed = true))
     refused("named twice")(ports.copy(outputs = ports.outputs :+ ports.outputs.head))
@@ -137,8 +191,8 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
   }
 
   /**
-   * A small design written the way firtool writes ports: 64-bit unsigned and signed inputs, a 5-bit
-   * signed one, a one-clock registered result, and ready low every other clock.
+   * A small design written the way firtool writes ports: 64-bit unsigned and signed inputs, a 5-bit signed
+   * one, a one-clock registered result, and ready low every other clock.
    */
   private val tinyVerilog =
     """// Hand-written harness test design.
@@ -180,11 +234,19 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
       |""".stripMargin
 
   private val tinyPorts = HarnessPorts(
-    inputs = Seq(HarnessPort("io_in_bits_u", 64, signed = false), HarnessPort("io_in_bits_s", 64, signed = true), HarnessPort("io_in_bits_c", 5, signed = true)),
+    inputs = Seq(
+      HarnessPort("io_in_bits_u", 64, signed = false),
+      HarnessPort("io_in_bits_s", 64, signed = true),
+      HarnessPort("io_in_bits_c", 5, signed = true)
+    ),
     inValid = "io_in_valid",
     inReady = Some("io_in_ready"),
     outValid = "io_out_valid",
-    outputs = Seq(HarnessPort("io_out_bits_u", 64, signed = false), HarnessPort("io_out_bits_sum", 64, signed = true), HarnessPort("io_out_bits_negC", 5, signed = true))
+    outputs = Seq(
+      HarnessPort("io_out_bits_u", 64, signed = false),
+      HarnessPort("io_out_bits_sum", 64, signed = true),
+      HarnessPort("io_out_bits_negC", 5, signed = true)
+    )
   )
 
   it should "carry 1- to 64-bit signed and unsigned values exactly, and build once when two compiles race on an empty cache" in {
@@ -198,7 +260,13 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
       val Seq(a, b) = racing.map(Await.result(_, 10.minutes))
       assert(a.directory == b.directory)
       val entries = java.nio.file.Files.list(cache)
-      try assert(entries.iterator().asScala.map(_.getFileName.toString).toSeq == Seq(a.directory.getFileName.toString), "leftovers in the cache")
+      try
+        assert(
+          entries.iterator().asScala.map(_.getFileName.toString).toSeq == Seq(
+            a.directory.getFileName.toString
+          ),
+          "leftovers in the cache"
+        )
       finally entries.close()
       assert(VerilatorHarness.compile(tinyVerilog, "Tiny", tinyPorts, cache).fromCache)
 
@@ -209,8 +277,12 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
         Seq(BigInt(0), BigInt(Long.MaxValue) - 15, BigInt(15)),
         Seq(BigInt(Long.MaxValue) + 1, BigInt(-1), BigInt(-16))
       )
-      val in = edges ++ Seq.fill(2000)(Seq(BigInt(64, rng), BigInt(64, rng) - (BigInt(1) << 63), BigInt(rng.nextInt(32) - 16)))
-      def wrapSigned(v: BigInt, w: Int) = { val m = v.mod(BigInt(1) << w); if (m.testBit(w - 1)) m - (BigInt(1) << w) else m }
+      val in = edges ++ Seq.fill(2000)(
+        Seq(BigInt(64, rng), BigInt(64, rng) - (BigInt(1) << 63), BigInt(rng.nextInt(32) - 16))
+      )
+      def wrapSigned(v: BigInt, w: Int) = {
+        val m = v.mod(BigInt(1) << w); if (m.testBit(w - 1)) m - (BigInt(1) << w) else m
+      }
       val r = a.run(in, samplePeriod = 1, drainCycles = 2)
       assert(r.outputs == in.map(s => IndexedSeq(s(0), wrapSigned(s(1) + s(2), 64), wrapSigned(-s(2), 5))))
       // Ready is high every other clock: the harness held each sample until it was taken.

@@ -3,8 +3,8 @@ package reducerload.testutil
 import java.nio.file.{Files, Path}
 
 /**
- * Temporary files and directories of a test run, all in one directory deleted when the test JVM
- * exits (the tests used to leave about a thousand entries in the system's temporary directory per run).
+ * Temporary files and directories of a test run, all in one directory deleted when the test JVM exits (the
+ * tests used to leave about a thousand entries in the system's temporary directory per run).
  */
 object Scratch {
   private lazy val root: Path = {

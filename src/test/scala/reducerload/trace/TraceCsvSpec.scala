@@ -60,8 +60,9 @@ class TraceCsvSpec extends AnyFlatSpec {
     assert(plain.lines.toSeq == Seq(3, 4))
     assert(plain.values.toSeq == (rowA ++ rowB).map(_.toDouble))
     // Quoted fields, comments between rows, extra columns and rows in many segments: the same layout.
-    val mixed = s"$header,note\n${rowA.mkString(",")},1\n# between\n\n${rowB.map("\"" + _ + "\"").mkString(",")},\" 7\"\n" +
-      (1 to 50).map(i => (rowA :+ i.toString).mkString(",")).mkString("", "\n", "\n")
+    val mixed =
+      s"$header,note\n${rowA.mkString(",")},1\n# between\n\n${rowB.map("\"" + _ + "\"").mkString(",")},\" 7\"\n" +
+        (1 to 50).map(i => (rowA :+ i.toString).mkString(",")).mkString("", "\n", "\n")
     Seq(1, 7, 1 << 22).foreach { chars =>
       val t = TraceCsv.parse("mixed.csv", mixed, columns, chars)
       assert(t.size == 52 && t.width == columns.size + 1 && t.values.length == 52 * t.width)
@@ -76,23 +77,40 @@ class TraceCsvSpec extends AnyFlatSpec {
     sameAsPlain(TraceCsv.read(tempFile(".csv", bom ++ utf8(plainText)), columns))
     sameAsPlain(TraceCsv.parse("bom.csv", "\uFEFF" + plainText, columns))
     // Without a comment line, the mark sits right before the first column's name.
-    sameAsPlain(TraceCsv.read(tempFile(".csv", bom ++ utf8(plainText.linesIterator.drop(1).mkString("\n"))), columns))
+    sameAsPlain(
+      TraceCsv.read(tempFile(".csv", bom ++ utf8(plainText.linesIterator.drop(1).mkString("\n"))), columns)
+    )
   }
 
   it should "read RFC 4180 quoted fields: quoted names and numbers, blanks around quotes, doubled quotes, commas inside" in {
     def q(cells: Seq[String]) = cells.map("\"" + _ + "\"").mkString(",")
     sameAsPlain(TraceCsv.parse("q.csv", s"${q(columns)}\n${q(rowA)}\n${rowB.mkString(",")}\n", columns))
-    sameAsPlain(TraceCsv.parse("q.csv", s"$header\n${rowA.map(c => s""" "$c" """).mkString(",")}\n${q(rowB)}\n", columns))
+    sameAsPlain(
+      TraceCsv.parse(
+        "q.csv",
+        s"$header\n${rowA.map(c => s""" "$c" """).mkString(",")}\n${q(rowB)}\n",
+        columns
+      )
+    )
     // An extra column whose name holds a comma and a doubled quote: one column, not two.
-    val extra = TraceCsv.parse("q.csv", s"""$header,"note, with ""quotes""\"\n${rowA.mkString(",")},7\n""", columns)
+    val extra =
+      TraceCsv.parse("q.csv", s"""$header,"note, with ""quotes""\"\n${rowA.mkString(",")},7\n""", columns)
     assert(extra.header.last == "note, with \"quotes\"")
     assert(extra.column("note, with \"quotes\"") == Seq(7.0))
     assert(extra.column("t1") == Seq(0.1))
     // A line break inside quotes stays in the field, and later rows keep their file line numbers.
-    val multi = TraceCsv.parse("q.csv", s"$header,\"two\nlines\"\n${rowA.mkString(",")},1\n${rowB.mkString(",")},2\n", columns)
+    val multi = TraceCsv.parse(
+      "q.csv",
+      s"$header,\"two\nlines\"\n${rowA.mkString(",")},1\n${rowB.mkString(",")},2\n",
+      columns
+    )
     assert(multi.rows.map(_._1) == Seq(3, 4))
     refused("q.csv:4:", "column 'two?lines'", "not a number") {
-      TraceCsv.parse("q.csv", s"$header,\"two\nlines\"\n${rowA.mkString(",")},1\n${rowB.mkString(",")},x\n", columns)
+      TraceCsv.parse(
+        "q.csv",
+        s"$header,\"two\nlines\"\n${rowA.mkString(",")},1\n${rowB.mkString(",")},x\n",
+        columns
+      )
     }
   }
 
@@ -127,7 +145,11 @@ class TraceCsvSpec extends AnyFlatSpec {
 
   it should "refuse an unterminated quote and text after a closing quote with file:line and column" in {
     refused("u.csv:3:", "column 'd1'", "unterminated quoted field", "line 3") {
-      TraceCsv.parse("u.csv", s"$header\n${rowA.mkString(",")}\n0.1,0.2,0.3,\"1,-1,0.5,2,3,-4\n${rowB.mkString(",")}\n", columns)
+      TraceCsv.parse(
+        "u.csv",
+        s"$header\n${rowA.mkString(",")}\n0.1,0.2,0.3,\"1,-1,0.5,2,3,-4\n${rowB.mkString(",")}\n",
+        columns
+      )
     }
     refused("u.csv:1:", "header field 2", "unterminated quoted field") {
       TraceCsv.parse("u.csv", "t1,\"t2,t3\n", columns)
@@ -138,9 +160,13 @@ class TraceCsvSpec extends AnyFlatSpec {
   }
 
   it should "keep the existing errors: missing column, wrong count, not a number, each one line" in {
-    refused("m.csv:1:", "missing column(s) 'd1'")(TraceCsv.parse("m.csv", s"${header.replace("d1", "v1")}\n${rowA.mkString(",")}\n", columns))
+    refused("m.csv:1:", "missing column(s) 'd1'")(
+      TraceCsv.parse("m.csv", s"${header.replace("d1", "v1")}\n${rowA.mkString(",")}\n", columns)
+    )
     refused("m.csv:2:", "2 values")(TraceCsv.parse("m.csv", s"$header\n0.1,0.2\n", columns))
-    refused("m.csv:2:", "column 'dd2'", "not a finite number")(TraceCsv.parse("m.csv", s"$header\n0.1,0.2,0.3,1,-1,0.5,2,NaN,-4\n", columns))
+    refused("m.csv:2:", "column 'dd2'", "not a finite number")(
+      TraceCsv.parse("m.csv", s"$header\n0.1,0.2,0.3,1,-1,0.5,2,NaN,-4\n", columns)
+    )
     refused("m.csv", "no data rows")(TraceCsv.parse("m.csv", s"# c\n$header\r\n\r\n", columns))
     refused("m.csv", "empty")(TraceCsv.parse("m.csv", "\uFEFF# only a comment\n", columns))
   }
@@ -154,14 +180,32 @@ class TraceCsvSpec extends AnyFlatSpec {
       case 1 => s"%.${rng.nextInt(20)}f".format(x)
       case 2 => s"%.${rng.nextInt(20)}e".format(x).replace("e", if (rng.nextBoolean()) "e" else "E")
       case 3 => s"${if (rng.nextBoolean()) "-" else "+"}${digits(rng.nextInt(25))}.${digits(rng.nextInt(25))}"
-      case 4 => s"${digits(1 + rng.nextInt(20))}e${if (rng.nextBoolean()) "-" else ""}${digits(1 + rng.nextInt(4))}"
+      case 4 =>
+        s"${digits(1 + rng.nextInt(20))}e${if (rng.nextBoolean()) "-" else ""}${digits(1 + rng.nextInt(4))}"
       case 5 => s".${digits(1 + rng.nextInt(20))}"
       case 6 => s"${digits(1 + rng.nextInt(3))}."
-      case 7 => Seq.fill(1 + rng.nextInt(8))("0123456789.+-eE xd".charAt(rng.nextInt(18))).mkString // mostly not numbers
+      case 7 =>
+        Seq
+          .fill(1 + rng.nextInt(8))("0123456789.+-eE xd".charAt(rng.nextInt(18)))
+          .mkString // mostly not numbers
       case 8 => s"${" " * rng.nextInt(3)}${rng.nextLong()}${"\t" * rng.nextInt(2)}"
-      case 9 => Seq("1e400", "-1e400", "1e-400", "0", "-0", "-0.0", "4.9e-324", "1.7976931348623157e308", "9007199254740993", "NaN", "inf", "").apply(rng.nextInt(12))
+      case 9 =>
+        Seq(
+          "1e400",
+          "-1e400",
+          "1e-400",
+          "0",
+          "-0",
+          "-0.0",
+          "4.9e-324",
+          "1.7976931348623157e308",
+          "9007199254740993",
+          "NaN",
+          "inf",
+          ""
+        ).apply(rng.nextInt(12))
       case 10 => s"${digits(1 + rng.nextInt(18))}e${rng.nextInt(60) - 30}"
-      case _ => java.lang.Double.toString(java.lang.Double.longBitsToDouble(rng.nextLong()))
+      case _  => java.lang.Double.toString(java.lang.Double.longBitsToDouble(rng.nextLong()))
     }
   }
 
@@ -175,16 +219,25 @@ class TraceCsvSpec extends AnyFlatSpec {
         case None    => !fast.isNaN
       }
     }
-    assert(wrong.isEmpty, s"fast and general parse differ on ${wrong.take(5).map("'" + _ + "'").mkString(", ")}")
-    assert(cells.count(c => TraceCsv.parseNumber(c.trim).isDefined) > cells.size / 2, "the corpus is mostly numbers")
+    assert(
+      wrong.isEmpty,
+      s"fast and general parse differ on ${wrong.take(5).map("'" + _ + "'").mkString(", ")}"
+    )
+    assert(
+      cells.count(c => TraceCsv.parseNumber(c.trim).isDefined) > cells.size / 2,
+      "the corpus is mostly numbers"
+    )
   }
 
   it should "read every double as Double.toString and %.17g write it, bit for bit (seeded)" in {
     val rng = new Random(Seeds("decimal-cell-doubles", 73L))
-    val xs = Seq.fill(300000)(java.lang.Double.longBitsToDouble(rng.nextLong())).filter(x => !x.isNaN && !x.isInfinite) ++
+    val xs = Seq
+      .fill(300000)(java.lang.Double.longBitsToDouble(rng.nextLong()))
+      .filter(x => !x.isNaN && !x.isInfinite) ++
       Seq.fill(100000)((rng.nextDouble() * 2 - 1) * math.pow(10, rng.nextInt(10) - 5))
     val wrong = xs.flatMap(x => Seq(x.toString, "%.17g".format(x), "%.16e".format(x))).filter { c =>
-      java.lang.Double.doubleToRawLongBits(DecimalCell.parse(c, 0, c.length)) != java.lang.Double.doubleToRawLongBits(c.toDouble)
+      java.lang.Double.doubleToRawLongBits(DecimalCell.parse(c, 0, c.length)) != java.lang.Double
+        .doubleToRawLongBits(c.toDouble)
     }
     assert(wrong.isEmpty, s"differs on ${wrong.take(5).mkString(", ")}")
   }
@@ -192,20 +245,38 @@ class TraceCsvSpec extends AnyFlatSpec {
   it should "read plain rows (fast path) and quoted rows (general path) of a fuzzed file alike, errors included" in {
     val rng = new Random(Seeds("trace-csv-fast-rows", 72L))
     (0 until 200).foreach { round =>
-      val rows = Seq.fill(1 + rng.nextInt(30))(Seq.fill(columns.size)(fuzzCell(rng)).map(c => if (rng.nextInt(4) == 0) c else (rng.nextDouble() * 10).toString))
+      val rows = Seq.fill(1 + rng.nextInt(30))(
+        Seq
+          .fill(columns.size)(fuzzCell(rng))
+          .map(c => if (rng.nextInt(4) == 0) c else (rng.nextDouble() * 10).toString)
+      )
       val ends = Seq("\n", "\r\n", "\r")(rng.nextInt(3))
       def text(quote: Boolean) =
-        (header +: rows.map(_.map(c => if (quote) "\"" + c + "\"" else c).mkString(","))).mkString(ends) + (if (rng.nextBoolean()) ends else "")
-      def outcome(t: String) = scala.util.Try(TraceCsv.parse(s"f$round.csv", t, columns)).toEither.left.map(_.getMessage)
+        (header +: rows.map(_.map(c => if (quote) "\"" + c + "\"" else c).mkString(",")))
+          .mkString(ends) + (if (rng.nextBoolean()) ends else "")
+      def outcome(t: String) = scala.util
+        .Try(TraceCsv.parse(s"f$round.csv", t, columns))
+        .toEither
+        .left
+        .map(_.getMessage)
         .map(t => t.rows.map { case (line, v) => line -> v.map(java.lang.Double.doubleToRawLongBits) })
       val plainRead = outcome(text(quote = false))
       assert(plainRead == outcome(text(quote = true)), s"round $round: ${rows.take(3)}")
       // Read in segments of a few characters (in parallel): the same rows, lines, comments and first error.
-      val withComments = text(quote = false).replace(s"${ends}${rows.head.head}", s"${ends}# note${ends}${ends}${rows.head.head}")
-      def segmented(chars: Int) = scala.util.Try(TraceCsv.parse(s"f$round.csv", withComments, columns, chars)).toEither.left.map(_.getMessage)
-        .map(t => (t.comments, t.rows.map { case (line, v) => line -> v.map(java.lang.Double.doubleToRawLongBits) }))
+      val withComments = text(quote = false)
+        .replace(s"${ends}${rows.head.head}", s"${ends}# note${ends}${ends}${rows.head.head}")
+      def segmented(chars: Int) = scala.util
+        .Try(TraceCsv.parse(s"f$round.csv", withComments, columns, chars))
+        .toEither
+        .left
+        .map(_.getMessage)
+        .map(t =>
+          (t.comments, t.rows.map { case (line, v) => line -> v.map(java.lang.Double.doubleToRawLongBits) })
+        )
       val whole = segmented(Int.MaxValue)
-      Seq(1, 7, 50, 300).foreach(chars => assert(segmented(chars) == whole, s"round $round, segments of $chars characters"))
+      Seq(1, 7, 50, 300).foreach(chars =>
+        assert(segmented(chars) == whole, s"round $round, segments of $chars characters")
+      )
     }
   }
 }
