@@ -3,7 +3,7 @@ package reducerload.app
 import com.typesafe.config.{Config, ConfigFactory}
 import reducerload.config.Settings
 import reducerload.load.LoadParams
-import reducerload.trace.InputError
+import reducerload.util.InputError
 
 import java.nio.file.{Files, Path, Paths}
 import scala.util.Try

@@ -7,7 +7,7 @@ import reducerload.config.Settings
 import reducerload.cordic.CordicSinCos
 import reducerload.load.LoadParams
 import reducerload.monitor.MonitorConfig
-import reducerload.trace.InputError
+import reducerload.util.InputError
 
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path, StandardCopyOption}

@@ -1,7 +1,7 @@
 package reducerload.app
 
 import com.typesafe.config.ConfigFactory
-import reducerload.trace.InputError
+import reducerload.util.InputError
 
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path, Paths}

@@ -2,7 +2,7 @@ package reducerload.app
 
 import reducerload.config.Settings
 import reducerload.load.LoadParams
-import reducerload.trace.InputError
+import reducerload.util.InputError
 
 /**
  * `./sbt "run [command] [options]"`. Commands: emit (default), simulate, help. User mistakes end with one

@@ -4,7 +4,8 @@ import reducerload.arm.{ArmConfig, ArmParams, ArmSample}
 import reducerload.load.LoadParams
 import reducerload.monitor.{MonitorConfig, MonitorParams, MonitorSummary}
 import reducerload.sim._
-import reducerload.trace.{InputError, TraceCsv}
+import reducerload.trace.TraceCsv
+import reducerload.util.InputError
 
 import java.io.{BufferedOutputStream, BufferedWriter, OutputStream, OutputStreamWriter, Writer}
 import java.nio.charset.StandardCharsets

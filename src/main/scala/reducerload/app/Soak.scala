@@ -5,7 +5,7 @@ import chiseltest.simulator.VerilatorBackendAnnotation
 import reducerload.arm.{ArmDatapath, ArmModel, ArmOutputCodes, ArmParams, ArmSample}
 import reducerload.graph.SampleCodes
 import reducerload.sim.{ArmDriver, Cycle, StreamChecker}
-import reducerload.trace.InputError
+import reducerload.util.InputError
 
 import java.nio.file.{Files, Paths}
 import scala.sys.process._

@@ -3,7 +3,8 @@ package reducerload.app
 import circt.stage.ChiselStage
 import reducerload.cordic.{CordicArchitecture, CordicParams}
 import reducerload.load._
-import reducerload.trace.{InputError, TraceCsv}
+import reducerload.trace.TraceCsv
+import reducerload.util.InputError
 
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path, Paths}

@@ -1,6 +1,6 @@
 package reducerload.app
 
-import reducerload.trace.InputError
+import reducerload.util.InputError
 
 import java.nio.file.Path
 import scala.util.{Random, Try}

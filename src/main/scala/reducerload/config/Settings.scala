@@ -5,7 +5,7 @@ import reducerload.cordic.{CordicArchitecture, CordicParams}
 import reducerload.fixedpoint.Rounding
 import reducerload.load.{LoadModel, LoadParams, RobotParams}
 import reducerload.monitor.{MonitorConfig, MonitorSettings}
-import reducerload.trace.InputError
+import reducerload.util.InputError
 
 import scala.jdk.CollectionConverters._
 

@@ -1,6 +1,7 @@
 package reducerload.robot
 
-import reducerload.trace.{InputError, TraceCsv}
+import reducerload.trace.TraceCsv
+import reducerload.util.InputError
 
 import java.nio.ByteBuffer
 import java.nio.charset.{CharacterCodingException, CodingErrorAction, StandardCharsets}

@@ -1,5 +1,7 @@
 package reducerload.trace
 
+import reducerload.util.InputError
+
 /**
  * One logical CSV record: a `#` comment line or a row of cells, with the file line it starts on (1-based).
  */

@@ -6,11 +6,9 @@ import java.nio.file.{Files, Path}
 import java.util.zip.GZIPInputStream
 import scala.collection.immutable.ArraySeq
 import reducerload.sim.ChunkedRun
+import reducerload.util.InputError
 
 import scala.util.Try
-
-/** A user error in an input file: one line naming the file, row and column. */
-final class InputError(message: String) extends Exception(message)
 
 /**
  * A numeric CSV table: optional `#` comment lines, one header row, then rows of finite numbers. Row numbers

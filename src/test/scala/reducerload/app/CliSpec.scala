@@ -3,7 +3,7 @@ package reducerload.app
 import reducerload.testutil.Scratch
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.load.{LoadModel, LoadParams}
-import reducerload.trace.InputError
+import reducerload.util.InputError
 
 import java.nio.file.Files
 

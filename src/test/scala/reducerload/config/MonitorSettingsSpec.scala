@@ -6,7 +6,7 @@ import reducerload.app.Cli
 import reducerload.arm.ArmConfig
 import reducerload.load.{LoadModel, LoadParams}
 import reducerload.monitor.{MonitorConfig, MonitorSettings}
-import reducerload.trace.InputError
+import reducerload.util.InputError
 
 /** The `monitor.*` keys: defaults, round trip, derived values, and one-line refusals naming the key. */
 class MonitorSettingsSpec extends AnyFlatSpec {

@@ -5,7 +5,7 @@ import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.app.Main
 import reducerload.cordic.CordicParams
 import reducerload.load.{LoadModel, LoadParams, RobotParams}
-import reducerload.trace.InputError
+import reducerload.util.InputError
 
 import java.nio.file.{Files, Paths}
 

@@ -1,7 +1,7 @@
 package reducerload.robot
 
 import org.scalatest.flatspec.AnyFlatSpec
-import reducerload.trace.InputError
+import reducerload.util.InputError
 
 import java.nio.file.{Path, Paths}
 

@@ -1,5 +1,6 @@
 package reducerload.trace
 
+import reducerload.util.InputError
 import reducerload.testutil.Scratch
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.testutil.Seeds
