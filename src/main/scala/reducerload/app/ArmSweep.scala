@@ -122,6 +122,19 @@ object ArmSweep {
     }
   }
 
+  /**
+   * arms.md from the cells of arms.csv and the command that made them: a function of the CSV alone, so the
+   * docs' freshness test can regenerate the committed markdown from the committed CSV.
+   */
+  def markdown(cells: Seq[Seq[String]], fmax: Boolean, command: String): String =
+    (Seq(
+      s"Arm sweep ${if (fmax) "with" else "without"} the ECP5 Fmax proxy. Regenerate: `$command`.",
+      s"Latency in ns and samples/s at ${if (fmax) "the Fmax proxy" else s"$nominalMhz MHz"}. Errors: max |torque - Pinocchio| over the golden " +
+        "traces per joint (bit-accurate model, equal to the RTL); bound: derived worst case over the declared ranges.",
+      "Resources: open-tool Cyclone IV E estimate (tools/estimate/README.md); mult_blocks: the schedule's 18x18 blocks; est_m9k: the estimate's 9-kbit M9K blocks. EP4CE30: 28,848 LEs, 66 multipliers, 66 M9K blocks.",
+      ""
+    ) ++ Sweep.table(cells)).mkString("", "\n", "\n")
+
   def run(out: Path, fmax: Boolean, jobs: Int, command: String): Unit = {
     val designs = robots.flatMap { robot =>
       val config = ArmGolden.of(robot).head.config
@@ -164,20 +177,9 @@ object ArmSweep {
         first ++ Await.result(Future.sequence(designs.drop(1).map(d => Future(measure(d)))), Duration.Inf)
       } finally pool.shutdown()
     Files.createDirectories(out)
-    Files.write(
-      out.resolve("arms.csv"),
-      (header +: rows
-        .map(_.cells)).map(_.mkString(",")).mkString("", "\n", "\n").getBytes(StandardCharsets.UTF_8)
-    )
-    val md = (Seq(
-      s"Arm sweep ${if (fmax) "with" else "without"} the ECP5 Fmax proxy. Regenerate: `$command`.",
-      s"Latency in ns and samples/s at ${if (fmax) "the Fmax proxy" else s"$nominalMhz MHz"}. Errors: max |torque - Pinocchio| over the golden " +
-        "traces per joint (bit-accurate model, equal to the RTL); bound: derived worst case over the declared ranges.",
-      "Resources: open-tool Cyclone IV E estimate (tools/estimate/README.md); mult_blocks: the schedule's 18x18 blocks; est_m9k: the estimate's 9-kbit M9K blocks. EP4CE30: 28,848 LEs, 66 multipliers, 66 M9K blocks.",
-      "",
-      header.mkString("| ", " | ", " |"),
-      header.map(_ => "---").mkString("| ", " | ", " |")
-    ) ++ rows.map(_.cells.mkString("| ", " | ", " |"))).mkString("", "\n", "\n")
+    val cells = header +: rows.map(_.cells)
+    Files.write(out.resolve("arms.csv"), Sweep.csv(cells).getBytes(StandardCharsets.UTF_8))
+    val md = markdown(cells, fmax, command)
     Files.write(out.resolve("arms.md"), md.getBytes(StandardCharsets.UTF_8))
     println(md)
     val plot = Seq("python3", "tools/sweep/plot_arms.py", out.resolve("arms.csv").toString, out.toString)

@@ -136,6 +136,36 @@ object Sweep {
     }.max
   }
 
+  /** The command that regenerates a sweep's files, as its markdown names it. */
+  def command(arms: Boolean, out: Option[String], fmax: Boolean): String =
+    "./sbt \"run sweep" + (if (arms) " --arms" else "") + out.map(d => s" --out $d").getOrElse("") +
+      (if (fmax) " --fmax" else "") + "\""
+
+  /** A sweep's CSV text from its cells, header row first (no cell holds a comma). */
+  def csv(cells: Seq[Seq[String]]): String = cells.map(_.mkString(",")).mkString("", "\n", "\n")
+
+  /** The cells of a CSV text that [[csv]] wrote. */
+  def cellsOf(csvText: String): Seq[Seq[String]] = csvText.linesIterator.map(_.split(",", -1).toSeq).toSeq
+
+  /** A markdown table of a sweep's cells, header row first. */
+  def table(cells: Seq[Seq[String]]): Seq[String] = {
+    def row(r: Seq[String]) = r.mkString("| ", " | ", " |")
+    row(cells.head) +: row(cells.head.map(_ => "---")) +: cells.tail.map(row)
+  }
+
+  /**
+   * sweep.md from the cells of sweep.csv: a function of the CSV alone, so the docs' freshness test can
+   * regenerate the committed markdown from the committed CSV.
+   */
+  def markdown(cells: Seq[Seq[String]], fmax: Boolean, out: Option[String]): String =
+    (Seq(
+      "Design-space sweep: " + (if (fmax) "with" else "without") + " the ECP5 Fmax proxy. Regenerate: `" +
+        command(arms = false, out, fmax) + "`.",
+      "Errors: max |load - formula| over the golden traces (bit-accurate model, equal to the RTL); bound: derived worst case.",
+      "Resources: open-tool Cyclone IV E estimate (tools/estimate/README.md). Paper: 4,330 LEs, 321 registers, 10 stages, < 1e-3 N·m.",
+      ""
+    ) ++ table(cells)).mkString("", "\n", "\n")
+
   def run(cli: Cli): Unit = {
     val out = cli.path("out").getOrElse(Paths.get("sweep"))
     val fmax = cli.has("fmax")
@@ -149,11 +179,7 @@ object Sweep {
       }
       .getOrElse(Runtime.getRuntime.availableProcessors.min(16))
     if (cli.has("arms")) {
-      val command =
-        "./sbt \"run sweep --arms" + cli.path("out").map(d => s" --out $d").getOrElse("") + (if (fmax)
-                                                                                               " --fmax"
-                                                                                             else "") + "\""
-      return ArmSweep.run(out, fmax, jobs, command)
+      return ArmSweep.run(out, fmax, jobs, command(arms = true, cli.path("out").map(_.toString), fmax))
     }
     // A preset equal to a grid point is measured once (place and route takes minutes). Elaboration
     // and the golden error run here in turn; the estimates (external processes) run `jobs` at once,
@@ -198,18 +224,9 @@ object Sweep {
       row
     }
     Files.createDirectories(out)
-    val csv = (header +: rows.map(_.cells)).map(_.mkString(",")).mkString("", "\n", "\n")
-    Files.write(out.resolve("sweep.csv"), csv.getBytes(StandardCharsets.UTF_8))
-    val md = (Seq(
-      "Design-space sweep: " + (if (fmax) "with"
-                                else "without") + " the ECP5 Fmax proxy. Regenerate: `./sbt \"run sweep" +
-        cli.path("out").map(d => s" --out $d").getOrElse("") + (if (fmax) " --fmax" else "") + "\"`.",
-      "Errors: max |load - formula| over the golden traces (bit-accurate model, equal to the RTL); bound: derived worst case.",
-      "Resources: open-tool Cyclone IV E estimate (tools/estimate/README.md). Paper: 4,330 LEs, 321 registers, 10 stages, < 1e-3 N·m.",
-      "",
-      header.mkString("| ", " | ", " |"),
-      header.map(_ => "---").mkString("| ", " | ", " |")
-    ) ++ rows.map(_.cells.mkString("| ", " | ", " |"))).mkString("", "\n", "\n")
+    val cells = header +: rows.map(_.cells)
+    Files.write(out.resolve("sweep.csv"), csv(cells).getBytes(StandardCharsets.UTF_8))
+    val md = markdown(cells, fmax, cli.path("out").map(_.toString))
     Files.write(out.resolve("sweep.md"), md.getBytes(StandardCharsets.UTF_8))
     println(md)
     val plot = Seq("python3", "tools/sweep/plot.py", out.resolve("sweep.csv").toString, out.toString)
