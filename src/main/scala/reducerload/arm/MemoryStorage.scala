@@ -105,17 +105,17 @@ final class MemoryStorage(
    */
   private final class PortSources(operands: Seq[(Int, Operand, Int)]) {
 
-    /**
-     * Sources: a bank's read port (Left: bank, port) or a unit's output register (Right: bank), and the
-     * shift.
-     */
-    private def sourceOf(o: Operand, shift: Int): Option[(Either[(Int, Int), Int], Int)] = o match {
-      case Operand.Stored(x, bankPort) => Some((Left((b.bankOf(x).get, bankPort)), shift))
-      case Operand.Forwarded(x)        => Some((Right(b.bankOf(x).get), shift))
-      case _                           => None
+    /** An operand's option: the table's constant field holds each constant shifted already. */
+    private def optionOf(o: Operand, shift: Int): MuxInput = OperandSource.of(o, x => b.bankOf(x).get) match {
+      case OperandSource.Table => MuxInput(OperandSource.Table, 0)
+      case source              => MuxInput(source, shift)
     }
-    val sources: IndexedSeq[(Either[(Int, Int), Int], Int)] =
-      operands.flatMap(o => sourceOf(o._2, o._3)).distinct.sortBy(_.toString).toIndexedSeq
+
+    /**
+     * Options, in [[MuxInput.ordering]]: the bank read ports, the output registers, then the table if any.
+     */
+    val sources: IndexedSeq[MuxInput] =
+      operands.map { case (_, o, shift) => optionOf(o, shift) }.distinct.sorted.toIndexedSeq
     // The table holds each constant shifted already.
     private val constants: Map[Int, (BigInt, Int)] = operands.collect {
       case (r, Operand.Constant(x), shift) => r -> (analysis(x).raw.get << shift, fmt(x).width + shift)
@@ -123,11 +123,9 @@ final class MemoryStorage(
     }.toMap
     private val constantWidth = constants.values.map(_._2).maxOption.getOrElse(1)
     private val index: Seq[(Int, Int)] = operands.map { case (r, o, shift) =>
-      r -> sourceOf(o, shift).fold(sources.size)(sources.indexOf)
+      r -> sources.indexOf(optionOf(o, shift))
     }
-
-    /** Options: the sources, then the constant field if any. */
-    private val options: Int = sources.size + (if (constants.isEmpty) 0 else 1)
+    private val options: Int = sources.size
     private val group = MemoryStorage.selectGroup
     private val groups: Int = (options + group - 1) / group
 
@@ -180,7 +178,7 @@ final class MemoryStorage(
   private final class MultiplierPlan(u: Int) {
     private val ops = opsOn(UnitKind.Multiplier, u)
     val ports: IndexedSeq[PortSources] = (0 to 1).map(port =>
-      new PortSources(ops.map(o => (residue(o.issue - b.mulForwardLead), o.operands(port), 0)))
+      new PortSources(ops.map(o => (residue(o.issue - b.forwardLead), o.operands(port), 0)))
     )
     private def drop(o: PlacedOp) = analysis.productRounding(o.node).drop
     val drops: IndexedSeq[Int] = ops.map(drop).distinct.sorted.toIndexedSeq
@@ -193,7 +191,7 @@ final class MemoryStorage(
   private val multipliers = (0 until p.schedule.multiplierUnits).map(new MultiplierPlan(_))
 
   /**
-   * An adder unit: sources (aligned) `addForwardLead` cycles before the issue, add or subtract one cycle
+   * An adder unit: sources (aligned) `forwardLead` cycles before the issue, add or subtract one cycle
    * before (each step registered).
    */
   private final class AdderPlan(u: Int) {
@@ -206,7 +204,7 @@ final class MemoryStorage(
     private def shift(o: PlacedOp, port: Int) =
       o.operands(port).carried.fold(0)(x => fmt(o.node).fracBits - fmt(x).fracBits)
     val ports: IndexedSeq[PortSources] = (0 to 1).map(port =>
-      new PortSources(ops.map(o => (residue(o.issue - b.addForwardLead), o.operands(port), shift(o, port))))
+      new PortSources(ops.map(o => (residue(o.issue - b.forwardLead), o.operands(port), shift(o, port))))
     )
     val subtract: Field = Field.flag(ops.filter(_.subtract).map(o => residue(o.issue - 1)).toSet)
 
@@ -287,13 +285,12 @@ final class MemoryStorage(
    * `width` (values fit their formats).
    */
   private def operand(src: PortSources, width: Int): SInt = {
-    val options = src.sources.map { case (s, shift) =>
-      (fit(s.fold({ case (bank, bankPort) => readData(bank)(bankPort) }, bank => out(bank)), width) << shift)(
-        width - 1,
-        0
-      ).asSInt
-    } ++
-      src.constant.map(c => fit(word(c).asSInt, width))
+    def shifted(v: SInt, shift: Int) = (fit(v, width) << shift)(width - 1, 0).asSInt
+    val options = src.sources.map {
+      case MuxInput(OperandSource.ReadPort(bank, port), shift) => shifted(readData(bank)(port), shift)
+      case MuxInput(OperandSource.Output(bank), shift)         => shifted(out(bank), shift)
+      case MuxInput(OperandSource.Table, _)                    => fit(word(src.constant.get).asSInt, width)
+    }
     lazy val low = control(src.selectLow.get) // one register for every group
     lazy val clears = control(src.groupClears.get)
     // A unit the schedule left idle (more adder units asked for than it used) has no options.
@@ -423,6 +420,23 @@ final class Microcode(ii: Int, fields: Seq[Field], address: UInt) {
 
   /** A field's bits in the current cycle. */
   def apply(f: Field): UInt = bits(offsets(f) + f.width - 1, offsets(f))
+}
+
+/**
+ * One input of a unit port's operand multiplexer: its source and the bits it is shifted left by (an addition
+ * aligns its operands there).
+ */
+final case class MuxInput(source: OperandSource, shift: Int)
+object MuxInput {
+
+  /**
+   * By source ([[OperandSource.ordering]]), then by shift as decimal text: the order of the emitted
+   * multiplexer's inputs (the table's constant, shifted in the table, last).
+   */
+  implicit val ordering: Ordering[MuxInput] =
+    Ordering.by((i: MuxInput) => (i.source, i.shift))(
+      Ordering.Tuple2(OperandSource.ordering, OperandSource.decimalTextOrder)
+    )
 }
 
 object MemoryStorage {

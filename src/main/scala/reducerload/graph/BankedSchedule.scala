@@ -126,13 +126,38 @@ private final case class BankedState(
 
 /**
  * Where a unit port's operand comes from: a bank's read port, a unit's output register, or the table (a
- * constant or zero).
+ * constant or zero). Each distinct source is one input of the port's multiplexer.
  */
-private sealed trait OperandSource
-private object OperandSource {
+sealed trait OperandSource
+object OperandSource {
   final case class ReadPort(bank: Int, port: Int) extends OperandSource
   final case class Output(bank: Int) extends OperandSource
   case object Table extends OperandSource
+
+  /** The source of `operand`, with `bankOf` the bank of each stored node. */
+  def of(operand: Operand, bankOf: NodeId => Int): OperandSource = operand match {
+    case Operand.Stored(x, port) => ReadPort(bankOf(x), port)
+    case Operand.Forwarded(x)    => Output(bankOf(x))
+    case _                       => Table
+  }
+
+  /**
+   * Integers in the order of their decimal text ("10" before "2"), for the multiplexer order below.
+   */
+  val decimalTextOrder: Ordering[Int] = Ordering.by(_.toString)
+
+  /**
+   * The order of a unit port's multiplexer inputs in the memory-storage datapath: read ports, then output
+   * registers, then the table; each by bank, then by port, the numbers compared as decimal text. The sources
+   * were first sorted by their text, and the emitted Verilog (the order of the multiplexers' inputs and of
+   * their registers' declarations) depends on it: this order keeps every design byte-identical, where a
+   * numeric one would give equivalent hardware in different files.
+   */
+  implicit val ordering: Ordering[OperandSource] = Ordering.by {
+    case ReadPort(bank, port) => (0, bank.toString, port.toString)
+    case Output(bank)         => (1, bank.toString, "")
+    case Table                => (2, "", "")
+  }
 }
 
 /**
@@ -147,15 +172,14 @@ private object OperandSource {
  *     cycles later (registered on the way); a read's address may be presented from cycle R on, the array is
  *     read `arrayReadDelay` cycles after it, and the word is in a register `readLatency` cycles after the
  *     address;
- *   - a multiply reads its operands (address) `mulLead` cycles before its issue: the read, then
- *     `mulForwardLead` clocks (the operand selected among its sources in `selectStages` registered stages,
- *     the last one in the fabric ahead of the multiplier); its product is ready `base.mulLatency` cycles
- *     after the issue (the rounding shift and a capture register included);
- *   - an addition reads `addLead` cycles before its issue (`addForwardLead` after the read, as a multiply:
- *     its operands are aligned in the selection) and is ready one cycle after;
- *   - either takes a value off its unit's output register (no read) `mulForwardLead` or `addForwardLead`
- *     cycles after it is ready, when that is its issue: the value's selection starts in the cycle it is
- *     there, then it goes the way a read word goes.
+ *   - a multiply or an addition reads its operands (address) `readLead` cycles before its issue: the read,
+ *     then `forwardLead` clocks (the operand selected among its sources in `selectStages` registered stages,
+ *     the last one in the fabric ahead of the unit; an addition's operands are aligned in the selection); a
+ *     product is ready `base.mulLatency` cycles after the issue (the rounding shift and a capture register
+ *     included), a sum one cycle after;
+ *   - either takes a value off its unit's output register (no read) `forwardLead` cycles after it is ready,
+ *     when that is its issue: the value's selection starts in the cycle it is there, then it goes the way a
+ *     read word goes.
  * Each unit takes one operation and each read port one address per residue modulo II (two reads of the same
  * value in the same cycle share the port). A bank keeps `copies(b)` words per value, one per sample in
  * flight, picked by the sample's slot counter: a value is read before the sample `copies` later overwrites
@@ -167,17 +191,6 @@ final class BankedSchedule(val base: Schedule) {
   private val graph = analysis.graph
   val clocksPerSample: Int = base.clocksPerSample
   private val ii = clocksPerSample
-
-  /**
-   * Cycles from the start of a value's selection among a unit port's sources (`stages` clocks) to the issue:
-   * a multiplier's operand is then registered in the fabric, ahead of the multiplier's own input registers,
-   * so the selection's routing to the multiplier blocks gets a clock of its own; an addition's operand,
-   * aligned in the selection's first stage (wiring) and inverted for a subtraction in its last, is registered
-   * beside the carry in, so the carry chain has a clock of its own. (Until 2026-11-25 the alignment had a
-   * registered stage of its own: one more cycle per addition, on every path of the schedule.)
-   */
-  private def mulForwardLeadOf(stages: Int): Int = stages
-  private def addForwardLeadOf(stages: Int): Int = stages
 
   private def isConst(x: NodeId) = graph(x).isInstanceOf[Const]
   private def ceilDiv(a: Int, b: Int) = (a + b - 1) / b
@@ -242,15 +255,16 @@ final class BankedSchedule(val base: Schedule) {
    * and bank per unit.
    */
   private def kindOf(id: NodeId, stages: Int): Option[Kind] = {
-    val (mulForward, addForward) = (mulForwardLeadOf(stages), addForwardLeadOf(stages))
+    // A multiply or an addition takes its operand `stages` clocks after its selection starts (see forwardLead).
+    val lead = BankedSchedule.readLatency + stages
     graph(id) match {
       case _: Mul =>
         Some(
           Kind(
             UnitKind.Multiplier,
             base.unitsOf(id),
-            BankedSchedule.readLatency + mulForward,
-            mulForward,
+            lead,
+            stages,
             u => Some(base.unitShape(u)),
             base.mulLatency(id),
             Bank.Products
@@ -261,8 +275,8 @@ final class BankedSchedule(val base: Schedule) {
           Kind(
             UnitKind.Adder,
             0 until adderUnits,
-            BankedSchedule.readLatency + addForward,
-            addForward,
+            lead,
+            stages,
             _ => None,
             1,
             Bank.Sums
@@ -373,11 +387,7 @@ final class BankedSchedule(val base: Schedule) {
         .filterNot(isConst)
         .forall(x => s.ready(x.index).exists(r => r + k.forwardLead == t || r + k.lead <= t))
     }
-    def sourceOf(s: BankedState, o: Operand): OperandSource = o match {
-      case Operand.Stored(x, bankPort) => OperandSource.ReadPort(s.bank(x.index).get, bankPort)
-      case Operand.Forwarded(x)        => OperandSource.Output(s.bank(x.index).get)
-      case _                           => OperandSource.Table
-    }
+    def sourceOf(s: BankedState, o: Operand): OperandSource = OperandSource.of(o, x => s.bank(x.index).get)
 
     /**
      * Sources a placement adds to its unit's port multiplexers: each one is a multiplexer input as wide as
@@ -506,18 +516,20 @@ final class BankedSchedule(val base: Schedule) {
   private val state: BankedState = chosen._3
 
   /**
-   * Cycles from the start of a value's selection to the issue of the multiply or addition that takes it off
-   * its unit's output register.
+   * Cycles from the start of a value's selection (`selectStages` clocks) to the issue of the multiply or
+   * addition that takes it off its unit's output register: a multiplier's operand is then registered in the
+   * fabric, ahead of the multiplier's own input registers, so the selection's routing to the multiplier
+   * blocks gets a clock of its own; an addition's operand, aligned in the selection's first stage (wiring)
+   * and inverted for a subtraction in its last, is registered beside the carry in, so the carry chain has a
+   * clock of its own.
    */
-  val mulForwardLead: Int = mulForwardLeadOf(selectStages)
-  val addForwardLead: Int = addForwardLeadOf(selectStages)
+  val forwardLead: Int = selectStages
 
   /**
    * Cycles from a read's address to the issue of the multiply or addition that reads it: the read, then as a
    * forwarded value.
    */
-  val mulLead: Int = BankedSchedule.readLatency + mulForwardLead
-  val addLead: Int = BankedSchedule.readLatency + addForwardLead
+  val readLead: Int = BankedSchedule.readLatency + forwardLead
 
   private val height: IndexedSeq[Int] = heightOf(graph.ids.map(kindOf(_, selectStages)))
 

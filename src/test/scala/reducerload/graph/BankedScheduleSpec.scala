@@ -34,9 +34,7 @@ class BankedScheduleSpec extends AnyFlatSpec {
         case Op.Input(_) | Op.Trig(_, _) => assert(!placed.contains(id))
         case op =>
           val o = placed.getOrElse(id, fail(s"node ${id.index} ($op) is on no unit"))
-          val (lead, forwardLead) =
-            if (o.kind == UnitKind.Multiplier) (b.mulLead, b.mulForwardLead)
-            else (b.addLead, b.addForwardLead)
+          val (lead, forwardLead) = (b.readLead, b.forwardLead)
           // The operation computes its node: the graph's operands, in an order the unit's arithmetic allows.
           o.operands.foreach {
             case Operand.Constant(n) =>
