@@ -39,8 +39,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   /**
    * A register counting residues modulo II, at `start` in the cycle after reset. Each group of loads (the
    * phase flags, the table's address, a registered select) has a counter of its own: one counter read by all
-   * of them fanned out across the chip, and the route from it to its own increment was the Panda's critical
-   * path.
+   * of them fans out across the chip, and its route back to its own increment limits the clock.
    */
   private def residueCounter(start: Int): UInt = {
     val counter = RegInit((start % ii).U(log2Ceil(ii).W))
@@ -52,12 +51,12 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
   /**
    * One flip-flop per residue, high while the phase equals it, so the enables of the many registers written
-   * at one phase leave a flip-flop, not a comparator (that compare and its fan-out were the critical path).
+   * at one phase leave a flip-flop, not a comparator (a compare driving that fan-out limits the clock).
    * Registers storage compares the phase with the residue before, a cycle early (the compare does not wait
    * for the counter's increment; residues nothing uses are removed). Memory storage at up to
    * [[ArmDatapath.ringMaxInterval]] clocks passes one token around a ring of II flip-flops instead: no
-   * counter, so no compare shared between the counter's wrap and the flag of residue 0 pulled between the
-   * counter and that flag's loads (the UR5's critical path at 125.9 MHz).
+   * counter, so no compare shared between the counter's wrap and the flag of residue 0, which the placer
+   * would pull between the counter and that flag's loads.
    */
   private val phaseIs: IndexedSeq[Bool] =
     if (ii == 1) IndexedSeq(true.B)
@@ -87,10 +86,9 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
    * The entry of the current phase through a multiplexer whose select is a register: which entry is looked up
    * from a counter [[selectAhead]] cycles ahead of the phase, then registered that many times, so the lookup
    * sits between two flip-flops of its own and the select's route to the multiplexer is a
-   * register-to-register hop. For a select that reaches far (a CORDIC unit's input among the angle sums: the
-   * phase decode and its routes were the UR5's critical path, and then, decoded from the phase a cycle early,
-   * again at 129.8 MHz). In the first cycles after reset the select is 0: those cycles' CORDIC inputs belong
-   * to samples taken before the reset.
+   * register-to-register hop. For a select that reaches far (a CORDIC unit's input among the angle sums: a
+   * select decoded from the phase, even a cycle early, keeps the decode on the route). In the first cycles
+   * after reset the select is 0: those cycles' CORDIC inputs belong to samples taken before the reset.
    */
   private def byPhaseRegistered[T <: Data](entries: Seq[(Int, T)]): T =
     if (entries.size == 1) entries.head._2
@@ -144,8 +142,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   // hold every one twice). Registers storage reads them all interval long: they take the port when
   // a sample is. Memory storage loads them into its input chain in cycle 1: they take the port every
   // clock, so the clamp's set and reset of the registers do not wait on the phase (the flag of
-  // residue 0 into the clamp's reset, through a LUT placed far from both, limited the UR5 to 125.1
-  // MHz on the ECP5 proxy).
+  // residue 0 into the clamp's reset goes through a LUT the placer puts far from both).
   private def clamp(x: SInt, limit: BigInt, width: Int): (SInt, Bool) = {
     val (value, outside) = FixedHw.clamp(x, -limit, limit, width)
     if (p.banked.isDefined) (RegNext(value), RegNext(outside))
@@ -158,7 +155,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     clamp(io.in.bits.qdd(j), numerics.accelerationLimitRaw(j), numerics.accelerationFormats(j).width)
   )
   require(schedule.inputCycle == ArmDatapath.inputCycle, "the input stage above is one register deep")
-  // Cycle 1: one flag per joint (the two compares were registered apart: they were the critical path).
+  // Cycle 1: one flag per joint (the two compares are registered apart, so their OR has a clock of its own).
   private val jointFlagRegisters = (0 until joints).map(j =>
     RegEnable(velocities(j)._2 || accelerations(j)._2, during(ArmDatapath.inputCycle))
   )
@@ -177,9 +174,10 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     val sums = bound.map { case (residue, angle) =>
       residue -> angleSum(angle, schedule.angleSlot(angle).issue)
     }
-    unit.io.in.valid := true.B // no data register waits on valid; the datapath's own valid chain says which samples count
-    // Memory storage: the select registered (the UR5's critical path); registers storage keeps the
-    // phase-decoded one, measured fast enough there (162 MHz on the joint-3 shared preset).
+    // no data register waits on valid; the datapath's own valid chain says which samples count
+    unit.io.in.valid := true.B
+    // Memory storage: the select registered (its route reaches across the larger designs); registers
+    // storage keeps the phase-decoded one, which does not limit the clock of its designs.
     unit.io.in.bits := RegNext(if (p.banked.isDefined) byPhaseRegistered(sums) else byPhase(sums))
     unit.io.out.bits
   }
@@ -276,9 +274,9 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   // decided on the unrounded value beside the rounding adder (FixedHw.roundSaturateDecision); then
   // every joint's flag ORs in the saturation of any torque. Registers storage: two registers deep
   // (Schedule.outputStages), the bound multiplexer before the first (rounding, saturation and the
-  // OR across the joints in one clock were the UR5's critical path). Memory storage: three
+  // OR across the joints in one clock would be too long a path). Memory storage: three
   // (BankedSchedule.outputStages), the compares registered before the multiplexer and the OR
-  // registered before the flags: each was the UR5's critical path at 136.5 and 140.9 MHz.
+  // registered before the flags, so that neither limits the faster clock those designs reach.
   require(
     p.latency == outAt + p.outputStages,
     s"ArmDatapath: latency ${p.latency} is not the output stage's ${p.outputStages} cycles after cycle $outAt"
@@ -304,7 +302,8 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   } else {
     require(
       p.outputStages == BankedSchedule.outputStages && ii >= 2,
-      "ArmDatapath: a three-register output stage holds the torques a cycle: it needs memory storage's II >= 2"
+      "ArmDatapath: a three-register output stage holds the torques a cycle: it " +
+        "needs memory storage's II >= 2"
     )
     // The torques' port registers are loaded a cycle before the flags' and held (II >= 2) until then.
     val registered = decisions.map(_.registered(during(outAt)))
@@ -320,8 +319,8 @@ object ArmDatapath {
 
   /**
    * Longest interval whose phase flags come from a ring: a ring costs II flip-flops, a logic element each,
-   * against the counter's compares (the UR5 at 512 clocks, measured on 6f1a594: 4,784 estimated LEs with a
-   * ring, 4,294 without); the designs whose clock the flags limit run at tens of clocks per sample.
+   * against the counter's compares, so a long ring costs more logic than it saves; the designs whose clock
+   * the flags limit run at tens of clocks per sample.
    */
   val ringMaxInterval: Int = 128
 

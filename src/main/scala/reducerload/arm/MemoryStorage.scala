@@ -74,7 +74,8 @@ final class MemoryStorage(
       val slot = if (slotBits == 0) None else Some(entry(slotBits - 1, 0))
       (copy.toSeq ++ slot.toSeq).reduceOption(Cat(_, _)).getOrElse(0.U(1.W))
     }
-    // A value leaves its unit in the cycle before it is ready; the table addresses its write then (registered with the data).
+    // A value leaves its unit in the cycle before it is ready; the table addresses its write then (registered
+    // with the data).
     val write: Field =
       Field(width, b.values(bank).map(v => residue(b.ready(v).get - 1) -> entry(v, b.ready(v).get - 1)).toMap)
     val writeEnable: Field = Field.flag(b.values(bank).map(v => residue(b.ready(v).get - 1)).toSet)
@@ -100,34 +101,32 @@ final class MemoryStorage(
    * bit per group, set for the other groups, so that it drives the registers' synchronous reset with no
    * inverter between); in the second, the groups are ORed. A port with 30 options then has eight 4-way
    * multiplexers in one clock and an 8-input OR in the next instead of a 32-way multiplexer in one, and the
-   * second clock needs no select (a select register driving every bit of a wide multiplexer across the chip
-   * was the Panda's critical path).
+   * second clock needs no select (a select register driving every bit of a wide multiplexer reaches across
+   * the chip).
    */
-  private final class PortSources(operands: Seq[(Int, Operand, Int)]) {
+  private final class PortSources(operands: Seq[Selection]) {
+
+    /** An operand's option: the table's constant field holds each constant shifted already. */
+    private def optionOf(o: Operand, shift: Int): MuxInput = OperandSource.of(o, x => b.bankOf(x).get) match {
+      case OperandSource.Table => MuxInput(OperandSource.Table, 0)
+      case source              => MuxInput(source, shift)
+    }
 
     /**
-     * Sources: a bank's read port (Left: bank, port) or a unit's output register (Right: bank), and the
-     * shift.
+     * Options, in [[MuxInput.ordering]]: the bank read ports, the output registers, then the table if any.
      */
-    private def sourceOf(o: Operand, shift: Int): Option[(Either[(Int, Int), Int], Int)] = o match {
-      case Operand.Stored(x, bankPort) => Some((Left((b.bankOf(x).get, bankPort)), shift))
-      case Operand.Forwarded(x)        => Some((Right(b.bankOf(x).get), shift))
-      case _                           => None
-    }
-    val sources: IndexedSeq[(Either[(Int, Int), Int], Int)] =
-      operands.flatMap(o => sourceOf(o._2, o._3)).distinct.sortBy(_.toString).toIndexedSeq
+    val sources: IndexedSeq[MuxInput] =
+      operands.map(o => optionOf(o.operand, o.shift)).distinct.sorted.toIndexedSeq
     // The table holds each constant shifted already.
     private val constants: Map[Int, (BigInt, Int)] = operands.collect {
-      case (r, Operand.Constant(x), shift) => r -> (analysis(x).raw.get << shift, fmt(x).width + shift)
-      case (r, Operand.Zero, _)            => r -> (BigInt(0), 1)
+      case Selection(r, Operand.Constant(x), shift) =>
+        r -> (analysis(x).raw.get << shift, fmt(x).width + shift)
+      case Selection(r, Operand.Zero, _) => r -> (BigInt(0), 1)
     }.toMap
     private val constantWidth = constants.values.map(_._2).maxOption.getOrElse(1)
-    private val index: Seq[(Int, Int)] = operands.map { case (r, o, shift) =>
-      r -> sourceOf(o, shift).fold(sources.size)(sources.indexOf)
-    }
-
-    /** Options: the sources, then the constant field if any. */
-    private val options: Int = sources.size + (if (constants.isEmpty) 0 else 1)
+    private val index: Seq[(Int, Int)] =
+      operands.map(o => o.residue -> sources.indexOf(optionOf(o.operand, o.shift)))
+    private val options: Int = sources.size
     private val group = MemoryStorage.selectGroup
     private val groups: Int = (options + group - 1) / group
 
@@ -180,7 +179,7 @@ final class MemoryStorage(
   private final class MultiplierPlan(u: Int) {
     private val ops = opsOn(UnitKind.Multiplier, u)
     val ports: IndexedSeq[PortSources] = (0 to 1).map(port =>
-      new PortSources(ops.map(o => (residue(o.issue - b.mulForwardLead), o.operands(port), 0)))
+      new PortSources(ops.map(o => Selection(residue(o.issue - b.forwardLead), o.operands(port), 0)))
     )
     private def drop(o: PlacedOp) = analysis.productRounding(o.node).drop
     val drops: IndexedSeq[Int] = ops.map(drop).distinct.sorted.toIndexedSeq
@@ -193,8 +192,8 @@ final class MemoryStorage(
   private val multipliers = (0 until p.schedule.multiplierUnits).map(new MultiplierPlan(_))
 
   /**
-   * An adder unit: sources (aligned) `addForwardLead` cycles before the issue, add or subtract one cycle
-   * before (each step registered).
+   * An adder unit: sources (aligned) `forwardLead` cycles before the issue, add or subtract one cycle before
+   * (each step registered).
    */
   private final class AdderPlan(u: Int) {
     private val ops = opsOn(UnitKind.Adder, u)
@@ -206,7 +205,9 @@ final class MemoryStorage(
     private def shift(o: PlacedOp, port: Int) =
       o.operands(port).carried.fold(0)(x => fmt(o.node).fracBits - fmt(x).fracBits)
     val ports: IndexedSeq[PortSources] = (0 to 1).map(port =>
-      new PortSources(ops.map(o => (residue(o.issue - b.addForwardLead), o.operands(port), shift(o, port))))
+      new PortSources(
+        ops.map(o => Selection(residue(o.issue - b.forwardLead), o.operands(port), shift(o, port)))
+      )
     )
     val subtract: Field = Field.flag(ops.filter(_.subtract).map(o => residue(o.issue - 1)).toSet)
 
@@ -221,7 +222,8 @@ final class MemoryStorage(
   // ---- Hardware. ----
   require(
     Microcode.ahead <= p.schedule.inputCycle + BankedSchedule.inputLatency - 1,
-    s"MemoryStorage: the table's first word comes ${Microcode.ahead} cycles after reset, after a sample's first write"
+    s"MemoryStorage: the table's first word comes ${Microcode.ahead} cycles after " +
+      s"reset, after a sample's first write"
   )
   private val word = new Microcode(
     ii,
@@ -234,9 +236,8 @@ final class MemoryStorage(
 
   /**
    * A control field in the cycle of its use, from a register of its own after the table's word (the table
-   * holds it a cycle early), which the placer can put near the unit it drives. (Copies of it per 9-bit slice
-   * of the unit, kept apart, were emitted before; synthesis merged them back into one register, which is what
-   * every clock figure was measured on.)
+   * holds it a cycle early), which the placer can put near the unit it drives. One register, not a copy per
+   * slice of the unit: synthesis merges such copies back into one.
    */
   private def control(f: Field): UInt = FixedHw.delay(word(earlier(f)), 1)
   private def fit(v: SInt, width: Int): SInt = FixedHw.fitWidth(v, width)
@@ -252,9 +253,9 @@ final class MemoryStorage(
    * Each bank's two read ports: the word a cycle before it is in the registers of the unit ports that take it
    * (`readLatency` cycles after its address, [[operand]]). The address is registered, read, and the word
    * registered twice. Yosys maps the address register to the fabric, the first word register to the block
-   * RAM's synchronous read and the second to its output register, whose pin then drives each unit port's copy
-   * (without those copies it drove the operand multiplexers and was the UR5's critical path at 140.7 and
-   * 148.2 MHz; keeping the output register in the fabric measured no better).
+   * RAM's synchronous read and the second to its output register, whose pin then drives the third, in the
+   * fabric, that the unit ports select from: the route from the block RAM, which may sit far from the units,
+   * has a clock with no logic in it.
    *
    * The word is registered after the read (read-first), not read at a registered address (write-first): the
    * schedule never reads a word in the cycle it is written (a value is read after it is ready, and
@@ -266,7 +267,8 @@ final class MemoryStorage(
    */
   private val readData: IndexedSeq[IndexedSeq[SInt]] = b.banks.indices.map { bank =>
     val a = addressing(bank)
-    // The write, registered (BankedSchedule.writeDelay): the route from a unit to its bank's block RAM gets a clock of its own.
+    // The write, registered (BankedSchedule.writeDelay): the route from a unit to its bank's block RAM gets a
+    // clock of its own.
     val writeAddress = FixedHw.delay(a.address(word(a.write)), BankedSchedule.writeDelay)
     val writeEnable = FixedHw.delay(word(a.writeEnable).asBool, BankedSchedule.writeDelay)
     val writeData = FixedHw.delay(fit(next(bank), b.bankWidths(bank)).asUInt, BankedSchedule.writeDelay)
@@ -287,13 +289,12 @@ final class MemoryStorage(
    * `width` (values fit their formats).
    */
   private def operand(src: PortSources, width: Int): SInt = {
-    val options = src.sources.map { case (s, shift) =>
-      (fit(s.fold({ case (bank, bankPort) => readData(bank)(bankPort) }, bank => out(bank)), width) << shift)(
-        width - 1,
-        0
-      ).asSInt
-    } ++
-      src.constant.map(c => fit(word(c).asSInt, width))
+    def shifted(v: SInt, shift: Int) = (fit(v, width) << shift)(width - 1, 0).asSInt
+    val options = src.sources.map {
+      case MuxInput(OperandSource.ReadPort(bank, port), shift) => shifted(readData(bank)(port), shift)
+      case MuxInput(OperandSource.Output(bank), shift)         => shifted(out(bank), shift)
+      case MuxInput(OperandSource.Table, _)                    => fit(word(src.constant.get).asSInt, width)
+    }
     lazy val low = control(src.selectLow.get) // one register for every group
     lazy val clears = control(src.groupClears.get)
     // A unit the schedule left idle (more adder units asked for than it used) has no options.
@@ -327,7 +328,8 @@ final class MemoryStorage(
   // Multiplier units.
   multipliers.zipWithIndex.foreach { case (plan, u) =>
     val shape = p.schedule.unitShape(u)
-    // Operands registered in the fabric: the selection's long routes to the multiplier blocks get a clock of their own.
+    // Operands registered in the fabric: the selection's long routes to the multiplier blocks get a clock of
+    // their own.
     val operands =
       Seq(operand(plan.ports(0), shape.wide), operand(plan.ports(1), shape.narrow)).map(FixedHw.delay(_, 1))
     val product = FixedHw.delay(PipelinedMultiplier(operands(0), operands(1)), p.multiplierLatency - 1)
@@ -361,9 +363,8 @@ final class MemoryStorage(
 
   /**
    * Each output's value in cycle `outputsReady`: its unit's output register in the cycle it is ready, copied
-   * from there and held if that is earlier. (Captured from the unit's sum, beside the output register, the
-   * route from the adder's carry chain to the capture register by the output stage was the Panda's critical
-   * path.)
+   * from there and held if that is earlier: not captured from the unit's sum beside the output register,
+   * which would add the route to the output stage to the adder's carry chain.
    */
   val outputs: IndexedSeq[SInt] = graph.outputs.map { o =>
     graph(o.node) match {
@@ -408,10 +409,9 @@ final class Microcode(ii: Int, fields: Seq[Field], address: UInt) {
    * residues earlier and is read at the phase that many cycles ahead, through three registers (the block
    * RAM's address and output registers, then one in the fabric), so every control signal leaves a flip-flop
    * the placer can put near its loads, not a block-RAM read or the block RAM's own output register (the
-   * word's bits fan out to every unit from one place: that route was the UR5's critical path). In the first
-   * `ahead` cycles after reset the registers hold no word; every action of those cycles belongs to samples
-   * taken before the reset (a sample's first action, its input bank's first write, comes `ahead` cycles after
-   * it is taken).
+   * word's bits fan out to every unit from one place, the block RAM). In the first `ahead` cycles after reset
+   * the registers hold no word; every action of those cycles belongs to samples taken before the reset (a
+   * sample's first action, its input bank's first write, comes `ahead` cycles after it is taken).
    */
   private val bits: UInt = {
     val words = (0 until ii).map(r =>
@@ -423,6 +423,29 @@ final class Microcode(ii: Int, fields: Seq[Field], address: UInt) {
 
   /** A field's bits in the current cycle. */
   def apply(f: Field): UInt = bits(offsets(f) + f.width - 1, offsets(f))
+}
+
+/**
+ * An operand a unit port takes: its selection starts at `residue` of the phase, and it is shifted left by
+ * `shift` bits.
+ */
+private final case class Selection(residue: Int, operand: Operand, shift: Int)
+
+/**
+ * One input of a unit port's operand multiplexer: its source and the bits it is shifted left by (an addition
+ * aligns its operands there).
+ */
+final case class MuxInput(source: OperandSource, shift: Int)
+object MuxInput {
+
+  /**
+   * By source ([[OperandSource.ordering]]), then by shift as decimal text: the order of the emitted
+   * multiplexer's inputs (the table's constant, shifted in the table, last).
+   */
+  implicit val ordering: Ordering[MuxInput] =
+    Ordering.by((i: MuxInput) => (i.source, i.shift))(
+      Ordering.Tuple2(OperandSource.ordering, OperandSource.decimalTextOrder)
+    )
 }
 
 object MemoryStorage {

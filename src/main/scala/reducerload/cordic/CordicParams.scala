@@ -84,7 +84,8 @@ final case class CordicParams(
   private val minIterations = tableBits + (if (architecture == CordicArchitecture.ResidualRotation) 1 else 2)
   require(
     iterations >= minIterations,
-    s"CordicParams.iterations ($iterations) must be >= $minIterations: the table replaces iterations 0..$tableBits" +
+    s"CordicParams.iterations ($iterations) must be >= $minIterations: the table " +
+      s"replaces iterations 0..$tableBits" +
       (if (architecture == CordicArchitecture.ResidualRotation) ""
        else " and at least one shift-add stage follows")
   )
@@ -104,8 +105,9 @@ final case class CordicParams(
 
   require(
     iterations - 1 <= xyFormat.fracBits,
-    s"CordicParams.iterations ($iterations) is more than the bits can use: stage i shifts by i bits and x/y have " +
-      s"${xyFormat.fracBits} fraction bits (outputBits - 2 + guardBits), so iterations must be <= ${xyFormat.fracBits + 1}"
+    s"CordicParams.iterations ($iterations) is more than the bits can use: stage i " +
+      s"shifts by i bits and x/y have ${xyFormat.fracBits} fraction bits (outputBits - 2 + guardBits), so " +
+      s"iterations must be <= ${xyFormat.fracBits + 1}"
   )
 
   /** z counts turns with this many fraction bits: the input code plus guard bits. */
@@ -118,8 +120,9 @@ final case class CordicParams(
 
   require(
     atanTable(iterations - 1) >= 2,
-    s"CordicParams.iterations ($iterations) is more than the angle bits can use: atan(2^-${iterations - 1}) rounds to " +
-      s"${atanTable(iterations - 1)} LSB of a $zFracBits-bit angle (angleBits + angleGuardBits); use fewer iterations or more angle bits"
+    s"CordicParams.iterations ($iterations) is more than the angle bits can use: " +
+      s"atan(2^-${iterations - 1}) rounds to ${atanTable(iterations - 1)} LSB of a $zFracBits-bit angle " +
+      s"(angleBits + angleGuardBits); use fewer iterations or more angle bits"
   )
 
   /** Product of the shift-add gains: the start vector has length K, so the result has length 1. */
@@ -207,13 +210,15 @@ final case class CordicParams(
     )
     require(
       zFormat(iterations).width <= 18,
-      s"CordicParams.iterations ($iterations) is too few for the residual rotation: z needs ${zFormat(iterations).width} bits " +
-        "after the last iteration and its multiply by 2 pi must fit 18 bits; use more iterations or fewer angle bits"
+      s"CordicParams.iterations ($iterations) is too few for the residual rotation: z needs " +
+        s"${zFormat(iterations).width} bits after the last iteration and its multiply by 2 pi must fit 18 " +
+        s"bits; use more iterations or fewer angle bits"
     )
     require(
       residualOperandFormat.width <= 18 && zrFormat.width <= 18,
-      s"CordicParams.iterations ($iterations) is too few for outputBits $outputBits + guardBits $guardBits: the residual " +
-        s"products are ${residualOperandFormat.width} x ${zrFormat.width} bits, more than one 18x18 multiplier"
+      s"CordicParams.iterations ($iterations) is too few for outputBits $outputBits + " +
+        s"guardBits $guardBits: the residual products are ${residualOperandFormat.width} x " +
+        s"${zrFormat.width} bits, more than one 18x18 multiplier"
     )
   }
 
@@ -274,27 +279,37 @@ final case class CordicParams(
   def atanTableLines: Seq[String] = atanTable.zipWithIndex.map { case (raw, i) =>
     val hexDigits = (zFracBits + 3) / 4
     val degrees = raw.toDouble * turnsPerZLsb * 360.0
-    f"i=$i%2d  atan(2^-$i%-2d) = 0x${raw.toString(16).reverse.padTo(hexDigits, '0').reverse} = $degrees%.9f deg" +
+    f"i=$i%2d  atan(2^-$i%-2d) = " +
+      f"0x${raw.toString(16).reverse.padTo(hexDigits, '0').reverse} = $degrees%.9f deg" +
       (if (i == 0) "  (folded into the start vector)" else "")
   }
 
   def report: String = {
     val lines = Seq(
       s"CORDIC sin/cos $tag",
-      s"  angle input        : unsigned $angleBits-bit binary angle (full turn = 2^$angleBits), quadrant = top 2 bits",
+      s"  angle input        : unsigned $angleBits-bit binary angle (full turn = " +
+        s"2^$angleBits), quadrant = top 2 bits",
       s"  output cos, sin    : ${outputFormat.describe}, rounding $outputRounding",
       s"  x, y datapath      : ${xyFormat.describe}",
-      s"  z accumulator      : turns * 2^$zFracBits, ${zFormat(firstIteration).width} bits at iteration $firstIteration down to ${zFormat(iterations).width} at the end",
+      s"  z accumulator      : turns * 2^$zFracBits, ${zFormat(firstIteration).width} bits at iteration " +
+        s"$firstIteration down to ${zFormat(iterations).width} at the end",
       (if (tableBits == 0)
-         f"  gain K             : $gainK%.15f (start vector x1 = y1 = 0x${startTable.head._1.toString(16)}, iteration 0 folded)"
+         f"  gain K             : $gainK%.15f (start vector x1 = y1 = " +
+           f"0x${startTable.head._1.toString(16)}, iteration 0 folded)"
        else
-         f"  gain K             : $gainK%.15f; start table: ${1 << tableBits} entries x ${2 * xyFormat.width} bits = ${(1 << tableBits) * 2 * xyFormat.width} ROM bits, replacing iterations 0..$tableBits"),
-      s"  iterations         : $firstIteration..${iterations - 1} shift-add ($iterationsPerStage per stage), latency $latency cycles, one angle per clock",
-      f"  error bound        : $errorBound%.3e (2^${math.log(errorBound) / math.log(2)}%.1f) (angle $angleErrorBound%.3e, rotation rounding $rotationRoundingBound%.3e, output rounding $outputRoundingBound%.3e)"
+         f"  gain K             : $gainK%.15f; start table: ${1 << tableBits} entries x " +
+           f"${2 * xyFormat.width} bits = ${(1 << tableBits) * 2 * xyFormat.width} ROM bits, " +
+           f"replacing iterations 0..$tableBits"),
+      s"  iterations         : $firstIteration..${iterations - 1} shift-add ($iterationsPerStage per " +
+        s"stage), latency $latency cycles, one angle per clock",
+      f"  error bound        : $errorBound%.3e (2^${math.log(errorBound) / math.log(2)}%.1f) (angle " +
+        f"$angleErrorBound%.3e, rotation rounding $rotationRoundingBound%.3e, output " +
+        f"rounding $outputRoundingBound%.3e)"
     ) ++ (if (residual)
             Seq(
-              s"  residual rotation  : zr = z * 0x${twoPiRaw.toString(16)} * 2^-$twoPiFracBits (2 pi), zr ${zrFormat.describe}; " +
-                s"x, y truncated to $residualOperandFormat for x*zr, y*zr (one 18x18 multiplier each)",
+              s"  residual rotation  : zr = z * 0x${twoPiRaw.toString(16)} * 2^-$twoPiFracBits (2 " +
+                s"pi), zr ${zrFormat.describe}; x, y truncated to $residualOperandFormat for x*zr, " +
+                s"y*zr (one 18x18 multiplier each)",
               f"                       |zr| <= $zrMaxAbs%.3e rad, rounding bound $residualRoundingBound%.3e"
             )
           else Nil) ++ Seq(

@@ -25,7 +25,8 @@ object Rnea {
     chain.joints.foreach { j =>
       require(
         j.kind != JointKind.Prismatic,
-        s"robot ${chain.name}: joint ${j.name}: prismatic joints are not supported by the dynamics compiler yet"
+        s"robot ${chain.name}: joint ${j.name}: prismatic joints are not " +
+          s"supported by the dynamics compiler yet"
       )
     }
     val joints = chain.joints

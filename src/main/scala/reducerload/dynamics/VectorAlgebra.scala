@@ -4,8 +4,8 @@ import reducerload.robot.{Mat3, Vec3}
 
 /**
  * The vector operations [[Rnea]] is written in. The default derives them from a [[Num]]; an analysis may
- * override them to carry facts only vectors have (a rotation keeps the length,
- * \|a x b| <= |a| |b|) that the scalar operations cannot see.
+ * override them to carry facts only vectors have (a rotation keeps the length, |a x b| <= |a| |b|) that the
+ * scalar operations cannot see.
  */
 class VectorAlgebra[T](implicit val num: Num[T]) {
   def const(v: Vec3): V3[T] = V3.const[T](v)

@@ -65,8 +65,8 @@ object ListOrder {
   /**
    * Operation by operation, highest first (a topological order: every operation is higher than its users),
    * each at its first free cycle: the critical path claims its residues before the operations with slack fill
-   * the rest. The Panda at 114 clocks: 359 cycles by cycle, 278 so (the best of `schedule.list-tries`; 302 in
-   * the plain order alone).
+   * the rest. On the larger arms it gives the lower latency, and perturbed tries (`schedule.list-tries`)
+   * lower it further.
    */
   case object ByHeight extends ListOrder("by-height")
   val all: Seq[ListOrder] = Seq(ByHeight, ByCycle)
@@ -110,29 +110,64 @@ private final case class Kind(
     bank: Int => Bank
 )
 
+/** A unit at one residue of the phase: it takes one operation there. */
+private final case class UnitSlot(kind: UnitKind, unit: Int, residue: Int)
+
+/** A bank's read port at one residue of the phase: it takes one address there. */
+private final case class ReadSlot(bank: Int, port: Int, residue: Int)
+
+/** An operand port (0 or 1) of a unit: one multiplexer over its sources. */
+private final case class UnitPort(kind: UnitKind, unit: Int, port: Int)
+
 /**
  * The banked list scheduler's state after each node: ready cycles, banks, placements, taken unit and
- * read-port residues, reads, and the sources each unit port (kind, unit, port) selects among so far.
+ * read-port residues (with the read that takes each), reads, and the sources each unit port selects among so
+ * far.
  */
 private final case class BankedState(
     ready: Vector[Option[Int]],
     bank: Vector[Option[Int]],
     placed: Vector[Option[PlacedOp]],
-    units: Set[(UnitKind, Int, Int)],
-    ports: Map[(Int, Int, Int), (NodeId, Int)],
+    units: Set[UnitSlot],
+    ports: Map[ReadSlot, BankRead],
     reads: Vector[BankRead],
-    sources: Map[(UnitKind, Int, Int), Set[OperandSource]] = Map.empty
+    sources: Map[UnitPort, Set[OperandSource]] = Map.empty
 )
 
 /**
  * Where a unit port's operand comes from: a bank's read port, a unit's output register, or the table (a
- * constant or zero).
+ * constant or zero). Each distinct source is one input of the port's multiplexer.
  */
-private sealed trait OperandSource
-private object OperandSource {
+sealed trait OperandSource
+object OperandSource {
   final case class ReadPort(bank: Int, port: Int) extends OperandSource
   final case class Output(bank: Int) extends OperandSource
   case object Table extends OperandSource
+
+  /** The source of `operand`, with `bankOf` the bank of each stored node. */
+  def of(operand: Operand, bankOf: NodeId => Int): OperandSource = operand match {
+    case Operand.Stored(x, port) => ReadPort(bankOf(x), port)
+    case Operand.Forwarded(x)    => Output(bankOf(x))
+    case _                       => Table
+  }
+
+  /**
+   * Integers in the order of their decimal text ("10" before "2"), for the multiplexer order below.
+   */
+  val decimalTextOrder: Ordering[Int] = Ordering.by(_.toString)
+
+  /**
+   * The order of a unit port's multiplexer inputs in the memory-storage datapath: read ports, then output
+   * registers, then the table; each by bank, then by port, the numbers compared as decimal text. The sources
+   * were first sorted by their text, and the emitted Verilog (the order of the multiplexers' inputs and of
+   * their registers' declarations) depends on it: this order keeps every design byte-identical, where a
+   * numeric one would give equivalent hardware in different files.
+   */
+  implicit val ordering: Ordering[OperandSource] = Ordering.by {
+    case ReadPort(bank, port) => (0, bank.toString, port.toString)
+    case Output(bank)         => (1, bank.toString, "")
+    case Table                => (2, "", "")
+  }
 }
 
 /**
@@ -147,15 +182,14 @@ private object OperandSource {
  *     cycles later (registered on the way); a read's address may be presented from cycle R on, the array is
  *     read `arrayReadDelay` cycles after it, and the word is in a register `readLatency` cycles after the
  *     address;
- *   - a multiply reads its operands (address) `mulLead` cycles before its issue: the read, then
- *     `mulForwardLead` clocks (the operand selected among its sources in `selectStages` registered stages,
- *     the last one in the fabric ahead of the multiplier); its product is ready `base.mulLatency` cycles
- *     after the issue (the rounding shift and a capture register included);
- *   - an addition reads `addLead` cycles before its issue (`addForwardLead` after the read, as a multiply:
- *     its operands are aligned in the selection) and is ready one cycle after;
- *   - either takes a value off its unit's output register (no read) `mulForwardLead` or `addForwardLead`
- *     cycles after it is ready, when that is its issue: the value's selection starts in the cycle it is
- *     there, then it goes the way a read word goes.
+ *   - a multiply or an addition reads its operands (address) `readLead` cycles before its issue: the read,
+ *     then `forwardLead` clocks (the operand selected among its sources in `selectStages` registered stages,
+ *     the last one in the fabric ahead of the unit; an addition's operands are aligned in the selection); a
+ *     product is ready `base.mulLatency` cycles after the issue (the rounding shift and a capture register
+ *     included), a sum one cycle after;
+ *   - either takes a value off its unit's output register (no read) `forwardLead` cycles after it is ready,
+ *     when that is its issue: the value's selection starts in the cycle it is there, then it goes the way a
+ *     read word goes.
  * Each unit takes one operation and each read port one address per residue modulo II (two reads of the same
  * value in the same cycle share the port). A bank keeps `copies(b)` words per value, one per sample in
  * flight, picked by the sample's slot counter: a value is read before the sample `copies` later overwrites
@@ -168,17 +202,6 @@ final class BankedSchedule(val base: Schedule) {
   val clocksPerSample: Int = base.clocksPerSample
   private val ii = clocksPerSample
 
-  /**
-   * Cycles from the start of a value's selection among a unit port's sources (`stages` clocks) to the issue:
-   * a multiplier's operand is then registered in the fabric, ahead of the multiplier's own input registers,
-   * so the selection's routing to the multiplier blocks gets a clock of its own; an addition's operand,
-   * aligned in the selection's first stage (wiring) and inverted for a subtraction in its last, is registered
-   * beside the carry in, so the carry chain has a clock of its own. (Until 2026-11-25 the alignment had a
-   * registered stage of its own: one more cycle per addition, on every path of the schedule.)
-   */
-  private def mulForwardLeadOf(stages: Int): Int = stages
-  private def addForwardLeadOf(stages: Int): Int = stages
-
   private def isConst(x: NodeId) = graph(x).isInstanceOf[Const]
   private def ceilDiv(a: Int, b: Int) = (a + b - 1) / b
 
@@ -187,11 +210,13 @@ final class BankedSchedule(val base: Schedule) {
 
   require(
     ii >= 2,
-    "schedule.storage = memory shares units between clocks: it needs schedule.clocks-per-sample >= 2 (at 1, use registers)"
+    "schedule.storage = memory shares units between clocks: it needs " +
+      "schedule.clocks-per-sample >= 2 (at 1, use registers)"
   )
   require(
     signals.size <= ii,
-    s"schedule.storage = memory writes the ${signals.size} velocities and accelerations into a bank one per clock: it needs schedule.clocks-per-sample >= ${signals.size}, got $ii"
+    s"schedule.storage = memory writes the ${signals.size} velocities and accelerations into a bank one " +
+      s"per clock: it needs schedule.clocks-per-sample >= ${signals.size}, got $ii"
   )
 
   private val additions: IndexedSeq[NodeId] = graph.ids.filter(id =>
@@ -207,7 +232,8 @@ final class BankedSchedule(val base: Schedule) {
     base.request.adderUnits.foreach(a =>
       require(
         a >= fewest,
-        s"schedule.adder-units = $a cannot take ${additions.size} additions in schedule.clocks-per-sample = $ii clocks; use adder-units >= $fewest (or auto)"
+        s"schedule.adder-units = $a cannot take ${additions.size} additions in schedule.clocks-per-sample " +
+          s"= $ii clocks; use adder-units >= $fewest (or auto)"
       )
     )
     base.request.adderUnits.getOrElse(fewest)
@@ -242,15 +268,17 @@ final class BankedSchedule(val base: Schedule) {
    * and bank per unit.
    */
   private def kindOf(id: NodeId, stages: Int): Option[Kind] = {
-    val (mulForward, addForward) = (mulForwardLeadOf(stages), addForwardLeadOf(stages))
+    // A multiply or an addition takes its operand `stages` clocks after its selection starts (see
+    // forwardLead).
+    val lead = BankedSchedule.readLatency + stages
     graph(id) match {
       case _: Mul =>
         Some(
           Kind(
             UnitKind.Multiplier,
             base.unitsOf(id),
-            BankedSchedule.readLatency + mulForward,
-            mulForward,
+            lead,
+            stages,
             u => Some(base.unitShape(u)),
             base.mulLatency(id),
             Bank.Products
@@ -261,8 +289,8 @@ final class BankedSchedule(val base: Schedule) {
           Kind(
             UnitKind.Adder,
             0 until adderUnits,
-            BankedSchedule.readLatency + addForward,
-            addForward,
+            lead,
+            stages,
             _ => None,
             1,
             Bank.Sums
@@ -340,7 +368,8 @@ final class BankedSchedule(val base: Schedule) {
         k: Kind,
         t: Int
     ): Seq[(IndexedSeq[Operand], Seq[BankRead])] = {
-      // Per operand: the ways it can arrive at t (forwarded, or read on either bank port, its own position's first).
+      // Per operand: the ways it can arrive at t (forwarded, or read on either bank port, its own position's
+      // first).
       val ways: IndexedSeq[Seq[(Operand, Option[BankRead])]] = operands.zipWithIndex.map {
         case (Operand.Stored(x, _), position) =>
           val r = s.ready(x.index).get
@@ -353,7 +382,7 @@ final class BankedSchedule(val base: Schedule) {
         case (other, _) => Seq((other, None))
       }
       def free(rs: Seq[BankRead]): Boolean = {
-        val keyed = rs.map(r => (r.bank, r.port, r.cycle % ii) -> ((r.node, r.cycle)))
+        val keyed = rs.map(r => readSlot(r) -> r)
         keyed.groupBy(_._1).forall(_._2.map(_._2).distinct.size == 1) && keyed.forall { case (key, use) =>
           s.ports.get(key).forall(_ == use)
         }
@@ -373,11 +402,8 @@ final class BankedSchedule(val base: Schedule) {
         .filterNot(isConst)
         .forall(x => s.ready(x.index).exists(r => r + k.forwardLead == t || r + k.lead <= t))
     }
-    def sourceOf(s: BankedState, o: Operand): OperandSource = o match {
-      case Operand.Stored(x, bankPort) => OperandSource.ReadPort(s.bank(x.index).get, bankPort)
-      case Operand.Forwarded(x)        => OperandSource.Output(s.bank(x.index).get)
-      case _                           => OperandSource.Table
-    }
+    def sourceOf(s: BankedState, o: Operand): OperandSource = OperandSource.of(o, x => s.bank(x.index).get)
+    def readSlot(r: BankRead) = ReadSlot(r.bank, r.port, r.cycle % ii)
 
     /**
      * Sources a placement adds to its unit's port multiplexers: each one is a multiplexer input as wide as
@@ -385,13 +411,13 @@ final class BankedSchedule(val base: Schedule) {
      */
     def newSources(s: BankedState, kind: UnitKind, u: Int, operands: IndexedSeq[Operand]): Int =
       operands.indices.count(port =>
-        !s.sources.getOrElse((kind, u, port), Set.empty).contains(sourceOf(s, operands(port)))
+        !s.sources.getOrElse(UnitPort(kind, u, port), Set.empty).contains(sourceOf(s, operands(port)))
       )
     // Among the free units and operand orders, the one adding the fewest multiplexer inputs (then the first).
     def tryPlace(s: BankedState, id: NodeId, t: Int): Option[BankedState] = {
       val k = kinds(id.index).get
       val op = graph(id)
-      val options = k.units.filterNot(u => s.units((k.kind, u, t % ii))).flatMap { u =>
+      val options = k.units.filterNot(u => s.units(UnitSlot(k.kind, u, t % ii))).flatMap { u =>
         assignments(op, k.shape(u)).flatMap(a => resolve(s, a, k, t).map { case (ops, rs) => (u, ops, rs) })
       }
       options.minByOption { case (u, a, _) => newSources(s, k.kind, u, a) }.map { case (u, a, rs) =>
@@ -400,18 +426,20 @@ final class BankedSchedule(val base: Schedule) {
           ready = s.ready.updated(id.index, Some(t + k.latency)),
           bank = s.bank.updated(id.index, Some(bankIndex(k.bank(u)))),
           placed = s.placed.updated(id.index, Some(placed)),
-          units = s.units + ((k.kind, u, t % ii)),
-          ports = s.ports ++ rs.map(r => (r.bank, r.port, r.cycle % ii) -> ((r.node, r.cycle))),
+          units = s.units + UnitSlot(k.kind, u, t % ii),
+          ports = s.ports ++ rs.map(r => readSlot(r) -> r),
           reads = s.reads ++ rs,
-          sources = a.indices.foldLeft(s.sources)((m, port) =>
-            m.updated((k.kind, u, port), m.getOrElse((k.kind, u, port), Set.empty) + sourceOf(s, a(port)))
-          )
+          sources = a.indices.foldLeft(s.sources) { (m, port) =>
+            val key = UnitPort(k.kind, u, port)
+            m.updated(key, m.getOrElse(key, Set.empty) + sourceOf(s, a(port)))
+          }
         )
       }
     }
     def noFreePorts(clocks: Int, from: Int, what: String) = new IllegalArgumentException(
-      s"schedule.storage = memory: for $clocks clocks from cycle $from no unit and bank read ports were free for $what; " +
-        "use a larger schedule.clocks-per-sample or schedule.storage = registers"
+      s"schedule.storage = memory: for $clocks clocks from cycle $from no unit and bank " +
+        s"read ports were free for $what; use a larger schedule.clocks-per-sample " +
+        s"or schedule.storage = registers"
     )
     @scala.annotation.tailrec
     def byCycle(t: Int, s: BankedState, pending: IndexedSeq[NodeId], idle: Int): BankedState =
@@ -506,18 +534,20 @@ final class BankedSchedule(val base: Schedule) {
   private val state: BankedState = chosen._3
 
   /**
-   * Cycles from the start of a value's selection to the issue of the multiply or addition that takes it off
-   * its unit's output register.
+   * Cycles from the start of a value's selection (`selectStages` clocks) to the issue of the multiply or
+   * addition that takes it off its unit's output register: a multiplier's operand is then registered in the
+   * fabric, ahead of the multiplier's own input registers, so the selection's routing to the multiplier
+   * blocks gets a clock of its own; an addition's operand, aligned in the selection's first stage (wiring)
+   * and inverted for a subtraction in its last, is registered beside the carry in, so the carry chain has a
+   * clock of its own.
    */
-  val mulForwardLead: Int = mulForwardLeadOf(selectStages)
-  val addForwardLead: Int = addForwardLeadOf(selectStages)
+  val forwardLead: Int = selectStages
 
   /**
    * Cycles from a read's address to the issue of the multiply or addition that reads it: the read, then as a
    * forwarded value.
    */
-  val mulLead: Int = BankedSchedule.readLatency + mulForwardLead
-  val addLead: Int = BankedSchedule.readLatency + addForwardLead
+  val readLead: Int = BankedSchedule.readLatency + forwardLead
 
   private val height: IndexedSeq[Int] = heightOf(graph.ids.map(kindOf(_, selectStages)))
 
@@ -568,8 +598,10 @@ final class BankedSchedule(val base: Schedule) {
    */
   val copies: IndexedSeq[Int] = {
     val lastArrayRead = reads.groupMapReduce(_.node)(_.cycle + BankedSchedule.arrayReadDelay)(math.max)
-    // Sample s + copies writes a value in cycle copies * II + ready - 1 + writeDelay, which must come strictly after the last
-    // cycle the array is read for sample s: the hardware leaves a read undefined when its word is written in the same cycle.
+    // Sample s + copies writes a value in cycle copies * II + ready - 1 + writeDelay, which must come
+    // strictly after the last
+    // cycle the array is read for sample s: the hardware leaves a read undefined when its word is written in
+    // the same cycle.
     def written(v: NodeId) = ready(v).get - 1 + BankedSchedule.writeDelay
     values.map(vs =>
       BankedSchedule.pow2(
@@ -623,9 +655,8 @@ object BankedSchedule {
   /**
    * Cycles from a bank read's address to its word in the fabric register the unit ports select from: the
    * block RAM's address and output registers, then two in the fabric, so the route from the block RAM (which
-   * may sit far from the units that read it) has a clock of its own with no logic in it (its next stage was
-   * the UR5's critical path at 148.2 MHz). (A copy of the last register per unit port, kept apart, was
-   * emitted before; synthesis merged the copies back.)
+   * may sit far from the units that read it) has a clock of its own with no logic in it. One last register,
+   * not a copy per unit port: synthesis merges such copies back into one.
    */
   val readLatency: Int = 4
 
@@ -647,8 +678,8 @@ object BankedSchedule {
   /**
    * Registers of the output stage, after every output is ready: the saturation compares (beside the rounding
    * adder), then the bound multiplexer into the port's torque register and the OR of every torque's compares
-   * into one register, then each joint's flag. Two stages (the compares before the multiplexer, the OR in the
-   * same clock as the flags) measured 136.5 and 140.9 MHz on the UR5, the critical path in each.
+   * into one register, then each joint's flag. With two stages, the compares would share a clock with the
+   * multiplexer, or the OR with the flags, and either path would limit the clock memory storage reaches.
    */
   val outputStages: Int = 3
 

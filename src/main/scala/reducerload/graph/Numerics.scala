@@ -50,7 +50,8 @@ final case class Numerics(
 ) {
   require(
     velocityLimits.size == accelerationLimits.size,
-    s"Numerics: ${velocityLimits.size} velocity limits but ${accelerationLimits.size} acceleration limits (one each per joint)"
+    s"Numerics: ${velocityLimits.size} velocity limits but ${accelerationLimits.size} " +
+      s"acceleration limits (one each per joint)"
   )
   private def finite(x: Double) = !x.isNaN && !x.isInfinite
   velocityLimits.zipWithIndex.foreach { case (v, j) =>

@@ -50,11 +50,13 @@ final case class ScheduleRequest(
 ) {
   require(
     listOrder.isEmpty || storage == Storage.Memory,
-    s"schedule.list-order = ${listOrder.get} orders the block-RAM schedule: it needs schedule.storage = memory (or list-order auto)"
+    s"schedule.list-order = ${listOrder.get} orders the block-RAM schedule: it needs " +
+      s"schedule.storage = memory (or list-order auto)"
   )
   require(
     adderUnits.isEmpty || storage == Storage.Memory,
-    s"schedule.adder-units = ${adderUnits.get} shares adders between additions: it needs schedule.storage = memory (or adder-units auto)"
+    s"schedule.adder-units = ${adderUnits.get} shares adders between additions: it needs schedule.storage " +
+      s"= memory (or adder-units auto)"
   )
   require(
     adderUnits.forall(a => a >= 1 && a <= 4096),
@@ -63,7 +65,8 @@ final case class ScheduleRequest(
   require(listTries >= 1 && listTries <= 1024, s"schedule.list-tries must be in 1..1024, got $listTries")
   require(
     constantMultiplies == ConstantMultiplies.Blocks || storage == Storage.Registers,
-    "schedule.constant-multiplies = shift-add needs schedule.storage = registers (block-RAM banks feed shared units only)"
+    "schedule.constant-multiplies = shift-add needs schedule.storage = registers " +
+      "(block-RAM banks feed shared units only)"
   )
   require(
     clocksPerSample.forall(c => c >= 1 && c <= 4096),
@@ -82,8 +85,8 @@ final case class ScheduleRequest(
 object ScheduleRequest {
 
   /**
-   * By-height schedules tried by default: the Panda at 114 clocks per sample with 5 adder units takes 270
-   * cycles in the plain order and 259 with the best of 32 (a try costs tens of milliseconds there).
+   * By-height schedules tried by default: on the larger arms the best of the perturbed tries has a few
+   * percent less latency than the plain order, and a try costs tens of milliseconds.
    */
   val defaultListTries: Int = 32
 }
@@ -243,7 +246,8 @@ final class Schedule(
     val byBudget = request.maxMultipliers.map { budget =>
       fewestClocks(budget).getOrElse(
         throw new IllegalArgumentException(
-          s"schedule.max-multipliers = $budget is below one multiplier unit per operand width (${classes.map(_.shape).mkString(", ")} bits) " +
+          s"schedule.max-multipliers = $budget is below one multiplier unit per operand width " +
+            s"(${classes.map(_.shape).mkString(", ")} bits) " +
             s"and the CORDIC units' products: $leastBlocks blocks; use at least $leastBlocks"
         )
       )
@@ -304,8 +308,9 @@ final class Schedule(
   request.maxMultipliers.foreach { budget =>
     require(
       multiplierBlocks <= budget,
-      s"schedule.max-multipliers = $budget is below the $multiplierBlocks blocks that schedule.clocks-per-sample = $ii needs " +
-        s"(${muls.size} multiplies on $multiplierUnits units, $cordicUnits CORDIC units); " +
+      s"schedule.max-multipliers = $budget is below the $multiplierBlocks blocks that " +
+        s"schedule.clocks-per-sample = $ii needs (${muls.size} multiplies on $multiplierUnits " +
+        s"units, $cordicUnits CORDIC units); " +
         fewestClocks(budget).fold(s"use max-multipliers >= $multiplierBlocks")(c =>
           s"use clocks-per-sample >= $c or max-multipliers >= $multiplierBlocks"
         )
@@ -314,8 +319,9 @@ final class Schedule(
 
   require(
     angles.isEmpty || cordicBound(cordicUnits) <= ii,
-    s"schedule.cordic-units = $cordicUnits cannot compute ${angles.size} sin/cos pairs in schedule.clocks-per-sample = $ii clocks; " +
-      s"use cordic-units >= ${ceilDiv(angles.size, ii)} or clocks-per-sample >= ${cordicBound(cordicUnits)}"
+    s"schedule.cordic-units = $cordicUnits cannot compute ${angles.size} sin/cos pairs in " +
+      s"schedule.clocks-per-sample = $ii clocks; use cordic-units >= ${ceilDiv(angles.size, ii)} or " +
+      s"clocks-per-sample >= ${cordicBound(cordicUnits)}"
   )
 
   /** Whether a unit's result is captured in a register (shared: the unit moves on to the next operation). */

@@ -9,10 +9,10 @@ import scala.collection.mutable
 final case class Tracked(node: NodeId, bound: Double)
 
 /**
- * Builds graph nodes (through `builder`) and proves magnitude bounds beside them: scalars by
- * \|a + b| <= |a| + |b| and |ab| <= |a| |b|, vectors by their length, which rotations keep and cross and dot
- * products multiply. Every bound proved for a node is recorded; the tightest is its hint. Used once, while
- * one computation runs.
+ * Builds graph nodes (through `builder`) and proves magnitude bounds beside them: scalars by the triangle
+ * inequality and |ab| <= |a| |b|, vectors by their length, which rotations keep and cross and dot products
+ * multiply. Every bound proved for a node is recorded; the tightest is its hint. Used once, while one
+ * computation runs.
  */
 final class TrackingAlgebra(builder: GraphBuilder)
     extends VectorAlgebra[Tracked]()(TrackingAlgebra.num(builder)) {

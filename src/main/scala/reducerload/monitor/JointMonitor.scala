@@ -59,7 +59,8 @@ class JointMonitor(p: MonitorParams, j: Int)(implicit multiplierImpl: Multiplier
   private val outOfRange2 = FixedHw.delay(outOfRange1, 1)
 
   // ---- stage 3: region (leading one) and the comparisons with constants ----
-  // Region r >= 1: the leading one at bit n-K+r-1; region 0: no one at or above bit n-K (PowerTable.regionOf).
+  // Region r >= 1: the leading one at bit n-K+r-1; region 0: no one at or above bit n-K
+  // (PowerTable.regionOf).
   private val n = table.codeBits
   private val octaveBits2 = absTau2(n - 1, n - table.octaves)
   private val region3 = FixedHw.delay(
@@ -80,13 +81,16 @@ class JointMonitor(p: MonitorParams, j: Int)(implicit multiplierImpl: Multiplier
     1
   )
 
-  // ---- stage 4: normalising shift sh(r) = K - max(r, 1) (PowerTable.normalisingShift; no bit leaves the n bits) ----
+  // ---- stage 4: normalising shift sh(r) = K - max(r, 1) (PowerTable.normalisingShift; no bit leaves the n
+  // bits) ----
   private val normalisingShift3 = Mux(region3 === 0.U, (table.octaves - 1).U, table.octaves.U - region3)
-  // Registered: the k segment bits and the used offset bits (bits n-2 .. droppedBits; bit n-1 holds the leading one).
+  // Registered: the k segment bits and the used offset bits (bits n-2 .. droppedBits; bit n-1 holds the
+  // leading one).
   private val normal4 = FixedHw.delay((absTau3 << normalisingShift3)(n - 2, table.droppedBits), 1)
   private val region4 = FixedHw.delay(region3, 1)
 
-  // ---- stage 5: table read (registered address and data: a ROM), segment = region 2^k + the k bits below bit n-1 ----
+  // ---- stage 5: table read (registered address and data: a ROM), segment = region 2^k + the k bits below
+  // bit n-1 ----
   private val address4 = Cat(region4, normal4(n - 2 - table.droppedBits, table.usedOffsetBits))
   private val romWidth = table.baseBits + table.deltaBits + table.shiftBits
   // One ROM word per segment: base, delta, shift (high to low).
@@ -101,7 +105,8 @@ class JointMonitor(p: MonitorParams, j: Int)(implicit multiplierImpl: Multiplier
   private val shift5 = word5(table.shiftBits - 1, 0)
   private val offset5 = FixedHw.delay(normal4(table.usedOffsetBits - 1, 0), 1)
 
-  // ---- interpolation: mantissa = base + delta * offset / 2^usedOffsetBits, rounded half up (PowerTable.mantissa) ----
+  // ---- interpolation: mantissa = base + delta * offset / 2^usedOffsetBits, rounded half up
+  // (PowerTable.mantissa) ----
   private val (interpA, interpB) = p.interpolationMulWidths(j)
   private val interpolation = PipelinedMultiplier(delta5.zext, offset5.zext)
   require(interpolation.getWidth == interpA + interpB, "JointMonitor: interpolation product width")

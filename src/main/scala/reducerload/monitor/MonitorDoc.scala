@@ -7,7 +7,8 @@ package reducerload.monitor
  */
 object MonitorDoc {
   val begin =
-    "<!-- generated: ./sbt --error \"runMain reducerload.monitor.MonitorDoc\" (checked by MonitorParamsSpec) -->"
+    "<!-- generated: ./sbt --error \"runMain reducerload.monitor.MonitorDoc\" " +
+      "(checked by MonitorParamsSpec) -->"
   val end = "<!-- end generated -->"
 
   def text: String = {

@@ -102,8 +102,9 @@ final class MonitorModel(val p: MonitorParams) {
       val worst = p.maxIncrement(j, f) * p.sampleBudget
       require(
         next.field(f) <= worst,
-        s"MonitorModel: joint ${p.jointNames(j)}: ${f.name} = ${next.field(f)} exceeds its proven worst case $worst " +
-          s"(${p.accumulatorBits(j, f)} bits): more than the sample budget of ${p.sampleBudget} samples (${p.targetYears} years)"
+        s"MonitorModel: joint ${p.jointNames(j)}: ${f.name} = ${next.field(f)} " +
+          s"exceeds its proven worst case $worst (${p.accumulatorBits(j, f)} bits): more than the sample " +
+          s"budget of ${p.sampleBudget} samples (${p.targetYears} years)"
       )
     }
     next

@@ -126,7 +126,8 @@ final case class MonitorParams(
       tf.width - 1 >= powerSegmentBits + 2,
       bad(
         "torqueFormats",
-        s"$tf has ${tf.width - 1} magnitude bits, fewer than powerSegmentBits ($powerSegmentBits) + 2 (leading one and an offset bit)"
+        s"$tf has ${tf.width - 1} magnitude bits, fewer than powerSegmentBits ($powerSegmentBits) + 2 " +
+          s"(leading one and an offset bit)"
       )
     )
     require(
@@ -160,7 +161,8 @@ final case class MonitorParams(
       (bins - 1) * width < tf.maxValue,
       bad(
         "histogramBinWidthNm",
-        s"x (histogramBins - 1) = ${(bins - 1) * width} N·m puts the last bin above the torque format's maximum ${tf.maxValue} N·m"
+        s"x (histogramBins - 1) = ${(bins - 1) * width} N·m puts the last bin above the torque " +
+          s"format's maximum ${tf.maxValue} N·m"
       )
     )
   }
@@ -190,7 +192,8 @@ final case class MonitorParams(
   (0 until joints).foreach { j =>
     require(
       binEdges(j).zip(binEdges(j).drop(1)).forall { case (a, b) => a < b },
-      s"MonitorParams: joint ${j + 1} (${jointNames(j)}): histogramBinWidthNm ${histogramBinWidthNm(j)} gives two bin edges on one code"
+      s"MonitorParams: joint ${j + 1} (${jointNames(j)}): histogramBinWidthNm ${histogramBinWidthNm(j)} " +
+        s"gives two bin edges on one code"
     )
   }
 
@@ -281,12 +284,15 @@ final case class MonitorParams(
   def proofLines: Seq[String] = {
     val counters = provenAccumulators.filter(f => maxIncrement(0, f) == 1)
     val sums = provenAccumulators.filterNot(counters.contains)
-    f"sample budget N = $targetYears%.4g years x ${secondsPerYear}%.0f s / $samplePeriodS%.6g s = $sampleBudget valid samples (one per sample period)" +:
+    (f"sample budget N = $targetYears%.4g years x ${secondsPerYear}%.0f s / $samplePeriodS%.6g s = " +
+      f"$sampleBudget valid samples (one per sample period)") +:
       (0 until joints).map { j =>
         val c =
-          s"${counters.map(_.name).mkString(", ")}: max 1 per sample, N < 2^${accumulatorBits(j, counters.head)} (${accumulatorBits(j, counters.head)} bits)"
+          s"${counters.map(_.name).mkString(", ")}: max 1 per sample, N < " +
+            s"2^${accumulatorBits(j, counters.head)} (${accumulatorBits(j, counters.head)} bits)"
         val ss = sums.map { f =>
-          s"${f.name}: max ${maxIncrement(j, f)} per sample, x N = ${maxIncrement(j, f) * sampleBudget} < 2^${accumulatorBits(j, f)} (${accumulatorBits(j, f)} bits)"
+          s"${f.name}: max ${maxIncrement(j, f)} per sample, x N = ${maxIncrement(j, f) * sampleBudget} < " +
+            s"2^${accumulatorBits(j, f)} (${accumulatorBits(j, f)} bits)"
         }
         (s"${jointNames(j)}: $c" +: ss).mkString("; ")
       }
@@ -348,15 +354,17 @@ final case class MonitorParams(
   /** The whole derivation as text lines for reports and the emitted header. */
   def summaryLines: Seq[String] =
     Seq(
-      f"joints: $joints, sample period $samplePeriodS%.6g s, update stage $updateStage, snapshot latency $snapshotLatency cycles, " +
+      f"joints: $joints, sample period $samplePeriodS%.6g s, update stage $updateStage, snapshot " +
+        f"latency $snapshotLatency cycles, " +
         s"register bank ${registerMap.words} words ($addressBits address bits)"
     ) ++
       (0 until joints).map { j =>
         val t = powerTables(j)
-        f"${jointNames(j)}: torque ${torqueFormats(j)}, velocity ${velocityFormats(j)}, T_R ${repeatedPeakNm(j)} N·m (code > ${repeatedPeakCode(j)}), " +
-          f"T_M ${momentaryPeakNm(j)} N·m (code > ${momentaryPeakCode(j)}), p ${lifeExponents(j)}%.6g, i ${gearRatios(j)}, " +
-          f"${histogramBins(j)} bins of ${histogramBinWidthNm(j)} N·m, ${t.describe} (u = |tau| / ${torqueFullScaleNm(j)}%.0f N·m), " +
-          f"${multiplierBlocks(j)} multiplier blocks"
+        f"${jointNames(j)}: torque ${torqueFormats(j)}, velocity ${velocityFormats(j)}, T_R " +
+          f"${repeatedPeakNm(j)} N·m (code > ${repeatedPeakCode(j)}), T_M ${momentaryPeakNm(j)} N·m (code " +
+          f"> ${momentaryPeakCode(j)}), p ${lifeExponents(j)}%.6g, i ${gearRatios(j)}, ${histogramBins(j)} " +
+          f"bins of ${histogramBinWidthNm(j)} N·m, ${t.describe} (u = |tau| / " +
+          f"${torqueFullScaleNm(j)}%.0f N·m), ${multiplierBlocks(j)} multiplier blocks"
       } ++ proofLines
 }
 

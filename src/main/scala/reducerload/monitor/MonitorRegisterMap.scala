@@ -27,7 +27,8 @@ object JointField {
   case object Flags
       extends JointField(
         "flags",
-        "bit 0: |tau| > T_R seen, bit 1: |tau| > T_M seen, bit 2: event in progress, bit 3: a histogram counter saturated"
+        "bit 0: |tau| > T_R seen, bit 1: |tau| > T_M seen, bit 2: event in progress, bit " +
+          "3: a histogram counter saturated"
       )
   case object DamageSum
       extends JointField(

@@ -8,7 +8,8 @@ package reducerload.monitor
 final case class RatedReducer(torqueNm: Double, inputSpeedRpm: Double, lifeHours: Double) {
   require(
     torqueNm > 0 && inputSpeedRpm > 0 && lifeHours > 0,
-    s"RatedReducer: torque, input speed and life must be positive, got $torqueNm N·m, $inputSpeedRpm rpm, $lifeHours h"
+    s"RatedReducer: torque, input speed and life must be positive, got $torqueNm N·m, " +
+      s"$inputSpeedRpm rpm, $lifeHours h"
   )
 }
 
@@ -122,9 +123,9 @@ object MonitorSummary {
   /**
    * Derived bound on |damage sum (registers) - sum |qd| |tau|^p dt| over the torques the monitor received
    * (the table's share of the error). Every sample's power is within rel x |tau|^p + abs (abs = the table's
-   * absolute bound x fullScale^p), weighted by w = |qd| dt: with X the exact sum,
-   * \|D - X| <= rel X + abs S1, and X <= (D + abs S1) / (1 - rel), so
-   * \|D - X| <= (rel D + abs S1) / (1 - rel). From the registers alone (D, S1 = sum |qd| dt).
+   * absolute bound x fullScale^p), weighted by w = |qd| dt: with X the exact sum, |D - X| <= rel X + abs S1,
+   * and X <= (D + abs S1) / (1 - rel), so |D - X| <= (rel D + abs S1) / (1 - rel). From the registers alone
+   * (D, S1 = sum |qd| dt).
    */
   def damageSumBound(p: MonitorParams, j: Int, damageSum: Double, speedSumRad: Double): Double = {
     val (rel, abs) = (
@@ -136,10 +137,10 @@ object MonitorSummary {
 
   /**
    * Derived bound on |T_av (registers) - T_av of the torques the monitor received|. In u = |tau| / full
-   * scale: the registers' mean x = D / S1 and the exact mean y = sum w u^p / S1 satisfy
-   * \|x - y| <= rel y + abs (each sample's power is), so y lies in [(x - abs) / (1 + rel), (x + abs) / (1 -
-   * rel)]; T_av = fullScale x^(1/p) and the exact one fullScale y^(1/p): the bound is the larger distance to
-   * the ends of that interval (plus the double evaluation's rounding).
+   * scale: the registers' mean x = D / S1 and the exact mean y = sum w u^p / S1 satisfy |x - y| <= rel y +
+   * abs (each sample's power is), so y lies in [(x - abs) / (1 + rel), (x + abs) / (1 - rel)]; T_av =
+   * fullScale x^(1/p) and the exact one fullScale y^(1/p): the bound is the larger distance to the ends of
+   * that interval (plus the double evaluation's rounding).
    */
   def avgTorqueBound(p: MonitorParams, j: Int, s: JointState): Option[Double] =
     normalisedPowerMean(p, j, s).map { x =>

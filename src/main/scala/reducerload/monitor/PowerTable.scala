@@ -49,7 +49,8 @@ final case class PowerTable(
   )
   require(
     codeBits >= segmentBits + 2,
-    s"PowerTable: a $codeBits-bit magnitude leaves no offset bits below $segmentBits segment bits and the leading one"
+    s"PowerTable: a $codeBits-bit magnitude leaves no offset bits below $segmentBits " +
+      s"segment bits and the leading one"
   )
   require(fracBits >= 8 && fracBits <= 30, s"PowerTable: fracBits must be in 8..30, got $fracBits")
   require(rangeBits >= 1 && rangeBits <= 120, s"PowerTable: rangeBits must be in 1..120, got $rangeBits")
@@ -200,8 +201,9 @@ final case class PowerTable(
 
   /** One line for reports. */
   def describe: String =
-    f"power table $regions regions (u >= 2^-$octaves relative) x $segmentsPerRegion segments x ${baseBits + deltaBits + shiftBits} bits, " +
-      f"u^p = power / 2^$valueFracBits, |power / 2^$valueFracBits - u^p| <= $relativeBound%.2e u^p + $absoluteBound%.2e"
+    f"power table $regions regions (u >= 2^-$octaves relative) x $segmentsPerRegion segments x " +
+      f"${baseBits + deltaBits + shiftBits} bits, u^p = power / 2^$valueFracBits, |power / " +
+      f"2^$valueFracBits - u^p| <= $relativeBound%.2e u^p + $absoluteBound%.2e"
 }
 
 object PowerTable {

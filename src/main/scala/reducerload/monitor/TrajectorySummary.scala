@@ -131,7 +131,8 @@ object TrajectorySummary {
         if (h.samples == r.samples && h.outOfRangeSamples == r.outOfRangeSamples) None
         else
           Some(
-            s"${h.name} samples: hardware ${h.samples}/${h.outOfRangeSamples}, reference ${r.samples}/${r.outOfRangeSamples}"
+            s"${h.name} samples: hardware ${h.samples}/${h.outOfRangeSamples}, reference " +
+              s"${r.samples}/${r.outOfRangeSamples}"
           ),
         close("peak_abs_nm", h.peakAbsNm, r.peakAbsNm, Some(b.peakAbsNm)),
         close("avg_torque_nm", h.avgTorqueNm, r.avgTorqueNm, b.avgTorqueNm),

@@ -4,10 +4,10 @@ import chisel3._
 import reducerload.fixedpoint.FixedHw
 
 /**
- * Multiply by a constant code in logic elements, no multiplier block (`schedule.constant-multiplies
- * \= shift-add`): the constant's canonical signed digits (non-adjacent form: the fewest nonzero digits, no
- * two adjacent) select shifted copies of `x`, summed by a registered adder tree, one level per clock. The
- * result is the exact product `x * constant`, as from a multiplier.
+ * Multiply by a constant code in logic elements, no multiplier block (`schedule.constant-multiplies =
+ * shift-add`): the constant's canonical signed digits (non-adjacent form: the fewest nonzero digits, no two
+ * adjacent) select shifted copies of `x`, summed by a registered adder tree, one level per clock. The result
+ * is the exact product `x * constant`, as from a multiplier.
  */
 class ShiftAddMultiplier(xWidth: Int, constant: BigInt) extends Module {
   require(xWidth >= 2, s"ShiftAddMultiplier: an operand of $xWidth bits")

@@ -224,7 +224,8 @@ private object UrdfInertia {
     // A real body's principal moments satisfy I3 <= I1 + I2 (sorted ascending).
     else if (moments(2) > moments(0) + moments(1) + tolerance)
       Some(
-        s"principal moments ${show(moments)} violate the triangle inequality (the largest exceeds the sum of the others)"
+        s"principal moments ${show(moments)} violate the triangle inequality (the largest " +
+          s"exceeds the sum of the others)"
       )
     else None
   }
@@ -341,7 +342,8 @@ private final class UrdfChainBuilder(source: String, robot: UrdfRobot) {
         ChainJoint(
           name = j.name,
           kind = kind,
-          // The parent link's pose in the previous moving joint's frame takes in the fixed joints between them.
+          // The parent link's pose in the previous moving joint's frame takes in the fixed joints between
+          // them.
           origin = placements(j.parent).pose.compose(j.origin),
           axis = j.axis,
           // Merged from the first real body on, so that a lone link keeps its numbers exactly.

@@ -13,7 +13,8 @@ class CordicModelSpec extends AnyFlatSpec {
     val model = new CordicModel(p)
     val err = CordicChecks.maxError(p, codes.map(c => c -> model.sinCosRaw(c)))
     println(
-      f"[cordic-model] $label ${p.tag}: ${codes.size} codes, max |error| $err%.3e, bound ${p.errorBound}%.3e (${p.errorBound / err}%.1fx margin)"
+      f"[cordic-model] $label ${p.tag}: ${codes.size} codes, max |error| $err%.3e, bound " +
+        f"${p.errorBound}%.3e (${p.errorBound / err}%.1fx margin)"
     )
     assert(err <= p.errorBound, s"$label: max error $err exceeds the derived bound ${p.errorBound}")
   }
@@ -56,14 +57,15 @@ class CordicModelSpec extends AnyFlatSpec {
     assert(p.errorBound <= CordicParams.precise.errorBound, s"table-residual bound ${p.errorBound}")
   }
 
-  it should "stay within the derived bound when the table feeds the residual rotation directly (no shift-add stage)" in {
-    val small = CordicParams.smallResidual.copy(tableBits = CordicParams.smallResidual.iterations - 1)
-    assert(small.stageIterations.isEmpty)
-    sweep("exhaustive", small, (0 until (1 << small.angleBits)).map(BigInt(_)))
-    val p = reducerload.load.LoadParams.paper.cordic
-    assert(p.stageIterations.isEmpty, "the paper load preset's unit has no shift-add stage")
-    sweep("dense", p, dense(p, "table-only-dense", 14L))
-  }
+  it should "stay within the derived bound when the table feeds the residual " +
+    "rotation directly (no shift-add stage)" in {
+      val small = CordicParams.smallResidual.copy(tableBits = CordicParams.smallResidual.iterations - 1)
+      assert(small.stageIterations.isEmpty)
+      sweep("exhaustive", small, (0 until (1 << small.angleBits)).map(BigInt(_)))
+      val p = reducerload.load.LoadParams.paper.cordic
+      assert(p.stageIterations.isEmpty, "the paper load preset's unit has no shift-add stage")
+      sweep("dense", p, dense(p, "table-only-dense", 14L))
+    }
 
   it should "refuse a residual unit whose products would not fit 18x18 multipliers" in {
     val e = intercept[IllegalArgumentException](

@@ -23,7 +23,8 @@ class CordicSinCosSpec extends AnyFlatSpec with ChiselScalatestTester {
     test(new CordicSinCos(p)).withAnnotations(SimBackend.annotations) { dut =>
       val verdict = CordicChecks.check(p, stim, CordicDriver.run(dut, stim))
       println(
-        f"[cordic] $label ${p.tag}: ${verdict.checked} outputs equal to the model, max |error| ${verdict.maxError}%.3e <= bound ${p.errorBound}%.3e, latency ${p.latency}"
+        f"[cordic] $label ${p.tag}: ${verdict.checked} outputs equal to the model, max |error| " +
+          f"${verdict.maxError}%.3e <= bound ${p.errorBound}%.3e, latency ${p.latency}"
       )
       assert(
         verdict.mismatches.isEmpty,

@@ -42,7 +42,8 @@ class ScheduleSpec extends AnyFlatSpec {
             if (s.forwarded(x)) {
               assert(
                 readable.get == issue,
-                s"forwarded node ${x.index} read in cycle $issue, on the unit's output only in ${readable.get}"
+                s"forwarded node ${x.index} read in cycle $issue, on the unit's " +
+                  s"output only in ${readable.get}"
               )
               assert(
                 g.ids.count(u => g(u).operands.contains(x)) == 1 && !g.outputs.exists(_.node == x),
@@ -100,8 +101,9 @@ class ScheduleSpec extends AnyFlatSpec {
   private def figures(label: String, p: ArmParams): Unit = {
     val s = p.schedule
     println(
-      f"[schedule] $label%-28s II ${s.clocksPerSample}%3d  mul units ${s.multiplierUnits}%3d (${s.unitSummary}%-20s) " +
-        f"blocks ${s.multiplierBlocks}%4d  cordic ${s.cordicUnits}%2d  latency ${s.latency}%4d  held bits ${s.heldBits}%7d"
+      f"[schedule] $label%-28s II ${s.clocksPerSample}%3d  mul units " +
+        f"${s.multiplierUnits}%3d (${s.unitSummary}%-20s) blocks ${s.multiplierBlocks}%4d  cordic " +
+        f"${s.cordicUnits}%2d  latency ${s.latency}%4d  held bits ${s.heldBits}%7d"
     )
   }
 
@@ -232,25 +234,29 @@ class TargetErrorSpec extends AnyFlatSpec {
       TargetErrorSpec.checkNodes(p, Seq.fill(p.chain.size)(target), s"ur5 target $target")
       assert(fewer.internalFracBits <= p.internalFracBits)
       println(
-        f"[target] ur5 target $target%.0e N·m: internal frac bits ${p.internalFracBits}, worst bound ${p.errorBound}%.3e, " +
-          s"widest node ${p.analysis.widest._2.format}, ${p.copy(scheduleRequest = ScheduleRequest(None, Some(66))).schedule.unitSummary}"
+        f"[target] ur5 target $target%.0e N·m: internal frac bits ${p.internalFracBits}, " +
+          f"worst bound ${p.errorBound}%.3e, " +
+          s"widest node ${p.analysis.widest._2.format}, " +
+          s"${p.copy(scheduleRequest = ScheduleRequest(None, Some(66))).schedule.unitSummary}"
       )
     }
     val perJoint = ArmConfig(ur5.copy(targetError = Seq(1e-3, 1e-3, 1e-3, 1e-4, 1e-4, 1e-5)))
     assert(perJoint.errorBounds.zip(Seq(1e-3, 1e-3, 1e-3, 1e-4, 1e-4, 1e-5)).forall { case (b, t) => b <= t })
   }
 
-  it should "cap single constants and products where that makes the design cheaper, and keep the per-kind fit where not" in {
-    val shared = reducerload.load.LoadParams.shared
-    val joint3 = shared.arm
-    assert(!joint3.fracBitLimits.isEmpty, "the shared preset's fit caps no node")
-    TargetErrorSpec.checkNodes(joint3, shared.targetError, "preset shared")
-    // Capped nodes mix widths; in the UR5's 64-clock memory schedule that splits a multiplier class, so the fit keeps the kinds' bits.
-    val memory = ArmConfig(
-      ur5.copy(targetError = Seq(1e-3), schedule = ScheduleRequest(Some(64), storage = Storage.Memory))
-    )
-    TargetErrorSpec.checkNodes(memory, Seq.fill(memory.chain.size)(1e-3), "ur5 memory ii64")
-  }
+  it should "cap single constants and products where that makes the design cheaper, and " +
+    "keep the per-kind fit where not" in {
+      val shared = reducerload.load.LoadParams.shared
+      val joint3 = shared.arm
+      assert(!joint3.fracBitLimits.isEmpty, "the shared preset's fit caps no node")
+      TargetErrorSpec.checkNodes(joint3, shared.targetError, "preset shared")
+      // Capped nodes mix widths; in the UR5's 64-clock memory schedule that splits a multiplier class, so the
+      // fit keeps the kinds' bits.
+      val memory = ArmConfig(
+        ur5.copy(targetError = Seq(1e-3), schedule = ScheduleRequest(Some(64), storage = Storage.Memory))
+      )
+      TargetErrorSpec.checkNodes(memory, Seq.fill(memory.chain.size)(1e-3), "ur5 memory ii64")
+    }
 
   it should "refuse a target the sin/cos unit cannot reach, and a wrong number of targets" in {
     val e = intercept[IllegalArgumentException](ArmConfig(ur5.copy(targetError = Seq(1e-12))))
@@ -294,8 +300,8 @@ object TargetErrorSpec {
       }
     }
     println(
-      s"[target] $label: ${p.fracBitLimits.byNode.size} node(s) capped below their kind; cost (blocks, units, bits) ${ArmConfig.cost(p)}, " +
-        s"the other fit ${ArmConfig.cost(alternative)}"
+      s"[target] $label: ${p.fracBitLimits.byNode.size} node(s) capped below their kind; cost (blocks, " +
+        s"units, bits) ${ArmConfig.cost(p)}, the other fit ${ArmConfig.cost(alternative)}"
     )
   }
 }

@@ -9,22 +9,26 @@ import java.nio.file.{Files, Paths}
 class MonitorParamsSpec extends AnyFlatSpec {
   behavior of "MonitorParams"
 
-  it should "prove every accumulator holds 20 years at 1 kHz and at 16 kHz (6 joints), with no spare top bit" in {
-    for (period <- Seq(1e-3, 1.0 / 16000)) {
-      val p = MonitorParams.example(period)
-      val expectedBudget = BigInt(math.ceil(20 * 365.25 * 86400 / period).toLong)
-      assert((p.sampleBudget - expectedBudget).abs <= 1, s"budget ${p.sampleBudget} vs $expectedBudget")
-      (0 until p.joints).foreach { j =>
-        p.provenAccumulators.foreach { f =>
-          val total = p.maxIncrement(j, f) * p.sampleBudget
-          val w = p.accumulatorBits(j, f)
-          assert(total < (BigInt(1) << w) && total >= (BigInt(1) << (w - 1)), s"${f.name}: $total in $w bits")
-          assert(p.fieldWidth(j, f) == w)
+  it should "prove every accumulator holds 20 years at 1 kHz and at 16 kHz (6 " +
+    "joints), with no spare top bit" in {
+      for (period <- Seq(1e-3, 1.0 / 16000)) {
+        val p = MonitorParams.example(period)
+        val expectedBudget = BigInt(math.ceil(20 * 365.25 * 86400 / period).toLong)
+        assert((p.sampleBudget - expectedBudget).abs <= 1, s"budget ${p.sampleBudget} vs $expectedBudget")
+        (0 until p.joints).foreach { j =>
+          p.provenAccumulators.foreach { f =>
+            val total = p.maxIncrement(j, f) * p.sampleBudget
+            val w = p.accumulatorBits(j, f)
+            assert(
+              total < (BigInt(1) << w) && total >= (BigInt(1) << (w - 1)),
+              s"${f.name}: $total in $w bits"
+            )
+            assert(p.fieldWidth(j, f) == w)
+          }
         }
+        p.proofLines.take(2).foreach(l => println(f"[monitor] ${1 / period}%.0f Hz: $l"))
       }
-      p.proofLines.take(2).foreach(l => println(f"[monitor] ${1 / period}%.0f Hz: $l"))
     }
-  }
 
   /** Largest |power - u^p| over the bound, and the largest relative error at u >= 2^-K, over `codes`. */
   private def measure(t: PowerTable, codes: Iterator[BigInt]): (Double, Double) =
@@ -38,56 +42,64 @@ class MonitorParamsSpec extends AnyFlatSpec {
       (worst.max(err / t.errorBound(a)), if (a >= t.floorCode) rel.max(err / exact) else rel)
     }
 
-  it should "bound the power table's error relative to the load and meet the bound on every code (exhaustive, 17-bit magnitudes)" in {
-    for (p <- Seq(1.0, 1.5, 3.0, 10.0 / 3.0, 10.0); segments <- Seq(5, 6)) {
-      val t = PowerTable(p, codeBits = 17, segmentBits = segments, fracBits = 17, rangeBits = 40)
-      val (worst, rel) = measure(t, (0 until (1 << 17)).iterator.map(BigInt(_)))
-      println(
-        f"[monitor] power table p = $p%.4f, ${t.regions} regions x ${t.segmentsPerRegion} segments: max relative error $rel%.3e " +
-          f"at u >= 2^-${t.octaves} (derived ${t.relativeBound}%.3e), floor ${t.absoluteBound}%.2e; worst error at ${worst * 100}%.0f%% of its bound"
-      )
-      assert(rel <= t.relativeBound && worst > 0.2, s"p = $p: the bound is met but loose (${worst * 100}%)")
-      // Inside a segment the mantissa does not decrease (the max power is a segment's last code).
-      assert(
-        (0 until (1 << 17) - 1).forall(a =>
-          t.locate(BigInt(a))._1 != t.locate(BigInt(a + 1))._1 ||
-            t.power(BigInt(a)) <= t.power(BigInt(a + 1))
-        ),
-        s"p = $p: not monotone inside a segment"
-      )
-    }
-    // Fixed target at the defaults: 3e-4 of the load for p = 3 and 10/3 (1e-4 of T_av), whatever the load's share of full scale.
-    for (p <- Seq(3.0, 10.0 / 3.0)) {
-      val t = PowerTable(p, codeBits = 27, segmentBits = 6, fracBits = 17, rangeBits = 40)
-      assert(
-        t.relativeBound <= 3e-4 && t.octaves >= 12,
-        s"p = $p: relative bound ${t.relativeBound}, ${t.octaves} octaves"
-      )
-    }
-  }
-
-  it should "keep |tau|^p relative for loads far below full scale (27-bit codes: every octave sampled, dropped offset bits)" in {
-    val rng = new scala.util.Random(reducerload.testutil.Seeds("power-table-wide", 1303L))
-    for (p <- Seq(3.0, 10.0 / 3.0, 10.0)) {
-      val t = PowerTable(p, codeBits = 27, segmentBits = 6, fracBits = 17, rangeBits = 40)
-      assert(t.droppedBits == 3)
-      // Log-uniform codes: a random bit length, then random bits below the leading one; and both ends of every segment.
-      val random = Iterator.fill(200000) {
-        val len = rng.nextInt(28);
-        if (len == 0) BigInt(0) else (BigInt(1) << (len - 1)) + BigInt(len - 1, rng.self)
+  it should "bound the power table's error relative to the load and meet the bound on every code " +
+    "(exhaustive, 17-bit magnitudes)" in {
+      for (p <- Seq(1.0, 1.5, 3.0, 10.0 / 3.0, 10.0); segments <- Seq(5, 6)) {
+        val t = PowerTable(p, codeBits = 17, segmentBits = segments, fracBits = 17, rangeBits = 40)
+        val (worst, rel) = measure(t, (0 until (1 << 17)).iterator.map(BigInt(_)))
+        println(
+          f"[monitor] power table p = $p%.4f, ${t.regions} regions x ${t.segmentsPerRegion} " +
+            f"segments: max relative error $rel%.3e at u >= 2^-${t.octaves} (derived " +
+            f"${t.relativeBound}%.3e), floor ${t.absoluteBound}%.2e; worst error at " +
+            f"${worst * 100}%.0f%% of its bound"
+        )
+        assert(rel <= t.relativeBound && worst > 0.2, s"p = $p: the bound is met but loose (${worst * 100}%)")
+        // Inside a segment the mantissa does not decrease (the max power is a segment's last code).
+        assert(
+          (0 until (1 << 17) - 1).forall(a =>
+            t.locate(BigInt(a))._1 != t.locate(BigInt(a + 1))._1 ||
+              t.power(BigInt(a)) <= t.power(BigInt(a + 1))
+          ),
+          s"p = $p: not monotone inside a segment"
+        )
       }
-      val ends = (1 until 27).iterator.flatMap(b => Seq(BigInt(1) << b, (BigInt(1) << b) - 1))
-      val (worst, rel) = measure(t, random ++ ends)
-      // The issue's case: 5 N·m of a 1024 N·m full scale, u^3 = 1.2e-7, below the old table's LSB.
-      val a = BigInt(5L << 17)
-      val issue = math.abs(t.powerValue(a) / t.exactPower(a) - 1)
-      println(
-        f"[monitor] 27-bit power table p = $p%.4f: max relative error $rel%.3e (derived ${t.relativeBound}%.3e) at u >= 2^-${t.octaves}, " +
-          f"worst at ${worst * 100}%.0f%% of its bound; u = 5/1024: relative error $issue%.2e; damage sum ${t.shift.max} bits wider"
-      )
-      assert(issue <= t.relativeBound + t.absoluteBound / t.exactPower(a))
+      // Fixed target at the defaults: 3e-4 of the load for p = 3 and 10/3 (1e-4 of T_av), whatever the load's
+      // share of full scale.
+      for (p <- Seq(3.0, 10.0 / 3.0)) {
+        val t = PowerTable(p, codeBits = 27, segmentBits = 6, fracBits = 17, rangeBits = 40)
+        assert(
+          t.relativeBound <= 3e-4 && t.octaves >= 12,
+          s"p = $p: relative bound ${t.relativeBound}, ${t.octaves} octaves"
+        )
+      }
     }
-  }
+
+  it should "keep |tau|^p relative for loads far below full scale (27-bit codes: every " +
+    "octave sampled, dropped offset bits)" in {
+      val rng = new scala.util.Random(reducerload.testutil.Seeds("power-table-wide", 1303L))
+      for (p <- Seq(3.0, 10.0 / 3.0, 10.0)) {
+        val t = PowerTable(p, codeBits = 27, segmentBits = 6, fracBits = 17, rangeBits = 40)
+        assert(t.droppedBits == 3)
+        // Log-uniform codes: a random bit length, then random bits below the leading one; and both ends of
+        // every segment.
+        val random = Iterator.fill(200000) {
+          val len = rng.nextInt(28);
+          if (len == 0) BigInt(0) else (BigInt(1) << (len - 1)) + BigInt(len - 1, rng.self)
+        }
+        val ends = (1 until 27).iterator.flatMap(b => Seq(BigInt(1) << b, (BigInt(1) << b) - 1))
+        val (worst, rel) = measure(t, random ++ ends)
+        // The issue's case: 5 N·m of a 1024 N·m full scale, u^3 = 1.2e-7, below the old table's LSB.
+        val a = BigInt(5L << 17)
+        val issue = math.abs(t.powerValue(a) / t.exactPower(a) - 1)
+        println(
+          f"[monitor] 27-bit power table p = $p%.4f: max relative error $rel%.3e (derived " +
+            f"${t.relativeBound}%.3e) at u >= 2^-${t.octaves}, worst at " +
+            f"${worst * 100}%.0f%% of its bound; u = 5/1024: relative error $issue%.2e; " +
+            f"damage sum ${t.shift.max} bits wider"
+        )
+        assert(issue <= t.relativeBound + t.absoluteBound / t.exactPower(a))
+      }
+    }
 
   it should "lay out the register map without gaps and encode and decode every value" in {
     val p = MonitorStimulus.threeJoints
@@ -110,7 +122,8 @@ class MonitorParamsSpec extends AnyFlatSpec {
     val doc = new String(Files.readAllBytes(Paths.get("docs/monitor.md")), "UTF-8")
     assert(
       doc.contains(MonitorDoc.text),
-      "docs/monitor.md is out of date: paste the output of ./sbt --error \"runMain reducerload.monitor.MonitorDoc\""
+      "docs/monitor.md is out of date: paste the output of ./sbt --error \"runMain " +
+        "reducerload.monitor.MonitorDoc\""
     )
   }
 

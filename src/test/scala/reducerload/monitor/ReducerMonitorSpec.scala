@@ -142,152 +142,160 @@ class ReducerMonitorSpec extends AnyFlatSpec with ChiselScalatestTester {
     }.max
   }
 
-  it should "equal the model bit for bit on a long seeded stream with snapshots and clears, exact at the thresholds and within the derived bound of the reference" in {
-    val p = MonitorStimulus.threeJoints
-    val rng = new Random(Seeds("monitor-stream", 1301L))
-    val n = SimBackend.scale(20000)
-    val prelude = MonitorStimulus.thresholdSamples(p, rng)
-    val (drive, snapshots) = schedule(
-      p,
-      prelude,
-      MonitorStimulus.samples(p, n, rng),
-      rng,
-      bubble = 0.2,
-      snapshotOdds = 600,
-      clearOdds = 2500
-    )
-    val banks = expected(p, drive, snapshots.toSet)
-    println(
-      s"[monitor] ${p.joints} joints, $n random samples, ${drive.size} cycles, ${snapshots.size} snapshots, " +
-        s"${drive.count(_.cycle.clear)} clears, update stage ${p.updateStage}, bank ${p.registerMap.words} words"
-    )
-
-    test(new ReducerMonitor(p)).withAnnotations(SimBackend.annotations) { dut =>
-      val observed = MonitorDriver.run(dut, drive)
-      val done = observed.indices.filter(observed(_).snapshotDone)
-      assert(
-        done == snapshots.map(_ + p.snapshotLatency),
-        s"snapshotDone at $done, expected ${snapshots.map(_ + p.snapshotLatency)}"
+  it should "equal the model bit for bit on a long seeded stream with snapshots and clears, exact at the " +
+    "thresholds and within the derived bound of the reference" in {
+      val p = MonitorStimulus.threeJoints
+      val rng = new Random(Seeds("monitor-stream", 1301L))
+      val n = SimBackend.scale(20000)
+      val prelude = MonitorStimulus.thresholdSamples(p, rng)
+      val (drive, snapshots) = schedule(
+        p,
+        prelude,
+        MonitorStimulus.samples(p, n, rng),
+        rng,
+        bubble = 0.2,
+        snapshotOdds = 600,
+        clearOdds = 2500
       )
-      val hwBanks = readBanks(p, drive, observed, snapshots)
-      hwBanks.zip(banks).zipWithIndex.foreach { case ((hw, (model, _)), k) =>
-        val m = model.bank(p)
-        assert(hw == m, s"snapshot $k (cycle ${snapshots(k)}): ${describeDifference(p, hw, m)}")
-      }
-
-      // The prelude's snapshot: limit counters at just below, at and just above T_R and T_M ("above" is >).
-      val first = MonitorSnapshot.fromBank(p, hwBanks.head)
-      (0 until p.joints).foreach { j =>
-        val s = first.joints(j)
-        val name = p.jointNames(j)
-        assert(s.samples == prelude.size, s"$name: the sample in the snapshot's own cycle must not be in it")
-        assert(
-          s.repeatedPeakSamples == 8,
-          s"$name: samples above T_R ${s.repeatedPeakSamples}, expected 8 (r+1 twice, m-1 .. m+2, m, m+1)"
-        )
-        assert(
-          s.momentaryPeakEvents == 2 && s.lastEventDuration == 1 && s.lastEventPeak == p.momentaryPeakCode(
-            j
-          ) + 1,
-          s"$name: events ${s.momentaryPeakEvents}, last duration ${s.lastEventDuration}, last peak ${s.lastEventPeak}"
-        )
-        assert(s.repeatedPeakSeen && s.momentaryPeakSeen && s.inEvent, s"$name: flags ${s.flags}")
-        // At the N·m level: the code at T_R is not above it, the next one is (the reference agrees below).
-        val f = p.torqueFormats(j)
-        assert(
-          f.toDouble(p.repeatedPeakCode(j)) <= p.repeatedPeakNm(j) && f.toDouble(
-            p.repeatedPeakCode(j) + 1
-          ) > p.repeatedPeakNm(j)
-        )
-      }
-      // The prelude's snapshot-and-clear: the sample of that cycle is the first of the next period.
-      if (!drive.slice(snapshots(0) + 1, snapshots(1) + 1).exists(_.cycle.clear))
-        assert(
-          banks(1)._2.head == drive(snapshots.head).cycle.sample.get && banks(1)._1.joints.head.samples >= 1
-        )
-
-      val worst = hwBanks
-        .zip(banks)
-        .zipWithIndex
-        .map { case ((hw, (_, period)), k) =>
-          checkAgainstReference(p, MonitorSnapshot.fromBank(p, hw), period, s"snapshot $k")
-        }
-        .max
+      val banks = expected(p, drive, snapshots.toSet)
       println(
-        f"[monitor] ${snapshots.size} banks bit-exact with the model; every snapshot within the reference's bounds " +
-          f"(worst T_av error ${worst * 100}%.1f%% of its bound)"
+        s"[monitor] ${p.joints} joints, $n random samples, ${drive.size} " +
+          s"cycles, ${snapshots.size} snapshots, ${drive.count(_.cycle.clear)} clears, update stage " +
+          s"${p.updateStage}, bank ${p.registerMap.words} words"
       )
-    }
-  }
 
-  it should "hold the sample budget in every accumulator: preset near the 20-year worst case, driven at the range extremes" in {
-    val headroom = 3000
-    val base = MonitorStimulus.threeJoints
-    val p =
-      base.copy(testStartAfterSamples = Some(base.sampleBudget - headroom), histogramCounterBits = Some(10))
-    val rng = new Random(Seeds("monitor-overflow", 1302L))
-    // Worst-case samples: |tau| and |qd| at their maxima (the most negative codes too, which saturate
-    // to the same magnitudes), all above T_M so the preset event goes on, none out of range.
-    val extremes = IndexedSeq.tabulate(headroom) { i =>
-      MonitorSampleCodes(
-        p.torqueFormats
-          .map(f => if (i % 3 == 1) f.minRaw else if (i % 3 == 2) -f.maxRaw else f.maxRaw)
-          .toIndexedSeq,
-        p.velocityFormats.map(f => if (rng.nextBoolean()) f.minRaw else f.maxRaw).toIndexedSeq,
-        IndexedSeq.fill(p.joints)(false)
-      )
-    }
-    val drive = (extremes.map(s => DriveCycle(MonitorCycle(Some(s)))) :+ DriveCycle(
-      MonitorCycle(None, snapshot = true)
-    )) ++
-      (0 until p.snapshotLatency - 1 + p.registerMap.words).map(k =>
-        DriveCycle(
-          MonitorCycle(None),
-          if (k >= p.snapshotLatency - 1) Some(k - p.snapshotLatency + 1) else None
+      test(new ReducerMonitor(p)).withAnnotations(SimBackend.annotations) { dut =>
+        val observed = MonitorDriver.run(dut, drive)
+        val done = observed.indices.filter(observed(_).snapshotDone)
+        assert(
+          done == snapshots.map(_ + p.snapshotLatency),
+          s"snapshotDone at $done, expected ${snapshots.map(_ + p.snapshotLatency)}"
         )
-      )
-    val snapAt = extremes.size
-    val model = banksOf(p, drive, snapAt)
+        val hwBanks = readBanks(p, drive, observed, snapshots)
+        hwBanks.zip(banks).zipWithIndex.foreach { case ((hw, (model, _)), k) =>
+          val m = model.bank(p)
+          assert(hw == m, s"snapshot $k (cycle ${snapshots(k)}): ${describeDifference(p, hw, m)}")
+        }
 
-    test(new ReducerMonitor(p)).withAnnotations(SimBackend.annotations) { dut =>
-      val observed = MonitorDriver.run(dut, drive)
-      val hw = (0 until p.registerMap.words).map(k => observed(snapAt + p.snapshotLatency + k).readData.get)
-      assert(hw == model.bank(p), describeDifference(p, hw, model.bank(p)))
-      val snap = MonitorSnapshot.fromBank(p, hw)
-      (0 until p.joints).foreach { j =>
-        p.provenAccumulators.filterNot(_ == JointField.OutOfRangeSamples).foreach { f =>
-          val (value, w) = (snap.joints(j).field(f), p.accumulatorBits(j, f))
-          val expectedTop =
-            if (f == JointField.MomentaryPeakEvents) p.clearValue(j, f)
-            else p.maxIncrement(j, f) * p.sampleBudget
+        // The prelude's snapshot: limit counters at just below, at and just above T_R and T_M ("above" is >).
+        val first = MonitorSnapshot.fromBank(p, hwBanks.head)
+        (0 until p.joints).foreach { j =>
+          val s = first.joints(j)
+          val name = p.jointNames(j)
           assert(
-            value == expectedTop,
-            s"${p.jointNames(j)}.${f.name}: $value, expected the 20-year worst case $expectedTop"
+            s.samples == prelude.size,
+            s"$name: the sample in the snapshot's own cycle must not be in it"
           )
           assert(
-            value.testBit(w - 1) && value.bitLength == w,
-            s"${p.jointNames(j)}.${f.name}: top bit ${w - 1} of $w not reached ($value)"
+            s.repeatedPeakSamples == 8,
+            s"$name: samples above T_R ${s.repeatedPeakSamples}, expected 8 (r+1 twice, m-1 .. m+2, m, m+1)"
           )
-          println(
-            s"[monitor] ${p.jointNames(j)}.${f.name}: $value after the worst-case budget of ${p.sampleBudget} samples, " +
-              s"top bit ${w - 1} set, below 2^$w"
+          assert(
+            s.momentaryPeakEvents == 2 && s.lastEventDuration == 1 && s.lastEventPeak == p.momentaryPeakCode(
+              j
+            ) + 1,
+            s"$name: events ${s.momentaryPeakEvents}, last duration " +
+              s"${s.lastEventDuration}, last peak ${s.lastEventPeak}"
+          )
+          assert(s.repeatedPeakSeen && s.momentaryPeakSeen && s.inEvent, s"$name: flags ${s.flags}")
+          // At the N·m level: the code at T_R is not above it, the next one is (the reference agrees below).
+          val f = p.torqueFormats(j)
+          assert(
+            f.toDouble(p.repeatedPeakCode(j)) <= p.repeatedPeakNm(j) && f.toDouble(
+              p.repeatedPeakCode(j) + 1
+            ) > p.repeatedPeakNm(j)
           )
         }
-        assert(
-          snap.joints(j).histogramSaturated && snap.joints(j).histogram.last == p.histogramMax,
-          s"${p.jointNames(j)}: the 10-bit histogram counter should saturate at ${p.histogramMax} and flag it"
+        // The prelude's snapshot-and-clear: the sample of that cycle is the first of the next period.
+        if (!drive.slice(snapshots(0) + 1, snapshots(1) + 1).exists(_.cycle.clear))
+          assert(
+            banks(1)._2.head == drive(snapshots.head).cycle.sample.get && banks(1)._1.joints.head.samples >= 1
+          )
+
+        val worst = hwBanks
+          .zip(banks)
+          .zipWithIndex
+          .map { case ((hw, (_, period)), k) =>
+            checkAgainstReference(p, MonitorSnapshot.fromBank(p, hw), period, s"snapshot $k")
+          }
+          .max
+        println(
+          f"[monitor] ${snapshots.size} banks bit-exact with the model; every snapshot " +
+            f"within the reference's bounds (worst T_av error ${worst * 100}%.1f%% of its bound)"
         )
       }
     }
-    // One more worst-case sample breaks the budget: the model (which checks every accumulator) refuses it.
-    val m = new MonitorModel(p)
-    val full = extremes.foldLeft(m.initial)((s, x) => m.step(s, MonitorCycle(Some(x))))
-    val beyond = intercept[IllegalArgumentException](m.step(full, MonitorCycle(Some(extremes.head))))
-    assert(
-      beyond.getMessage.contains("exceeds its proven") || beyond.getMessage.contains("sample budget"),
-      beyond.getMessage
-    )
-  }
+
+  it should "hold the sample budget in every accumulator: preset near the 20-year worst " +
+    "case, driven at the range extremes" in {
+      val headroom = 3000
+      val base = MonitorStimulus.threeJoints
+      val p =
+        base.copy(testStartAfterSamples = Some(base.sampleBudget - headroom), histogramCounterBits = Some(10))
+      val rng = new Random(Seeds("monitor-overflow", 1302L))
+      // Worst-case samples: |tau| and |qd| at their maxima (the most negative codes too, which saturate
+      // to the same magnitudes), all above T_M so the preset event goes on, none out of range.
+      val extremes = IndexedSeq.tabulate(headroom) { i =>
+        MonitorSampleCodes(
+          p.torqueFormats
+            .map(f => if (i % 3 == 1) f.minRaw else if (i % 3 == 2) -f.maxRaw else f.maxRaw)
+            .toIndexedSeq,
+          p.velocityFormats.map(f => if (rng.nextBoolean()) f.minRaw else f.maxRaw).toIndexedSeq,
+          IndexedSeq.fill(p.joints)(false)
+        )
+      }
+      val drive = (extremes.map(s => DriveCycle(MonitorCycle(Some(s)))) :+ DriveCycle(
+        MonitorCycle(None, snapshot = true)
+      )) ++
+        (0 until p.snapshotLatency - 1 + p.registerMap.words).map(k =>
+          DriveCycle(
+            MonitorCycle(None),
+            if (k >= p.snapshotLatency - 1) Some(k - p.snapshotLatency + 1) else None
+          )
+        )
+      val snapAt = extremes.size
+      val model = banksOf(p, drive, snapAt)
+
+      test(new ReducerMonitor(p)).withAnnotations(SimBackend.annotations) { dut =>
+        val observed = MonitorDriver.run(dut, drive)
+        val hw = (0 until p.registerMap.words).map(k => observed(snapAt + p.snapshotLatency + k).readData.get)
+        assert(hw == model.bank(p), describeDifference(p, hw, model.bank(p)))
+        val snap = MonitorSnapshot.fromBank(p, hw)
+        (0 until p.joints).foreach { j =>
+          p.provenAccumulators.filterNot(_ == JointField.OutOfRangeSamples).foreach { f =>
+            val (value, w) = (snap.joints(j).field(f), p.accumulatorBits(j, f))
+            val expectedTop =
+              if (f == JointField.MomentaryPeakEvents) p.clearValue(j, f)
+              else p.maxIncrement(j, f) * p.sampleBudget
+            assert(
+              value == expectedTop,
+              s"${p.jointNames(j)}.${f.name}: $value, expected the 20-year worst case $expectedTop"
+            )
+            assert(
+              value.testBit(w - 1) && value.bitLength == w,
+              s"${p.jointNames(j)}.${f.name}: top bit ${w - 1} of $w not reached ($value)"
+            )
+            println(
+              s"[monitor] ${p.jointNames(j)}.${f.name}: $value after the worst-case budget " +
+                s"of ${p.sampleBudget} samples, top bit ${w - 1} set, below 2^$w"
+            )
+          }
+          assert(
+            snap.joints(j).histogramSaturated && snap.joints(j).histogram.last == p.histogramMax,
+            s"${p.jointNames(j)}: the 10-bit histogram counter should saturate " +
+              s"at ${p.histogramMax} and flag it"
+          )
+        }
+      }
+      // One more worst-case sample breaks the budget: the model (which checks every accumulator) refuses it.
+      val m = new MonitorModel(p)
+      val full = extremes.foldLeft(m.initial)((s, x) => m.step(s, MonitorCycle(Some(x))))
+      val beyond = intercept[IllegalArgumentException](m.step(full, MonitorCycle(Some(extremes.head))))
+      assert(
+        beyond.getMessage.contains("exceeds its proven") || beyond.getMessage.contains("sample budget"),
+        beyond.getMessage
+      )
+    }
 
   private def banksOf(p: MonitorParams, drive: IndexedSeq[DriveCycle], snapAt: Int): MonitorSnapshot =
     expected(p, drive, Set(snapAt)).head._1

@@ -28,46 +28,47 @@ class TrajectorySummarySpec extends AnyFlatSpec {
     ratedTorqueNm = Seq(150.0, 80.0, 40.0)
   )
 
-  it should "summarize planar3_multiturn within the derived bounds of the double reference, with consumed life" in {
-    val m = MonitorConfig(arm, settings)
-    val summary = MonitorSummary.fromTrajectory(arm, m, trace.samples, MonitorConfig.rated(arm, settings))
-    println(
-      s"[summary] ${trace.name}, ${trace.samples.size} samples at ${m.samplePeriodS} s:\n${summary.json}"
-    )
-    assert(summary.violations.isEmpty, summary.violations.mkString("\n"))
-    summary.hardware.zip(summary.reference).foreach { case (h, r) =>
-      assert(
-        h.samples == trace.samples.size && h.outOfRangeSamples == 0,
-        s"${h.name}: every golden sample is in range"
+  it should "summarize planar3_multiturn within the derived bounds of the " +
+    "double reference, with consumed life" in {
+      val m = MonitorConfig(arm, settings)
+      val summary = MonitorSummary.fromTrajectory(arm, m, trace.samples, MonitorConfig.rated(arm, settings))
+      println(
+        s"[summary] ${trace.name}, ${trace.samples.size} samples at ${m.samplePeriodS} s:\n${summary.json}"
       )
+      assert(summary.violations.isEmpty, summary.violations.mkString("\n"))
+      summary.hardware.zip(summary.reference).foreach { case (h, r) =>
+        assert(
+          h.samples == trace.samples.size && h.outOfRangeSamples == 0,
+          s"${h.name}: every golden sample is in range"
+        )
+        assert(
+          h.avgTorqueNm.isDefined && h.lifeHours.isDefined && h.consumedLifeFraction.exists(_ > 0),
+          s"${h.name}: T_av and life"
+        )
+        assert(h.histogram.sum == h.samples && r.histogram.sum == r.samples)
+      }
       assert(
-        h.avgTorqueNm.isDefined && h.lifeHours.isDefined && h.consumedLifeFraction.exists(_ > 0),
-        s"${h.name}: T_av and life"
+        summary.hardware.exists(_.repeatedPeakSamples > 0) && summary.hardware.exists(
+          _.momentaryPeakEvents > 0
+        ),
+        "the limits were chosen so the trajectory crosses them"
       )
-      assert(h.histogram.sum == h.samples && r.histogram.sum == r.samples)
+      val json = summary.json
+      Seq(
+        "\"joints\"",
+        "\"reference\"",
+        "\"difference\"",
+        "\"bound\"",
+        "\"peak_abs_nm\"",
+        "\"avg_torque_nm\"",
+        "\"avg_speed_rad_s\"",
+        "\"repeated_peak_samples\"",
+        "\"momentary_peak_events\"",
+        "\"histogram\"",
+        "\"consumed_life_fraction\""
+      ).foreach(k => assert(json.contains(k), s"summary JSON lacks $k"))
+      assert(json.count(_ == '{') == json.count(_ == '}') && json.count(_ == '[') == json.count(_ == ']'))
     }
-    assert(
-      summary.hardware.exists(_.repeatedPeakSamples > 0) && summary.hardware.exists(
-        _.momentaryPeakEvents > 0
-      ),
-      "the limits were chosen so the trajectory crosses them"
-    )
-    val json = summary.json
-    Seq(
-      "\"joints\"",
-      "\"reference\"",
-      "\"difference\"",
-      "\"bound\"",
-      "\"peak_abs_nm\"",
-      "\"avg_torque_nm\"",
-      "\"avg_speed_rad_s\"",
-      "\"repeated_peak_samples\"",
-      "\"momentary_peak_events\"",
-      "\"histogram\"",
-      "\"consumed_life_fraction\""
-    ).foreach(k => assert(json.contains(k), s"summary JSON lacks $k"))
-    assert(json.count(_ == '{') == json.count(_ == '}') && json.count(_ == '[') == json.count(_ == ']'))
-  }
 
   it should "give null T_av for a joint that never moved" in {
     val still = trace.samples.take(50).map(s => s.copy(qd = s.qd.map(_ => 0.0)))

@@ -39,22 +39,24 @@ class PipelineSpec extends AnyFlatSpec with ChiselScalatestTester {
       }
     }
 
-  it should "write a constant as its canonical signed digits: nonzero digits never adjacent, summing to it" in {
-    val rng = new Random(Seeds("signed-digits", 77L))
-    val constants =
-      Seq[BigInt](1, 2, 3, 5, 7, -1, -3, -4, -7, 0x5555, (BigInt(1) << 40) - 1, -(BigInt(1) << 40)) ++
-        Seq.fill(2000)(BigInt(41, rng.self) - (BigInt(1) << 40)).filter(_ != 0)
-    constants.foreach { c =>
-      val d = ShiftAddMultiplier.digits(c)
-      assert(d.map { case (k, s) => BigInt(s) << k }.sum == c && d.forall(x => x._2.abs == 1), s"$c: $d")
-      assert(
-        d.map(_._1).sliding(2).forall(ks => ks.size < 2 || ks(1) > ks(0) + 1),
-        s"$c: adjacent digits in $d"
-      )
+  it should "write a constant as its canonical signed digits: nonzero " +
+    "digits never adjacent, summing to it" in {
+      val rng = new Random(Seeds("signed-digits", 77L))
+      val constants =
+        Seq[BigInt](1, 2, 3, 5, 7, -1, -3, -4, -7, 0x5555, (BigInt(1) << 40) - 1, -(BigInt(1) << 40)) ++
+          Seq.fill(2000)(BigInt(41, rng.self) - (BigInt(1) << 40)).filter(_ != 0)
+      constants.foreach { c =>
+        val d = ShiftAddMultiplier.digits(c)
+        assert(d.map { case (k, s) => BigInt(s) << k }.sum == c && d.forall(x => x._2.abs == 1), s"$c: $d")
+        assert(
+          d.map(_._1).sliding(2).forall(ks => ks.size < 2 || ks(1) > ks(0) + 1),
+          s"$c: adjacent digits in $d"
+        )
+      }
     }
-  }
 
-  // A long mixed-sign constant, a negative one, a lone negative digit (negated at the end) and a two-digit one.
+  // A long mixed-sign constant, a negative one, a lone negative digit (negated at the end) and a two-digit
+  // one.
   for (c <- Seq(BigInt(1258291), BigInt(-5033165), BigInt(-4), BigInt(3)))
     it should s"multiply by the constant $c exactly in shift-and-add logic, one product per clock" in {
       val width = 25

@@ -34,32 +34,33 @@ class UrdfSpec extends AnyFlatSpec {
 
   private val arm = resource("arm.urdf")
 
-  it should "read a chain through a fixed joint, with rpy origins, negative and unnormalised axes and limits" in {
-    val chain = Urdf.read(arm, Some("l3"))
-    assert(chain.name == "test_arm")
-    assert(chain.gravity == Vec3(0, 0, -9.81))
-    assert(chain.joints.map(_.name) == Seq("j1", "elbow", "wrist_slide"))
-    assert(chain.joints.map(_.kind) == Seq(JointKind.Revolute, JointKind.Continuous, JointKind.Prismatic))
-    val Seq(j1, elbow, slide) = chain.joints
+  it should "read a chain through a fixed joint, with rpy origins, negative " +
+    "and unnormalised axes and limits" in {
+      val chain = Urdf.read(arm, Some("l3"))
+      assert(chain.name == "test_arm")
+      assert(chain.gravity == Vec3(0, 0, -9.81))
+      assert(chain.joints.map(_.name) == Seq("j1", "elbow", "wrist_slide"))
+      assert(chain.joints.map(_.kind) == Seq(JointKind.Revolute, JointKind.Continuous, JointKind.Prismatic))
+      val Seq(j1, elbow, slide) = chain.joints
 
-    // j1: in the base frame, as written.
-    assertMat(j1.origin.rotation, rotZ90, "j1 rotation")
-    assertVec(j1.origin.translation, Vec3(0, 0, 0.5), "j1 translation")
-    assertVec(j1.axis, Vec3(0, 0, -1), "j1 axis")
-    assert(j1.velocityLimit.contains(2.0) && j1.effortLimit.contains(100.0))
+      // j1: in the base frame, as written.
+      assertMat(j1.origin.rotation, rotZ90, "j1 rotation")
+      assertVec(j1.origin.translation, Vec3(0, 0, 0.5), "j1 translation")
+      assertVec(j1.axis, Vec3(0, 0, -1), "j1 axis")
+      assert(j1.velocityLimit.contains(2.0) && j1.effortLimit.contains(100.0))
 
-    // elbow: the fixed joint 'mount' (Rx90 at (0.3, 0, 0)) composed with elbow's own (0, 0.2, 0):
-    // translation (0.3, 0, 0) + Rx90 (0, 0.2, 0) = (0.3, 0, 0.2).
-    assertMat(elbow.origin.rotation, rotX90, "elbow rotation")
-    assertVec(elbow.origin.translation, Vec3(0.3, 0, 0.2), "elbow translation")
-    assertVec(elbow.axis, Vec3(0, 0, 1), "elbow axis (0 0 2 normalised)")
-    assert(elbow.velocityLimit.contains(3.0) && elbow.effortLimit.contains(20.0))
+      // elbow: the fixed joint 'mount' (Rx90 at (0.3, 0, 0)) composed with elbow's own (0, 0.2, 0):
+      // translation (0.3, 0, 0) + Rx90 (0, 0.2, 0) = (0.3, 0, 0.2).
+      assertMat(elbow.origin.rotation, rotX90, "elbow rotation")
+      assertVec(elbow.origin.translation, Vec3(0.3, 0, 0.2), "elbow translation")
+      assertVec(elbow.axis, Vec3(0, 0, 1), "elbow axis (0 0 2 normalised)")
+      assert(elbow.velocityLimit.contains(3.0) && elbow.effortLimit.contains(20.0))
 
-    assertMat(slide.origin.rotation, Mat3.identity, "wrist_slide rotation")
-    assertVec(slide.origin.translation, Vec3(0.5, 0, 0), "wrist_slide translation")
-    assertVec(slide.axis, Vec3(0, -1, 0), "wrist_slide axis")
-    assert(slide.velocityLimit.contains(0.5) && slide.effortLimit.contains(50.0))
-  }
+      assertMat(slide.origin.rotation, Mat3.identity, "wrist_slide rotation")
+      assertVec(slide.origin.translation, Vec3(0.5, 0, 0), "wrist_slide translation")
+      assertVec(slide.axis, Vec3(0, -1, 0), "wrist_slide axis")
+      assert(slide.velocityLimit.contains(0.5) && slide.effortLimit.contains(50.0))
+    }
 
   it should "merge a locked side branch into the link it hangs off and ignore the base's mass" in {
     val j1 = Urdf.read(arm, Some("l3")).joints.head
@@ -67,7 +68,8 @@ class UrdfSpec extends AnyFlatSpec {
     // carriage (locked slider, Rx90 at (0.1, 0.2, -0.1)): 2 kg at (0.1, 0.2, -0.1) + Rx90 (0, 0.1, 0)
     // = (0.1, 0.2, 0), diag(0.001, 0.002, 0.003) turned by Rx90 -> diag(0.001, 0.003, 0.002).
     // Together 4 kg at (0.1, 0.1, 0); each body is 0.1 m from it along y: parallel-axis terms
-    // 2 * 0.01 on x and z per body -> diag(0.04, 0, 0.04). The base and camera (fixed to the base) add nothing.
+    // 2 * 0.01 on x and z per body -> diag(0.04, 0, 0.04). The base and camera (fixed to the base) add
+    // nothing.
     assert(close(j1.body.mass, 4.0))
     assertVec(j1.body.com, Vec3(0.1, 0.1, 0), "j1 com")
     assertMat(j1.body.inertia, diag(0.061, 0.013, 0.072), "j1 inertia")
@@ -75,7 +77,8 @@ class UrdfSpec extends AnyFlatSpec {
 
   it should "turn an inertial frame into the link frame and merge the tool fixed after the tip" in {
     val Seq(_, elbow, slide) = Urdf.read(arm, Some("l3")).joints
-    // l2: rod inertia diag(0.02, 0.02, 0.001) pitched by 90 degrees -> diag(0.001, 0.02, 0.02); bracket is massless.
+    // l2: rod inertia diag(0.02, 0.02, 0.001) pitched by 90 degrees -> diag(0.001, 0.02, 0.02); bracket is
+    // massless.
     assert(close(elbow.body.mass, 1.5))
     assertVec(elbow.body.com, Vec3(0.25, 0, 0), "elbow com")
     assertMat(
