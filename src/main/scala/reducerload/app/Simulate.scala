@@ -3,7 +3,8 @@ package reducerload.app
 import reducerload.arm.{ArmConfig, ArmParams, ArmSample}
 import reducerload.load.LoadParams
 import reducerload.monitor.{MonitorConfig, MonitorParams, MonitorSummary}
-import reducerload.sim._
+import reducerload.sim.replay._
+import reducerload.sim.rtl.{CompiledHarness, VerilatorHarness}
 import reducerload.trace.TraceCsv
 import reducerload.util.InputError
 

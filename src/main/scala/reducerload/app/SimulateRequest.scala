@@ -1,7 +1,7 @@
 package reducerload.app
 
 import reducerload.load.LoadParams
-import reducerload.sim.{ReplayDesign, SampleRows}
+import reducerload.sim.replay.{ReplayDesign, SampleRows}
 
 import java.nio.file.Path
 

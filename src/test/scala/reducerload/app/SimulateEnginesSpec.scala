@@ -6,7 +6,8 @@ import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.arm.{ArmConfig, ArmDatapath, ArmModel, ArmOutputCodes, ArmSample, ArmTrajectory}
 import reducerload.dynamics.{RandomChains, Rnea}
 import reducerload.load._
-import reducerload.sim.{ArmDriver, Cycle, DoubleText, FixedDecimal}
+import reducerload.sim.rtl.{ArmDriver, Cycle}
+import reducerload.sim.text.{DoubleText, FixedDecimal}
 import reducerload.testutil.{ArmGolden, Golden, Seeds, SimBackend}
 
 import java.nio.charset.StandardCharsets

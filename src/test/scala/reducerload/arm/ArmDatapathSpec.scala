@@ -4,7 +4,7 @@ import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.dynamics.{RandomChains, Rnea}
 import reducerload.graph.{SampleCodes, ScheduleRequest, Storage}
-import reducerload.sim.{ArmDriver, Cycle, Stream}
+import reducerload.sim.rtl.{ArmDriver, Cycle, Stream}
 import reducerload.testutil.{ArmGolden, Seeds, SimBackend}
 
 import scala.collection.mutable.ArrayBuffer
