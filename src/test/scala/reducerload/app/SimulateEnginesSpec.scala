@@ -187,6 +187,29 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
     }
   }
 
+  it should "write the model's file for the planar arm with its reducer monitor from the harness (host inputs held at 0)" in {
+    assume(verilatorPresent, "verilator is not installed")
+    val design = Seq("--robot", "planar3")
+    val (input, expected) = armCase("planar3", design, 53L)
+    // The emitted top is MonitoredArm: its io_host_* inputs are not the harness's to drive.
+    assert(
+      simulate(
+        input,
+        design ++ Seq(
+          "--monitor.enabled",
+          "true",
+          "--monitor.repeated-peak",
+          "[80, 30, 20]",
+          "--monitor.momentary-peak",
+          "[100, 40, 28]",
+          "--saturate",
+          "--jobs",
+          "1"
+        ): _*
+      ) == expected
+    )
+  }
+
   // The harness runs the Verilog `run emit` writes (firtool); the chiseltest suites run another
   // compiler's. A read the memory schedule left undefined came out right in one and wrong in the other.
   it should "write the model's file for every joint of the UR5 with block-RAM banks (64 and 88 clocks, 1e-3 N·m) from the emitted Verilog" in {

@@ -1,19 +1,21 @@
 package reducerload.sim.replay
 
-import reducerload.arm.{ArmModel, ArmOutputCodes, ArmParams, ArmSample, ArmTrajectory}
+import reducerload.arm.{ArmIO, ArmModel, ArmOutputCodes, ArmParams, ArmSample, ArmTrajectory, MonitoredArmIO}
 import reducerload.dynamics.Rnea
 import reducerload.graph.SampleCodes
 import reducerload.load.{Joint3Columns, LoadParams, LoadReference}
+import reducerload.monitor.MonitorParams
 import reducerload.sim.model.{FastArmModel, FastFixed, ReferenceTape}
 import reducerload.sim.rtl.{ArmHarnessPorts, HarnessPorts}
 import reducerload.sim.text.{DoubleText, FixedDecimal}
 
 /**
- * Every joint of an arm (`ArmDatapath`, model rnea) as `run simulate` replays it: columns
- * q1..qN,qd1..qdN,qdd1..qddN, result `idx,tau1_hw,tau1_ref,tau1_error,...,out_of_range`. [[LoadReplay]]
- * changes the columns and the reference for the joint-3 closed forms.
+ * Every joint of an arm (`ArmDatapath`, or `MonitoredArm` with `monitor`, model rnea) as `run simulate`
+ * replays it: columns q1..qN,qd1..qdN,qdd1..qddN, result `idx,tau1_hw,tau1_ref,tau1_error,...,out_of_range`.
+ * [[LoadReplay]] changes the columns and the reference for the joint-3 closed forms.
  */
-class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCodes] {
+class ArmReplay(val p: ArmParams, monitor: Option[MonitorParams] = None)
+    extends ReplayDesign[SampleCodes, ArmOutputCodes] {
   private val model = new ArmModel(p)
 
   /** The model in long arithmetic when the formats allow (tested equal to `model`). */
@@ -39,7 +41,8 @@ class ArmReplay(val p: ArmParams) extends ReplayDesign[SampleCodes, ArmOutputCod
   }
   def evaluate(in: SampleCodes): ArmOutputCodes = fast.fold(model.evaluate(in))(_.evaluate(in))
 
-  lazy val ports: HarnessPorts = ArmHarnessPorts(p)
+  lazy val ports: HarnessPorts =
+    ArmHarnessPorts(monitor.fold(new ArmIO(p))(m => new MonitoredArmIO(p, m)))
   def harnessValues(in: SampleCodes): Seq[BigInt] = ArmHarnessPorts.values(in)
   def fromHarness(values: IndexedSeq[BigInt]): ArmOutputCodes =
     ArmHarnessPorts.codes(values, p.graph.outputs.size)

@@ -20,11 +20,8 @@ object Replay {
    * Samples per chunk: a harness process each (start-up is milliseconds), or a model batch; at least one
    * chunk per job, so short runs use every job too.
    */
-  def chunkSize(engine: ReplayEngine, samples: Int, jobs: Int): Int = {
-    val most = engine match {
-      case ReplayEngine.Rtl(_) => 1 << 16
-      case ReplayEngine.Model  => 1 << 12
-    }
+  def chunkSize(harness: Option[CompiledHarness], samples: Int, jobs: Int): Int = {
+    val most = if (harness.isDefined) 1 << 16 else 1 << 12
     ((samples + jobs - 1) / jobs).min(most).max(1)
   }
 
@@ -38,15 +35,18 @@ object Replay {
 
   private val threads = java.lang.management.ManagementFactory.getThreadMXBean
 
-  /** Outputs of `inputs` on `engine`, and the harness run's figures for the RTL. */
+  /**
+   * Outputs of `inputs` on the RTL's compiled `harness` (and the harness run's figures), or with None on the
+   * bit-accurate model.
+   */
   def outputs[In, Out](
       design: ReplayDesign[In, Out],
-      engine: ReplayEngine,
+      harness: Option[CompiledHarness],
       inputs: IndexedSeq[In]
   ): (IndexedSeq[Out], Option[HarnessStats]) =
-    engine match {
-      case ReplayEngine.Model => (inputs.map(design.evaluate), None)
-      case ReplayEngine.Rtl(harness) =>
+    harness match {
+      case None => (inputs.map(design.evaluate), None)
+      case Some(harness) =>
         val outs = new ArrayBuffer[Out](inputs.size)
         val stats =
           harness.stream(inputs.iterator.map(design.harnessValues), design.samplePeriod, design.latency + 1)(
@@ -79,10 +79,13 @@ object Replay {
   private def bytes(text: java.lang.StringBuilder): Array[Byte] =
     text.toString.getBytes(StandardCharsets.ISO_8859_1)
 
-  /** Run every row, write the header and one line per sample to `out`. */
+  /**
+   * Run every row on the RTL's compiled `harness` (one process per chunk, started from reset) or, with None,
+   * on the bit-accurate model; write the header and one line per sample to `out`.
+   */
   def run[In, Out](
       design: ReplayDesign[In, Out],
-      engine: ReplayEngine,
+      harness: Option[CompiledHarness],
       rows: SampleRows,
       jobs: Int,
       out: OutputStream,
@@ -92,14 +95,14 @@ object Replay {
     val labels = design.errorLabels.size
     out.write((design.outputHeader + "\n").getBytes(StandardCharsets.UTF_8))
     design.arrays match {
-      case Some(fast) => return runArrays(design, fast, engine, rows, jobs, out, progress, start)
+      case Some(fast) => return runArrays(design, fast, harness, rows, jobs, out, progress, start)
       case None       =>
     }
-    val size = chunkSize(engine, rows.size, jobs)
+    val size = chunkSize(harness, rows.size, jobs)
     val writer = new InOrderWriter(out, (rows.size + size - 1) / size)
     val chunks = ChunkedRun(rows.size, size, jobs, n => progress.advance(n.toLong)) { range =>
       val cpuStart = threads.getCurrentThreadCpuTime
-      val (outs, harnessStats) = outputs(design, engine, range.map(i => design.encode(rows.row(i))))
+      val (outs, harnessStats) = outputs(design, harness, range.map(i => design.encode(rows.row(i))))
       val text = new java.lang.StringBuilder(range.size * 96)
       val maxErrors = new Array[Double](labels)
       val errors = new Array[Double](labels)
@@ -128,7 +131,7 @@ object Replay {
   private def runArrays(
       design: ReplayDesign[_, _],
       fast: ArrayReplay,
-      engine: ReplayEngine,
+      harness: Option[CompiledHarness],
       rows: SampleRows,
       jobs: Int,
       out: OutputStream,
@@ -136,10 +139,9 @@ object Replay {
       start: Long
   ): ReplaySummary = {
     val labels = design.errorLabels.size
-    val size = engine match {
-      case ReplayEngine.Model => ((rows.size + jobs - 1) / jobs).min(1 << 14).max(1)
-      case _                  => chunkSize(engine, rows.size, jobs)
-    }
+    val size =
+      if (harness.isEmpty) ((rows.size + jobs - 1) / jobs).min(1 << 14).max(1)
+      else chunkSize(harness, rows.size, jobs)
     val (ins, outs) = (fast.inputCount, fast.outputCount)
     val workers = ThreadLocal.withInitial[ArrayReplay.Worker](() => fast.worker())
     val writer = new InOrderWriter(out, (rows.size + size - 1) / size)
@@ -155,12 +157,12 @@ object Replay {
       while (k < n) { worker.encode(values, rows.offset(first + k), codes, k * ins); k += 1 }
       val engineStart = System.nanoTime()
       val results = new Array[Long](n * outs)
-      val harnessStats = engine match {
-        case ReplayEngine.Model =>
+      val harnessStats = harness match {
+        case None =>
           k = 0
           while (k < n) { worker.evaluate(codes, k * ins, results, k * outs); k += 1 }
           None
-        case ReplayEngine.Rtl(harness) =>
+        case Some(harness) =>
           Some(harness.streamLongs(codes, n, design.samplePeriod, design.latency + 1)(results))
       }
       val linesStart = System.nanoTime()
@@ -207,17 +209,18 @@ object Replay {
   }
 }
 
-/** What computes a replay's outputs: the RTL on a compiled Verilator harness, or the bit-accurate model. */
-sealed trait ReplayEngine
+/** What computes a replay's outputs, by its name on the command line (`--engine`). */
+sealed abstract class ReplayEngine(val name: String)
 object ReplayEngine {
 
-  /** The emitted RTL, run by `harness` (one process per chunk, started from reset). */
-  final case class Rtl(harness: CompiledHarness) extends ReplayEngine
+  /** The emitted RTL on a compiled Verilator harness. */
+  case object Rtl extends ReplayEngine("rtl")
 
   /** The bit-accurate model: for replays where the RTL has been proven equal to it. */
-  case object Model extends ReplayEngine
+  case object Model extends ReplayEngine("model")
 
-  val names: Seq[String] = Seq("rtl", "model")
+  val all: Seq[ReplayEngine] = Seq(Rtl, Model)
+  def named(name: String): Option[ReplayEngine] = all.find(_.name == name)
 }
 
 /**

@@ -120,6 +120,7 @@ object VerilatorHarness {
     check(ports.outValid, "output", 1)
     ports.inputs.foreach(p => check(p.name, "input", p.width))
     ports.outputs.foreach(p => check(p.name, "output", p.width))
+    ports.held.foreach(p => check(p.name, "input", p.width))
     val undriven = declared.values.filter(_.direction == "input").map(_.name).toSet -- ports.allNames
     require(
       undriven.isEmpty,
@@ -305,7 +306,7 @@ object VerilatorHarness {
        |  // Reset with valid low; the clock ends low, ready for the first rising edge.
        |  top->${ports.clock} = 0;
        |  top->${ports.reset} = 1;
-       |  top->${ports.inValid} = 0;
+       |  top->${ports.inValid} = 0;${ports.held.map(h => s"\n  top->${h.name} = 0;  // held").mkString}
        |  top->eval();
        |  for (int i = 0; i < kResetCycles; ++i) {
        |    top->${ports.clock} = 1;

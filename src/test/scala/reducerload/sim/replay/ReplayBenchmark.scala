@@ -28,7 +28,7 @@ object ReplayBenchmark {
     (1 to rounds).foreach { round =>
       val s = Replay.run(
         request.design,
-        ReplayEngine.Model,
+        None, // the model
         request.rows,
         1,
         nowhere,
