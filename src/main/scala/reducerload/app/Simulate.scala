@@ -35,9 +35,9 @@ object Simulate {
     ),
     Opt(
       "engine",
-      "rtl|model",
+      ReplayEngine.all.map(_.name).mkString("|"),
       "rtl: the emitted Verilog on a compiled Verilator harness; model: the bit-accurate model (same file)",
-      "rtl"
+      ReplayEngine.Rtl.name
     ),
     Opt(
       "jobs",

@@ -16,8 +16,7 @@ object FastFixed {
   private final val exactLimit = 1099511627776.0 // 2^40
   /**
    * Fractions closer than this to a tie take the reference path, whose decimal rendering may fall either
-   * side; four times the rendering's distance (it was 2^-10: one sample in 60 of a joint-3 trajectory took
-   * the BigDecimal path).
+   * side; four times the rendering's distance, and small, so the slow BigDecimal path stays rare.
    */
   private final val tieMargin = 1.0 / 4096 // 2^-12
   /** "No fast answer": never a result of the fast path, whose results are below 2^41 in magnitude. */

@@ -13,11 +13,11 @@ import java.math.BigInteger
  *     digit after the point; `0.0` and `-0.0`.
  * Subnormal doubles (below 2.2e-308), infinities and NaN are written by `Double.toString`.
  *
- * Why not `Double.toString` itself: on the JDK 17 this project runs on it is several times slower (it falls
- * back to big-integer arithmetic for many doubles), which made the text of two numbers per torque the slowest
- * part of a replay; and for some doubles it writes more digits than needed or digits that are not the nearest
- * (JDK-4511638, fixed in JDK 19 by the algorithm below), where this rule writes the shortest nearest.
- * Elsewhere the two texts are the same (DoubleTextSpec checks both against BigDecimal).
+ * Why not `Double.toString` itself: on the JDK 17 this project runs on, it falls back to big-integer
+ * arithmetic for many doubles (a replay writes two numbers per torque), and for some doubles it writes more
+ * digits than needed or digits that are not the nearest (JDK-4511638, fixed in JDK 19 by the algorithm
+ * below), where this rule writes the shortest nearest. This appends to the line's builder, with no String per
+ * number. Elsewhere the two texts are the same (DoubleTextSpec checks both against BigDecimal).
  *
  * Method: Raffaello Giulietti's Schubfach ("The Schubfach way to render doubles", 2020), the algorithm of JDK
  * 19's `DoubleToDecimal`: the rounding interval of the double, scaled by 10^-k with a 126-bit approximation
