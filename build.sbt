@@ -14,7 +14,11 @@ lazy val root = (project in file("."))
       // Compile scope: `run simulate` drives the generated RTL on Verilator through it.
       "edu.berkeley.cs" %% "chiseltest" % "6.0.0",
       "org.scalatest" %% "scalatest" % "3.2.19" % Test,
+      // Only trace/DecimalBenchmark: a maintained CSV reader measured against CsvRecordReader.
+      "org.apache.commons" % "commons-csv" % "1.12.0" % Test,
       "com.typesafe" % "config" % "1.4.3",
+      // Decimal text to double, correctly rounded (trace/CsvRecordReader.scala).
+      "ch.randelshofer" % "fastdoubleparser" % "2.0.1",
       // URDF robot descriptions (robot/Urdf.scala). 2.3.0 is the newest release built on a
       // scala-library no newer than our 2.13.15 (2.4.0 needs 2.13.16, which sbt refuses).
       "org.scala-lang.modules" %% "scala-xml" % "2.3.0"

@@ -1,9 +1,11 @@
 package reducerload.app
 
 import com.typesafe.config.{ConfigRenderOptions, ConfigValueFactory}
-import reducerload.arm.ArmParams
+import chisel3.Data
+import reducerload.arm.{ArmIO, ArmParams, MonitoredArmIO}
 import reducerload.fixedpoint.FixedFormat
 import reducerload.monitor.{JointField, MonitorParams}
+import reducerload.sim.rtl.{ModulePort, ModulePorts, PortDirection}
 
 import scala.jdk.CollectionConverters._
 
@@ -32,84 +34,87 @@ final case class ArmReport(
   private def torqueCells(i: Int, fmt: (Double, Double) => String, none: String) =
     outputOf(i).fold(none)(k => fmt(p.analysis.outputs(k).range.maxAbs, p.errorBounds(k)))
 
-  /** (port, direction, format description). */
-  val ports: Seq[(String, String, String)] =
-    Seq(
-      ("clock", "in", "1 bit"),
-      ("reset", "in", "1 bit, synchronous, active high: clears every valid bit"),
-      ("io_in_valid", "in", "1 bit: a sample this cycle"),
-      (
-        "io_in_ready",
-        "out",
+  private val io: ArmIO = monitor.fold(new ArmIO(p))(m => new MonitoredArmIO(p, m))
+  private val modulePorts = ModulePorts(io)
+
+  /** (port, direction, format description), every port of the module once, named from its IO Bundle. */
+  val ports: Seq[(String, String, String)] = {
+    def line(port: ModulePort, text: String) =
+      (port.name, if (port.direction == PortDirection.In) "in" else "out", text)
+    def at(leaf: Data, text: String) = line(modulePorts(leaf), text)
+    val described = Seq(
+      line(modulePorts.clock, "1 bit"),
+      line(modulePorts.reset, "1 bit, synchronous, active high: clears every valid bit"),
+      at(io.in.valid, "1 bit: a sample this cycle"),
+      at(
+        io.in.ready,
         if (ii == 1) "1 bit: always high (one sample per clock)"
         else s"1 bit: high one clock in $ii (a sample is taken then; the units are busy with it in between)"
       )
     ) ++
       joints.indices.map(j =>
-        (
-          s"io_in_bits_q_$j",
-          "in",
+        at(
+          io.in.bits.q(j),
           s"unsigned ${n.angleBits} bits, binary angle of ${joints(j).name}: rad = code * 2 pi / 2^${n.angleBits}"
         )
       ) ++
       joints.indices.map(j =>
-        (
-          s"io_in_bits_qd_$j",
-          "in",
+        at(
+          io.in.bits.qd(j),
           s"${n.velocityPortFormat.describe}, rad/s, declared |qd${j + 1}| <= ${n.velocityLimits(j)}"
         )
       ) ++
       joints.indices.map(j =>
-        (
-          s"io_in_bits_qdd_$j",
-          "in",
+        at(
+          io.in.bits.qdd(j),
           s"${n.accelerationPortFormat.describe}, rad/s^2, declared |qdd${j + 1}| <= ${n.accelerationLimits(j)}"
         )
       ) ++
-      Seq(("io_out_valid", "out", s"1 bit: the torques of the sample given ${p.latency} cycles earlier")) ++
+      Seq(at(io.out.valid, s"1 bit: the torques of the sample given ${p.latency} cycles earlier")) ++
       p.analysis.outputs.indices.map(j =>
-        (
-          s"io_out_bits_tau_$j",
-          "out",
+        at(
+          io.out.bits.tau(j),
           s"${p.analysis.outputPortFormat.describe}, N·m, torque of ${p.analysis.outputs(j).name}"
         )
       ) ++
       joints.indices.map(j =>
-        (
-          s"io_out_bits_outOfRange_$j",
-          "out",
+        at(
+          io.out.bits.outOfRange(j),
           s"1 bit: qd${j + 1} or qdd${j + 1} of this sample was beyond its declared range (clamped)"
         )
       ) ++
-      monitor.toSeq.flatMap(m =>
-        Seq(
-          (
-            "io_host_snapshot",
-            "in",
-            s"1 bit, pulse: copy every joint's live monitor state into the shadow bank (samples whose torques left io_out before this cycle)"
-          ),
-          (
-            "io_host_clear",
-            "in",
-            "1 bit, pulse: reset the live monitor state (the torques on io_out in this cycle are the first of the new period)"
-          ),
-          (
-            "io_host_snapshotDone",
-            "out",
-            s"1 bit: the shadow bank holds the snapshot (${m.snapshotLatency} cycles after the pulse)"
-          ),
-          (
-            "io_host_readAddress",
-            "in",
-            s"unsigned ${m.addressBits} bits: word address into the shadow bank (register map below)"
-          ),
-          (
-            "io_host_readData",
-            "out",
-            "32 bits: the word at the previous cycle's address (read latency 1, no side effects)"
+      ((io, monitor) match {
+        case (m: MonitoredArmIO, Some(mp)) =>
+          Seq(
+            at(
+              m.host.snapshot,
+              s"1 bit, pulse: copy every joint's live monitor state into the shadow bank (samples whose torques left io_out before this cycle)"
+            ),
+            at(
+              m.host.clear,
+              "1 bit, pulse: reset the live monitor state (the torques on io_out in this cycle are the first of the new period)"
+            ),
+            at(
+              m.host.snapshotDone,
+              s"1 bit: the shadow bank holds the snapshot (${mp.snapshotLatency} cycles after the pulse)"
+            ),
+            at(
+              m.host.readAddress,
+              s"unsigned ${mp.addressBits} bits: word address into the shadow bank (register map below)"
+            ),
+            at(
+              m.host.readData,
+              "32 bits: the word at the previous cycle's address (read latency 1, no side effects)"
+            )
           )
-        )
-      )
+        case _ => Nil
+      })
+    require(
+      described.map(_._1).sorted == modulePorts.all.map(_.name).sorted,
+      s"$moduleName: the report describes ports ${described.map(_._1).mkString(", ")}, the module has ${modulePorts.all.map(_.name).mkString(", ")}"
+    )
+    described
+  }
 
   def portLines: Seq[String] = "Ports:" +: ports.map { case (name, d, f) => f"  $name%-26s $d%-3s $f" }
 

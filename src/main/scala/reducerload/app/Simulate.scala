@@ -3,7 +3,8 @@ package reducerload.app
 import reducerload.arm.{ArmConfig, ArmParams, ArmSample}
 import reducerload.load.LoadParams
 import reducerload.monitor.{MonitorConfig, MonitorParams, MonitorSummary}
-import reducerload.sim._
+import reducerload.sim.replay._
+import reducerload.sim.rtl.{CompiledHarness, VerilatorHarness}
 import reducerload.trace.TraceCsv
 import reducerload.util.InputError
 
@@ -34,9 +35,9 @@ object Simulate {
     ),
     Opt(
       "engine",
-      "rtl|model",
+      ReplayEngine.all.map(_.name).mkString("|"),
       "rtl: the emitted Verilog on a compiled Verilator harness; model: the bit-accurate model (same file)",
-      "rtl"
+      ReplayEngine.Rtl.name
     ),
     Opt(
       "jobs",
@@ -76,24 +77,33 @@ object Simulate {
         )
   }
 
-  private def engine(cli: Cli): String = {
-    val name = cli.get("engine").getOrElse("rtl")
-    if (!ReplayEngine.names.contains(name))
-      throw new InputError(
-        s"command line: --engine must be ${ReplayEngine.names.mkString(" or ")}, got '$name'"
+  private def engine(cli: Cli): ReplayEngine = {
+    val name = cli.get("engine").getOrElse(ReplayEngine.Rtl.name)
+    ReplayEngine
+      .named(name)
+      .getOrElse(
+        throw new InputError(
+          s"command line: --engine must be ${ReplayEngine.all.map(_.name).mkString(" or ")}, got '$name'"
+        )
       )
-    name
   }
 
-  /** The design `params` describe: the joint-3 closed form, or every joint of an arm (model rnea). */
+  /**
+   * The design `params` describe: the joint-3 closed form, or every joint of an arm (model rnea), with its
+   * reducer monitor when enabled (the emitted top's host inputs are then held at 0).
+   */
   def design(params: LoadParams): ReplayDesign[_, _] =
-    if (params.model.closedForm) new LoadReplay(params) else new ArmReplay(ArmConfig(params))
+    if (params.model.closedForm) new LoadReplay(params)
+    else {
+      val arm = ArmConfig(params)
+      new ArmReplay(arm, Option.when(params.monitor.enabled)(MonitorConfig(arm, params.monitor)))
+    }
 
   /** Every check of the command line and the input file, before anything runs. */
   def prepare(cli: Cli): SimulateRequest[_, _] = {
     val input = required(cli, "input")
     val output = required(cli, "output")
-    val engineName = engine(cli)
+    val engineChoice = engine(cli)
     val jobCount = jobs(cli)
     val parent = output.toAbsolutePath.normalize.getParent
     if (parent != null && !Files.isDirectory(parent))
@@ -142,11 +152,11 @@ object Simulate {
         )
       }
     }
-    if (engineName == "rtl" && !VerilatorHarness.available)
+    if (engineChoice == ReplayEngine.Rtl && !VerilatorHarness.available)
       throw new InputError(
         "simulate needs Verilator on the PATH (Debian: apt-get install verilator), or --engine model"
       )
-    SimulateRequest(params, d, rows, output, engineName, jobCount)
+    SimulateRequest(params, d, rows, output, engineChoice, jobCount)
   }
 
   /**
@@ -172,7 +182,7 @@ object Simulate {
     // Elaborate while the trajectory is read and checked (seconds each, on different cores); only
     // in memory: the harness is built after every check. A bad command line fails here the same way.
     val elaborated =
-      if (cli.get("engine").forall(_ == "rtl"))
+      if (cli.get("engine").forall(_ == ReplayEngine.Rtl.name))
         Some(Future(Emit.emit(cli.params, Top.Load, emitCommand))(ExecutionContext.global))
       else None
     val readStart = System.nanoTime()
@@ -226,14 +236,16 @@ object Simulate {
       elaborated: Option[Future[Emission]] = None
   ): ReplaySummary = {
     val d = request.design
-    val engine =
-      if (request.engine == "rtl") ReplayEngine.Rtl(harness(request, elaborated)) else ReplayEngine.Model
-    val progress = ProgressLine.onTerminal(request.rows.size.toLong, s"simulate (${request.engine})")
+    val compiled = request.engine match {
+      case ReplayEngine.Rtl   => Some(harness(request, elaborated))
+      case ReplayEngine.Model => None
+    }
+    val progress = ProgressLine.onTerminal(request.rows.size.toLong, s"simulate (${request.engine.name})")
     val summary = writeBytesAtomically(request.output)(out =>
-      Replay.run(d, engine, request.rows, request.jobs, out, progress)
+      Replay.run(d, compiled, request.rows, request.jobs, out, progress)
     )
     println(
-      s"wrote ${request.output}: ${summary.samples} samples, ${d.description}, engine ${request.engine}, ${request.jobs} job(s)"
+      s"wrote ${request.output}: ${summary.samples} samples, ${d.description}, engine ${request.engine.name}, ${request.jobs} job(s)"
     )
     val worst = d.errorLabels.indices.map { j =>
       println(
@@ -242,8 +254,8 @@ object Simulate {
       (summary.maxErrors(j), d.errorBounds(j))
     }
     println(s"out-of-range samples (clamped, flagged): ${summary.outOfRange}")
-    val how = engine match {
-      case ReplayEngine.Rtl(_) =>
+    val how = request.engine match {
+      case ReplayEngine.Rtl =>
         f"Verilator harness, ${d.throughput}, latency ${d.latency} cycles; " +
           f"${summary.cyclesPerHarnessSecond}%.0f clock cycles/s per harness process (${summary.cyclesPerHarnessCpuSecond}%.0f per CPU second)"
       case ReplayEngine.Model => "bit-accurate model"
@@ -253,9 +265,9 @@ object Simulate {
     )
     summary.phases.foreach { p =>
       def us(seconds: Double) = seconds / summary.samples.max(1) * 1e6
-      val engineName = engine match {
-        case ReplayEngine.Rtl(_) => "harness process and its files";
-        case ReplayEngine.Model  => "bit-accurate model"
+      val engineName = request.engine match {
+        case ReplayEngine.Rtl   => "harness process and its files";
+        case ReplayEngine.Model => "bit-accurate model"
       }
       println(
         f"replay per sample, wall clock summed over jobs: input codes ${us(p.codes)}%.2f us, engine ${us(p.engine)}%.2f us " +

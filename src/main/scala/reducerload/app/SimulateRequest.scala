@@ -1,19 +1,19 @@
 package reducerload.app
 
 import reducerload.load.LoadParams
-import reducerload.sim.{ReplayDesign, SampleRows}
+import reducerload.sim.replay.{ReplayDesign, ReplayEngine, SampleRows}
 
 import java.nio.file.Path
 
 /**
  * A `run simulate` command line with every check done: the design, the trajectory's rows (values in
- * `design.columns` order, flat), the output file, the engine name and the job count.
+ * `design.columns` order, flat), the output file, the engine and the job count.
  */
 final case class SimulateRequest[In, Out](
     params: LoadParams,
     design: ReplayDesign[In, Out],
     rows: SampleRows,
     output: Path,
-    engine: String,
+    engine: ReplayEngine,
     jobs: Int
 )

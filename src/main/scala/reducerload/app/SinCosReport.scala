@@ -1,8 +1,10 @@
 package reducerload.app
 
 import com.typesafe.config.{ConfigRenderOptions, ConfigValueFactory}
-import reducerload.cordic.CordicParams
+import chisel3.Data
+import reducerload.cordic.{CordicParams, CordicSinCosIO}
 import reducerload.fixedpoint.FixedFormat
+import reducerload.sim.rtl.{ModulePort, ModulePorts, PortDirection}
 
 import scala.jdk.CollectionConverters._
 
@@ -15,16 +17,29 @@ final case class SinCosReport(
 ) {
   val throughput: String = "one angle per clock"
 
-  /** (port, direction, format description). */
-  val ports: Seq[(String, String, String)] = Seq(
-    ("clock", "in", "1 bit"),
-    ("reset", "in", "1 bit, synchronous, active high: clears every valid bit"),
-    ("io_in_valid", "in", "1 bit"),
-    ("io_in_bits", "in", s"unsigned ${c.angleBits} bits, binary angle"),
-    ("io_out_valid", "out", s"1 bit, ${c.latency} cycles after the angle"),
-    ("io_out_bits_cos", "out", c.outputFormat.describe),
-    ("io_out_bits_sin", "out", c.outputFormat.describe)
-  )
+  private val io = new CordicSinCosIO(c)
+  private val modulePorts = ModulePorts(io)
+
+  /** (port, direction, format description), every port of the module once, named from its IO Bundle. */
+  val ports: Seq[(String, String, String)] = {
+    def line(port: ModulePort, text: String) =
+      (port.name, if (port.direction == PortDirection.In) "in" else "out", text)
+    def at(leaf: Data, text: String) = line(modulePorts(leaf), text)
+    val described = Seq(
+      line(modulePorts.clock, "1 bit"),
+      line(modulePorts.reset, "1 bit, synchronous, active high: clears every valid bit"),
+      at(io.in.valid, "1 bit"),
+      at(io.in.bits, s"unsigned ${c.angleBits} bits, binary angle"),
+      at(io.out.valid, s"1 bit, ${c.latency} cycles after the angle"),
+      at(io.out.bits.cos, c.outputFormat.describe),
+      at(io.out.bits.sin, c.outputFormat.describe)
+    )
+    require(
+      described.map(_._1).sorted == modulePorts.all.map(_.name).sorted,
+      s"$moduleName: a port is not described"
+    )
+    described
+  }
 
   def portLines: Seq[String] = "Ports:" +: ports.map { case (n, d, f) => f"  $n%-24s $d%-3s $f" }
 

@@ -4,7 +4,7 @@ import chiseltest.RawTester
 import chiseltest.simulator.VerilatorBackendAnnotation
 import reducerload.arm.{ArmDatapath, ArmModel, ArmOutputCodes, ArmParams, ArmSample}
 import reducerload.graph.SampleCodes
-import reducerload.sim.{ArmDriver, Cycle, StreamChecker}
+import reducerload.sim.rtl.{ArmDriver, Cycle, StreamChecker}
 import reducerload.util.InputError
 
 import java.nio.file.{Files, Paths}
@@ -110,7 +110,7 @@ object Soak {
     val samples = number("samples", 1000000L)
     val seed = number("seed", 1L)
     val resets = number("resets", 5L).toInt
-    if (!reducerload.sim.VerilatorHarness.available)
+    if (!reducerload.sim.rtl.VerilatorHarness.available)
       throw new InputError("soak needs Verilator on the PATH (Debian: apt-get install verilator)")
     val p = cli.params
     println(

@@ -1,6 +1,7 @@
 package reducerload.arm
 
 import chisel3._
+import chisel3.util.{Decoupled, Valid}
 
 /**
  * One sample: per joint a binary angle (full turn = 2^angleBits; any code is in range), a velocity and an
@@ -19,4 +20,10 @@ class ArmInput(p: ArmParams) extends Bundle {
 class ArmOutput(p: ArmParams) extends Bundle {
   val tau = Vec(p.graph.outputs.size, SInt(p.analysis.outputPortFormat.width.W))
   val outOfRange = Vec(p.chain.size, Bool())
+}
+
+/** [[ArmDatapath]]'s ports: samples in (ready/valid), torques and flags out (valid). */
+class ArmIO(p: ArmParams) extends Bundle {
+  val in = Flipped(Decoupled(new ArmInput(p)))
+  val out = Valid(new ArmOutput(p))
 }

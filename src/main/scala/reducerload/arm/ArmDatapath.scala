@@ -26,10 +26,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   private val schedule = p.schedule
   private val ii = schedule.clocksPerSample
   override def desiredName = p.moduleName
-  val io = IO(new Bundle {
-    val in = Flipped(Decoupled(new ArmInput(p)))
-    val out = Valid(new ArmOutput(p))
-  })
+  val io = IO(new ArmIO(p))
   import Op._
   private val analysis = p.analysis
   private val numerics = p.numerics

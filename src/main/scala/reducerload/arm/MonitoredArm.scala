@@ -26,11 +26,7 @@ class MonitoredArm(val p: ArmParams, val monitor: MonitorParams)(implicit multip
     extends Module {
   MonitoredArm.check(p, monitor)
   override def desiredName = s"MonitoredArm_${p.tag}"
-  val io = IO(new Bundle {
-    val in = Flipped(Decoupled(new ArmInput(p)))
-    val out = Valid(new ArmOutput(p))
-    val host = new MonitorHostPort(monitor)
-  })
+  val io = IO(new MonitoredArmIO(p, monitor))
   private val joints = p.chain.size
   private val numerics = p.numerics
 
@@ -64,6 +60,11 @@ class MonitoredArm(val p: ArmParams, val monitor: MonitorParams)(implicit multip
     reducers.io.in.bits.outOfRange(j) := sampleOutOfRange
   }
   io.host <> reducers.io.host
+}
+
+/** [[MonitoredArm]]'s ports: the datapath's ([[ArmIO]]) and the monitor's host port. */
+class MonitoredArmIO(p: ArmParams, monitor: MonitorParams) extends ArmIO(p) {
+  val host = new MonitorHostPort(monitor)
 }
 
 object MonitoredArm {

@@ -4,6 +4,12 @@ import chisel3._
 import chisel3.util._
 import reducerload.pipeline.MultiplierImpl
 
+/** [[CordicSinCos]]'s ports: a binary angle in, (cos, sin) out, both valid-qualified. */
+class CordicSinCosIO(p: CordicParams) extends Bundle {
+  val in = Flipped(Valid(UInt(p.angleBits.W)))
+  val out = Valid(new SinCos(p))
+}
+
 /**
  * Pipelined CORDIC sin/cos: a `Valid` binary angle in, a `Valid` (cos, sin) out exactly `latency` cycles
  * later, one angle per clock with no stall. Gain K is folded into the start vector. Stages: input register,
@@ -12,10 +18,7 @@ import reducerload.pipeline.MultiplierImpl
  */
 class CordicSinCos(val p: CordicParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
   override def desiredName = s"CordicSinCos_${p.tag}"
-  val io = IO(new Bundle {
-    val in = Flipped(Valid(UInt(p.angleBits.W)))
-    val out = Valid(new SinCos(p))
-  })
+  val io = IO(new CordicSinCosIO(p))
 
   /** Cycles from an angle on `io.in` to its (cos, sin) on `io.out`. */
   val latency: Int = p.latency

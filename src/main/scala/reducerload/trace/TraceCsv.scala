@@ -5,7 +5,7 @@ import java.io.{ByteArrayInputStream, IOException}
 import java.nio.file.{Files, Path}
 import java.util.zip.GZIPInputStream
 import scala.collection.immutable.ArraySeq
-import reducerload.sim.ChunkedRun
+import reducerload.util.ChunkedRun
 import reducerload.util.InputError
 
 import scala.util.Try

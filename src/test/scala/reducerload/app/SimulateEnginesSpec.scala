@@ -6,7 +6,8 @@ import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.arm.{ArmConfig, ArmDatapath, ArmModel, ArmOutputCodes, ArmSample, ArmTrajectory}
 import reducerload.dynamics.{RandomChains, Rnea}
 import reducerload.load._
-import reducerload.sim.{ArmDriver, Cycle, DoubleText, FixedDecimal}
+import reducerload.sim.rtl.{ArmDriver, Cycle}
+import reducerload.sim.text.{DoubleText, FixedDecimal}
 import reducerload.testutil.{ArmGolden, Golden, Seeds, SimBackend}
 
 import java.nio.charset.StandardCharsets
@@ -184,6 +185,29 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
         s"simulate ${args.mkString(" ")} wrote another file"
       )
     }
+  }
+
+  it should "write the model's file for the planar arm with its reducer monitor from the harness (host inputs held at 0)" in {
+    assume(verilatorPresent, "verilator is not installed")
+    val design = Seq("--robot", "planar3")
+    val (input, expected) = armCase("planar3", design, 53L)
+    // The emitted top is MonitoredArm: its io_host_* inputs are not the harness's to drive.
+    assert(
+      simulate(
+        input,
+        design ++ Seq(
+          "--monitor.enabled",
+          "true",
+          "--monitor.repeated-peak",
+          "[80, 30, 20]",
+          "--monitor.momentary-peak",
+          "[100, 40, 28]",
+          "--saturate",
+          "--jobs",
+          "1"
+        ): _*
+      ) == expected
+    )
   }
 
   // The harness runs the Verilog `run emit` writes (firtool); the chiseltest suites run another

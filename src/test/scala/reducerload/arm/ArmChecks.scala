@@ -3,7 +3,7 @@ package reducerload.arm
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.graph.SampleCodes
-import reducerload.sim.{ArmDriver, Cycle, Stream}
+import reducerload.sim.rtl.{ArmDriver, Cycle, Stream}
 import reducerload.testutil.SimBackend
 
 import scala.collection.mutable.ArrayBuffer

@@ -1,6 +1,6 @@
 package reducerload.cordic
 
-import reducerload.sim.{Cycle, Stream}
+import reducerload.sim.rtl.{Cycle, Stream}
 
 import scala.util.Random
 

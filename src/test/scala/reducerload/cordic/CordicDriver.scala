@@ -2,7 +2,7 @@ package reducerload.cordic
 
 import chisel3._
 import chiseltest._
-import reducerload.sim.Cycle
+import reducerload.sim.rtl.Cycle
 
 /** The only place that talks to the simulator for CORDIC tests: drive a stimulus, record outputs. */
 object CordicDriver {

@@ -2,7 +2,7 @@ package reducerload.load
 
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.app.Soak
-import reducerload.sim.{Cycle, Stream, StreamChecker}
+import reducerload.sim.rtl.{Cycle, Stream, StreamChecker}
 import reducerload.testutil.{Seeds, SimBackend}
 
 import scala.util.Random

@@ -9,7 +9,7 @@ import java.nio.file.{Files, Path}
 object Scratch {
   private lazy val root: Path = {
     val dir = Files.createTempDirectory("reducer-load-tests-")
-    sys.addShutdownHook(reducerload.sim.VerilatorHarness.deleteTree(dir))
+    sys.addShutdownHook(reducerload.sim.rtl.VerilatorHarness.deleteTree(dir))
     dir
   }
 

@@ -1,0 +1,56 @@
+package reducerload.sim.rtl
+
+import org.scalatest.flatspec.AnyFlatSpec
+import reducerload.app.{Cli, Emission, Emit, Simulate, Top}
+import reducerload.arm.{ArmConfig, ArmIO, MonitoredArmIO}
+import reducerload.cordic.CordicSinCosIO
+import reducerload.monitor.MonitorConfig
+
+/**
+ * The ports derived from a module's IO Bundle are the emitted Verilog's, name, direction, width and order:
+ * the arm datapath, the arm with its reducer monitor, and the lone sin/cos unit.
+ */
+class ModulePortsSpec extends AnyFlatSpec {
+  behavior of "ModulePorts"
+
+  private def params(args: String*) = Cli.parse("simulate", args, Simulate.options, Simulate.flags).params
+
+  private def inVerilog(e: Emission) =
+    VerilogPortList(e.verilog, e.topModule).map(v => (v.name, v.direction, v.width))
+
+  private def derived(ports: ModulePorts) = ports.all.map { p =>
+    (p.name, if (p.direction == PortDirection.In) "input" else "output", p.width)
+  }
+
+  it should "name every port of planar3's datapath and monitored arm, and of the sin/cos unit, as firtool does" in {
+    val plain = params("--robot", "planar3")
+    val arm = ArmConfig(plain)
+    assert(derived(ModulePorts(new ArmIO(arm))) == inVerilog(Emit.emit(plain, Top.Load, "test")))
+
+    val monitored = params(
+      "--robot",
+      "planar3",
+      "--monitor.enabled",
+      "true",
+      "--monitor.repeated-peak",
+      "[80, 30, 20]",
+      "--monitor.momentary-peak",
+      "[100, 40, 28]"
+    )
+    val io = new MonitoredArmIO(ArmConfig(monitored), MonitorConfig(ArmConfig(monitored), monitored.monitor))
+    val ports = ModulePorts(io)
+    assert(derived(ports) == inVerilog(Emit.emit(monitored, Top.Load, "test")))
+    assert(ports(io.host.readAddress).name == "io_host_readAddress")
+    assert(
+      ports(io.in.bits.q(2)) == ModulePort("io_in_bits_q_2", PortDirection.In, arm.numerics.angleBits, false)
+    )
+    val harness = ArmHarnessPorts(io)
+    assert(harness.held.map(_.name) == Seq("io_host_snapshot", "io_host_clear", "io_host_readAddress"))
+    assert(harness.inReady.contains("io_in_ready") && harness.outValid == "io_out_valid")
+
+    val lone = params()
+    assert(
+      derived(ModulePorts(new CordicSinCosIO(lone.cordic))) == inVerilog(Emit.emit(lone, Top.SinCos, "test"))
+    )
+  }
+}
