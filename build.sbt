@@ -14,6 +14,8 @@ lazy val root = (project in file("."))
       // Compile scope: `run simulate` drives the generated RTL on Verilator through it.
       "edu.berkeley.cs" %% "chiseltest" % "6.0.0",
       "org.scalatest" %% "scalatest" % "3.2.19" % Test,
+      // The package-cycle test (ArchitectureSpec) reads the compiled classes' dependencies.
+      "com.tngtech.archunit" % "archunit" % "1.3.0" % Test,
       "com.typesafe" % "config" % "1.4.3",
       // URDF robot descriptions (robot/Urdf.scala). 2.3.0 is the newest release built on a
       // scala-library no newer than our 2.13.15 (2.4.0 needs 2.13.16, which sbt refuses).

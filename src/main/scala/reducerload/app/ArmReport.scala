@@ -9,8 +9,8 @@ import scala.jdk.CollectionConverters._
 
 /**
  * The report of an arm emission (every joint by RNEA), computed from the parameters that built the hardware;
- * with `monitor`, of the arm with its reducer monitor ([[reducerload.arm.MonitoredArm]]): the host ports, the
- * monitor's derivation, 20-year proof and register map too.
+ * with `monitor`, of the arm with its reducer monitor ([[reducerload.monitor.MonitoredArm]]): the host ports,
+ * the monitor's derivation, 20-year proof and register map too.
  */
 final case class ArmReport(
     p: ArmParams,
@@ -18,7 +18,8 @@ final case class ArmReport(
     command: String,
     estimate: Option[Estimate] = None,
     monitor: Option[MonitorParams] = None
-) {
+) extends EmissionReport {
+  def latency: Int = p.latency
   private val n = p.numerics
   private val joints = p.chain.joints
   private val counts = p.graph.counts

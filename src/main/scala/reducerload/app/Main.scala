@@ -1,7 +1,7 @@
 package reducerload.app
 
 import reducerload.config.Settings
-import reducerload.load.LoadParams
+import reducerload.config.LoadParams
 import reducerload.util.InputError
 
 /**
@@ -113,7 +113,7 @@ object Main {
           if (cli.overrides.isEmpty && !cli.has("config"))
             presetHeader(cli.get("preset").getOrElse("default"))
           else Seq("Configuration of the reducer-load generator, from:", s"  $commandLine")
-        print(Settings.render(cli.params, header))
+        print(Settings.render(cli.compiled.config, header))
       case other =>
         throw new InputError(
           s"command line: unknown command '$other' (commands: ${(commands.map(_._1) :+ "help").mkString(", ")})"

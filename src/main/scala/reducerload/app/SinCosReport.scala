@@ -12,7 +12,8 @@ final case class SinCosReport(
     moduleName: String,
     command: String,
     estimate: Option[Estimate] = None
-) {
+) extends EmissionReport {
+  def latency: Int = c.latency
   val throughput: String = "one angle per clock"
 
   /** (port, direction, format description). */

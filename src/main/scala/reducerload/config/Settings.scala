@@ -3,8 +3,8 @@ package reducerload.config
 import com.typesafe.config.{Config, ConfigException, ConfigValueType}
 import reducerload.cordic.{CordicArchitecture, CordicParams}
 import reducerload.fixedpoint.Rounding
-import reducerload.load.{LoadModel, LoadParams, RobotParams}
-import reducerload.monitor.{MonitorConfig, MonitorSettings}
+import reducerload.load.LoadModel
+import reducerload.robot.RobotParams
 import reducerload.util.InputError
 
 import scala.jdk.CollectionConverters._
@@ -551,7 +551,7 @@ object Settings {
     def str(k: String) = v(k).asInstanceOf[String]
     def joints(k: String) = v(k).asInstanceOf[Seq[Double]]
     def count(k: String) = v(k).asInstanceOf[Option[Int]]
-    val planar = str("robot.source") == reducerload.load.RobotParams.planar3
+    val planar = str("robot.source") == RobotParams.planar3
     def ranges(k: String) = joints(k) match { // planar3 has three joints: one number stands for all three
       case Seq(x) if planar => Seq.fill(3)(x)
       case other            => other
@@ -616,14 +616,6 @@ object Settings {
           ratedLifeHours = real("monitor.rated-life")
         )
       )
-      // The datapath is checked whole here (URDF, joint count, ranges, formats, schedule), and its
-      // monitor with it, so their errors name this configuration.
-      locally {
-        val arm = p.arm
-        arm.schedule
-        arm.banked
-        if (p.monitor.enabled) { MonitorConfig(arm, p.monitor); MonitorConfig.rated(arm, p.monitor) }
-      }
       p
     } catch {
       case e: IllegalArgumentException =>

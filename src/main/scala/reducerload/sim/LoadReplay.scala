@@ -1,14 +1,15 @@
 package reducerload.sim
 
-import reducerload.arm.ArmOutputCodes
-import reducerload.load.{Joint3Columns, LoadParams, LoadReference}
+import reducerload.arm.{ArmOutputCodes, ArmParams, LoadReference}
+import reducerload.config.LoadParams
+import reducerload.load.Joint3Columns
 
 /**
  * The joint-3 closed forms (models exact and paper) as `run simulate` replays them: the arm datapath of their
  * graph, with the joint-3 trace columns `t1,t2,t3,d1,d2,d3,dd1,dd2,dd3` (in the arm's q, qd, qdd order) and
  * the result `idx,load_hw,load_ref,error,out_of_range`.
  */
-final class LoadReplay(settings: LoadParams) extends ArmReplay(settings.arm) {
+final class LoadReplay(settings: LoadParams, arm: ArmParams) extends ArmReplay(arm) {
   require(settings.model.closedForm, s"LoadReplay: model ${settings.model.name} is not a joint-3 closed form")
 
   override def columns: Seq[String] = Joint3Columns.names

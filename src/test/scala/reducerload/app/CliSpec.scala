@@ -1,8 +1,11 @@
 package reducerload.app
 
+import reducerload.testutil.CompiledParams
 import reducerload.testutil.Scratch
 import org.scalatest.flatspec.AnyFlatSpec
-import reducerload.load.{LoadModel, LoadParams}
+import reducerload.compiler.Compiler
+import reducerload.config.LoadParams
+import reducerload.load.LoadModel
 import reducerload.util.InputError
 
 import java.nio.file.Files
@@ -45,7 +48,7 @@ class CliSpec extends AnyFlatSpec {
     assert(
       ur5.model == LoadModel.Rnea && ur5.cordic == LoadParams.arm.cordic && ur5.robot.maxVelocity.isEmpty
     )
-    val arm = reducerload.arm.ArmConfig(ur5)
+    val arm = Compiler.arm(ur5)
     assert(
       arm.chain.size == 6 && arm.maxVelocity == Seq(3.15, 3.15, 3.15, 3.2, 3.2,
         3.2) && arm.maxAcceleration == Seq.fill(6)(15.0)
@@ -53,8 +56,8 @@ class CliSpec extends AnyFlatSpec {
     assert(params("--robot", "planar3") == LoadParams.arm)
     val hand = java.nio.file.Paths.get(getClass.getResource("/urdf/arm.urdf").toURI).toString
     assert(
-      reducerload.arm
-        .ArmConfig(params("--robot", hand, "--tip", "l2", "--max-acceleration", "5", "--max-velocity", "2"))
+      Compiler
+        .arm(params("--robot", hand, "--tip", "l2", "--max-acceleration", "5", "--max-velocity", "2"))
         .chain
         .size == 2
     )
@@ -146,7 +149,7 @@ class CliSpec extends AnyFlatSpec {
   }
 
   it should "derive the clocks per sample from a multiplier budget" in {
-    val ur5 = reducerload.arm.ArmConfig(
+    val ur5 = Compiler.arm(
       params(
         "--robot",
         "golden/robots/ur5_robot.urdf",
@@ -165,7 +168,7 @@ class CliSpec extends AnyFlatSpec {
       s"${ur5.schedule.clocksPerSample} clocks, ${ur5.schedule.multiplierBlocks} blocks"
     )
     // With block-RAM storage, the fewest clocks from the budget's on whose bank read ports can be served.
-    val banked = reducerload.arm.ArmConfig(
+    val banked = Compiler.arm(
       params(
         "--robot",
         "golden/robots/ur5_robot.urdf",
@@ -182,7 +185,7 @@ class CliSpec extends AnyFlatSpec {
       )
     )
     val fewer = scala.util.Try(
-      reducerload.arm.ArmConfig(
+      Compiler.arm(
         params(
           "--robot",
           "golden/robots/ur5_robot.urdf",

@@ -1,9 +1,12 @@
 package reducerload.app
 
+import reducerload.testutil.CompiledParams
 import reducerload.testutil.Scratch
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import reducerload.arm.{ArmConfig, ArmDatapath, ArmModel, ArmOutputCodes, ArmSample, ArmTrajectory}
+import reducerload.arm.{ArmDatapath, ArmModel, ArmOutputCodes, ArmSample, ArmTrajectory, LoadReference}
+import reducerload.compiler.Compiler
+import reducerload.config.LoadParams
 import reducerload.dynamics.{RandomChains, Rnea}
 import reducerload.load._
 import reducerload.sim.{ArmDriver, Cycle, DoubleText, FixedDecimal}
@@ -131,7 +134,7 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
    * velocity or acceleration beyond its range (flagged).
    */
   private def armCase(robot: String, design: Seq[String], seed: Long): (Path, String) = {
-    val arm = ArmConfig(Cli.parse("simulate", design, Simulate.options, Simulate.flags).params)
+    val arm = Compiler.arm(Cli.parse("simulate", design, Simulate.options, Simulate.flags).params)
     val n = arm.chain.size
     val rng = new Random(Seeds(s"simulate-engines-$robot", seed))
     val golden = ArmGolden.of(robot).flatMap(_.samples).toIndexedSeq

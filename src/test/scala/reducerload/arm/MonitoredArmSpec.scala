@@ -5,6 +5,7 @@ import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.dynamics.RandomChains
 import reducerload.graph.SampleCodes
+import reducerload.config.MonitorSettings
 import reducerload.monitor._
 import reducerload.testutil.{ArmGolden, ArmGoldenTrace, Seeds, SimBackend}
 

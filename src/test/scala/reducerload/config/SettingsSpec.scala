@@ -4,7 +4,8 @@ import com.typesafe.config.ConfigFactory
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.app.Main
 import reducerload.cordic.CordicParams
-import reducerload.load.{LoadModel, LoadParams, RobotParams}
+import reducerload.load.LoadModel
+import reducerload.robot.RobotParams
 import reducerload.util.InputError
 
 import java.nio.file.{Files, Paths}

@@ -4,7 +4,9 @@ import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.arm.{ArmModel, ArmParams, ArmSample}
 import reducerload.cordic.CordicParams
 import reducerload.graph.{GraphReference, Op}
-import reducerload.load.{LoadModel, LoadReference, RobotParams}
+import reducerload.arm.LoadReference
+import reducerload.load.LoadModel
+import reducerload.robot.RobotParams
 import reducerload.robot.Planar3
 import reducerload.testutil.{Golden, Seeds}
 

@@ -1,7 +1,9 @@
 package reducerload.graph
 
+import reducerload.testutil.CompiledParams
 import org.scalatest.flatspec.AnyFlatSpec
-import reducerload.arm.{ArmConfig, ArmParams}
+import reducerload.arm.ArmParams
+import reducerload.compiler.{Compiler, TargetFit}
 import reducerload.pipeline.PipelinedMultiplier
 import reducerload.testutil.ArmGolden
 
@@ -14,8 +16,8 @@ import reducerload.testutil.ArmGolden
 class ScheduleSpec extends AnyFlatSpec {
   behavior of "Schedule"
 
-  private lazy val ur5: ArmParams = ArmConfig(ArmGolden.of("ur5").head.config)
-  private lazy val planar3: ArmParams = ArmConfig(ArmGolden.of("planar3").head.config)
+  private lazy val ur5: ArmParams = Compiler.arm(ArmGolden.of("ur5").head.config)
+  private lazy val planar3: ArmParams = Compiler.arm(ArmGolden.of("planar3").head.config)
 
   private def scheduled(p: ArmParams, request: ScheduleRequest): ArmParams = p.copy(scheduleRequest = request)
 
@@ -191,10 +193,10 @@ class TargetErrorSpec extends AnyFlatSpec {
 
   it should "pick the fewest fraction bits that meet the target on every joint" in {
     Seq(1e-2, 1e-3, 4e-4).foreach { target =>
-      val p = ArmConfig(ur5.copy(targetError = Seq(target)))
+      val p = Compiler.arm(ur5.copy(targetError = Seq(target)))
       assert(p.errorBounds.forall(_ <= target), s"target $target: bounds ${p.errorBounds}")
       val fewer =
-        ArmConfig.fitted(p, Seq.fill(p.chain.size)(Double.MaxValue)) // any bits meet this: the fewest allowed
+        TargetFit.fitted(p, Seq.fill(p.chain.size)(Double.MaxValue)) // any bits meet this: the fewest allowed
       val oneLess = scala.util.Try(
         p.copy(
           velocityFracBits = p.velocityFracBits - 1,
@@ -236,29 +238,29 @@ class TargetErrorSpec extends AnyFlatSpec {
           s"widest node ${p.analysis.widest._2.format}, ${p.copy(scheduleRequest = ScheduleRequest(None, Some(66))).schedule.unitSummary}"
       )
     }
-    val perJoint = ArmConfig(ur5.copy(targetError = Seq(1e-3, 1e-3, 1e-3, 1e-4, 1e-4, 1e-5)))
+    val perJoint = Compiler.arm(ur5.copy(targetError = Seq(1e-3, 1e-3, 1e-3, 1e-4, 1e-4, 1e-5)))
     assert(perJoint.errorBounds.zip(Seq(1e-3, 1e-3, 1e-3, 1e-4, 1e-4, 1e-5)).forall { case (b, t) => b <= t })
   }
 
   it should "cap single constants and products where that makes the design cheaper, and keep the per-kind fit where not" in {
-    val shared = reducerload.load.LoadParams.shared
+    val shared = reducerload.config.LoadParams.shared
     val joint3 = shared.arm
     assert(!joint3.fracBitLimits.isEmpty, "the shared preset's fit caps no node")
     TargetErrorSpec.checkNodes(joint3, shared.targetError, "preset shared")
     // Capped nodes mix widths; in the UR5's 64-clock memory schedule that splits a multiplier class, so the fit keeps the kinds' bits.
-    val memory = ArmConfig(
+    val memory = Compiler.arm(
       ur5.copy(targetError = Seq(1e-3), schedule = ScheduleRequest(Some(64), storage = Storage.Memory))
     )
     TargetErrorSpec.checkNodes(memory, Seq.fill(memory.chain.size)(1e-3), "ur5 memory ii64")
   }
 
   it should "refuse a target the sin/cos unit cannot reach, and a wrong number of targets" in {
-    val e = intercept[IllegalArgumentException](ArmConfig(ur5.copy(targetError = Seq(1e-12))))
+    val e = intercept[IllegalArgumentException](Compiler.arm(ur5.copy(targetError = Seq(1e-12))))
     assert(
       e.getMessage.contains("numeric.target-error") && e.getMessage.contains("cordic.output-bits"),
       e.getMessage
     )
-    val n = intercept[IllegalArgumentException](ArmConfig(ur5.copy(targetError = Seq(1e-3, 1e-3))))
+    val n = intercept[IllegalArgumentException](Compiler.arm(ur5.copy(targetError = Seq(1e-3, 1e-3))))
     assert(n.getMessage.contains("numeric.target-error gives 2 values"), n.getMessage)
   }
 }
@@ -277,11 +279,11 @@ object TargetErrorSpec {
     assert(meets(p.analysis), s"$label: bounds ${p.errorBounds} miss $targets")
     val alternative =
       if (p.fracBitLimits.isEmpty)
-        p.copy(fracBitLimits = ArmConfig.narrowedNodes(p.analysis, l => under(l).filter(meets)))
+        p.copy(fracBitLimits = TargetFit.narrowedNodes(p.analysis, l => under(l).filter(meets)))
       else p.copy(fracBitLimits = FracBitLimits.none)
     assert(
-      Ordering[(Int, Int, Int)].lteq(ArmConfig.cost(p), ArmConfig.cost(alternative)),
-      s"$label: the fit chose cost ${ArmConfig.cost(p)} over ${ArmConfig.cost(alternative)}"
+      Ordering[(Int, Int, Int)].lteq(TargetFit.cost(p), TargetFit.cost(alternative)),
+      s"$label: the fit chose cost ${TargetFit.cost(p)} over ${TargetFit.cost(alternative)}"
     )
     if (!p.fracBitLimits.isEmpty) p.graph.ids.foreach { id =>
       val bits = p.analysis(id).format.fracBits
@@ -294,8 +296,8 @@ object TargetErrorSpec {
       }
     }
     println(
-      s"[target] $label: ${p.fracBitLimits.byNode.size} node(s) capped below their kind; cost (blocks, units, bits) ${ArmConfig.cost(p)}, " +
-        s"the other fit ${ArmConfig.cost(alternative)}"
+      s"[target] $label: ${p.fracBitLimits.byNode.size} node(s) capped below their kind; cost (blocks, units, bits) ${TargetFit.cost(p)}, " +
+        s"the other fit ${TargetFit.cost(alternative)}"
     )
   }
 }

@@ -1,5 +1,9 @@
 package reducerload.load
 
+import reducerload.testutil.CompiledParams
+import reducerload.config.LoadParams
+import reducerload.arm.LoadReference
+import reducerload.robot.RobotParams
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.arm.ArmSample
 import reducerload.cordic.CordicParams

@@ -1,5 +1,9 @@
 package reducerload.load
 
+import reducerload.testutil.CompiledParams
+import reducerload.config.LoadParams
+import reducerload.arm.LoadReference
+import reducerload.robot.RobotParams
 import circt.stage.ChiselStage
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.cordic.{CordicArchitecture, CordicParams}

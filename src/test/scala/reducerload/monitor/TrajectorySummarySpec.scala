@@ -2,6 +2,7 @@ package reducerload.monitor
 
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.arm.ArmParams
+import reducerload.config.MonitorSettings
 import reducerload.testutil.ArmGolden
 
 /**

@@ -1,7 +1,9 @@
-package reducerload.load
+package reducerload.config
 
 import reducerload.cordic.CordicParams
 import reducerload.fixedpoint.Rounding
+import reducerload.load.LoadModel
+import reducerload.robot.RobotParams
 
 /**
  * The generator's settings (every configuration key): the robot, what to compute (`model`), the sin/cos unit,
@@ -30,7 +32,7 @@ import reducerload.fixedpoint.Rounding
  *   the reducer life and limit monitor beside the arm datapath (`monitor.*` keys)
  * @param targetError
  *   N·m per output torque (one value: every joint; empty: none); the fraction bits become the fewest that
- *   meet it (see [[reducerload.arm.ArmConfig]])
+ *   meet it (see [[reducerload.compiler.TargetFit]])
  * @param schedule
  *   clocks per sample, multiplier budget, CORDIC units (`schedule.*` keys; see
  *   [[reducerload.graph.Schedule]])
@@ -47,7 +49,7 @@ final case class LoadParams(
     productRounding: Rounding = Rounding.Truncate,
     multiplierLatency: Int = 1,
     memoryDelayMinCycles: Int = 4,
-    monitor: reducerload.monitor.MonitorSettings = reducerload.monitor.MonitorSettings(),
+    monitor: MonitorSettings = MonitorSettings(),
     schedule: reducerload.graph.ScheduleRequest = reducerload.graph.ScheduleRequest(),
     targetError: Seq[Double] = Nil
 ) {
@@ -78,18 +80,6 @@ final case class LoadParams(
     !monitor.enabled || !model.closedForm,
     s"monitor.enabled = true needs model rnea (the monitor watches every joint of the arm datapath); model ${model.name} is planar3's joint-3 closed form"
   )
-
-  /**
-   * The datapath these settings describe: the robot's torques as one graph on [[reducerload.arm.ArmDatapath]]
-   * (for the closed forms, the joint-3 load of planar3), with every format, bound and the schedule derived.
-   */
-  lazy val arm: reducerload.arm.ArmParams = reducerload.arm.ArmConfig(this)
-
-  /**
-   * Worst-case |torque - exact double-precision value at the unquantized inputs|, N·m, largest over the
-   * outputs.
-   */
-  def errorBound: Double = arm.errorBound
 }
 
 object LoadParams {
