@@ -73,7 +73,7 @@ final case class Cli(
       val text = setting match {
         case _: reducerload.config.Setting.PerJoint if value.contains(",") && !value.trim.startsWith("[") =>
           s"[$value]"
-        case _: reducerload.config.Setting.Choice => "\"" + value.replace("\"", "") + "\""
+        case _: reducerload.config.Setting.Choice[_] => "\"" + value.replace("\"", "") + "\""
         case _: reducerload.config.Setting.Text =>
           com.typesafe.config.ConfigValueFactory.fromAnyRef(value).render()
         case _ => value

@@ -4,7 +4,7 @@ import circt.stage.ChiselStage
 import reducerload.cordic.{CordicArchitecture, CordicParams}
 import reducerload.arm.LoadReference
 import reducerload.compiler.{Compiled, Compiler}
-import reducerload.config.LoadParams
+import reducerload.config.{DatapathParams, LoadParams}
 import reducerload.load._
 import reducerload.trace.TraceCsv
 import reducerload.util.InputError
@@ -50,11 +50,13 @@ object Sweep {
         architecture = arch,
         tableBits = table
       ),
-      velocityFracBits = frac,
-      accelerationFracBits = frac,
-      constantFracBits = frac + 4,
-      internalFracBits = frac,
-      outputFracBits = frac
+      datapath = DatapathParams(
+        velocityFracBits = frac,
+        accelerationFracBits = frac,
+        constantFracBits = frac + 4,
+        internalFracBits = frac,
+        outputFracBits = frac
+      )
     )
     val classic = Seq((16, 10, 12), (20, 16, 15), (23, 20, 17), (26, 26, 20)).map { case (b, n, f) =>
       s"classic-b$b-n$n" -> point(CordicArchitecture.Classic, b, n, f)

@@ -1,5 +1,6 @@
 package reducerload.arm
 
+import reducerload.config.DatapathParams
 import reducerload.cordic.CordicParams
 import reducerload.dynamics.{JointState, Rnea}
 import reducerload.fixedpoint.Rounding
@@ -31,6 +32,8 @@ object Dynamics {
  *   declared max |qd_j| per joint, rad/s
  * @param maxAcceleration
  *   declared max |qdd_j| per joint, rad/s^2
+ * @param datapath
+ *   the configuration's `datapath.*` settings (fraction bits moved by the target-error fit)
  * @param fracBitLimits
  *   per-node caps below the kinds' fraction bits (chosen by [[reducerload.compiler.TargetFit]])
  */
@@ -39,14 +42,7 @@ final case class ArmParams(
     maxVelocity: Seq[Double],
     maxAcceleration: Seq[Double],
     cordic: CordicParams = CordicParams.tableResidual,
-    velocityFracBits: Int = 20,
-    accelerationFracBits: Int = 20,
-    constantFracBits: Int = 24,
-    internalFracBits: Int = 22,
-    outputFracBits: Int = 20,
-    productRounding: Rounding = Rounding.Truncate,
-    multiplierLatency: Int = 1,
-    memoryDelayMinCycles: Int = 4,
+    datapath: DatapathParams = DatapathParams(),
     scheduleRequest: ScheduleRequest = ScheduleRequest(),
     dynamics: Dynamics = Dynamics.Rnea,
     fracBitLimits: FracBitLimits = FracBitLimits.none
@@ -60,14 +56,14 @@ final case class ArmParams(
     maxAcceleration.size == chain.size,
     s"robot ${chain.name} has ${chain.size} joints but max-acceleration gives ${maxAcceleration.size} value(s)"
   )
-  require(
-    multiplierLatency >= 1 && multiplierLatency <= 4,
-    s"datapath.multiplier-latency must be in 1..4, got $multiplierLatency"
-  )
-  require(
-    memoryDelayMinCycles == 0 || memoryDelayMinCycles >= 2,
-    s"datapath.memory-delay-min-cycles must be 0 (registers only) or >= 2, got $memoryDelayMinCycles"
-  )
+  def velocityFracBits: Int = datapath.velocityFracBits
+  def accelerationFracBits: Int = datapath.accelerationFracBits
+  def constantFracBits: Int = datapath.constantFracBits
+  def internalFracBits: Int = datapath.internalFracBits
+  def outputFracBits: Int = datapath.outputFracBits
+  def productRounding: Rounding = datapath.productRounding
+  def multiplierLatency: Int = datapath.multiplierLatency
+  def memoryDelayMinCycles: Int = datapath.memoryDelayMinCycles
 
   def jointNames: IndexedSeq[String] = chain.joints.map(_.name)
 

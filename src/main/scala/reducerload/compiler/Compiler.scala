@@ -85,14 +85,7 @@ object Compiler {
       perJoint(c, p.robot.maxVelocity, "robot.max-velocity", Some(c.joints.map(_.velocityLimit))),
       perJoint(c, p.robot.maxAcceleration, "robot.max-acceleration", None),
       cordic = p.cordic,
-      velocityFracBits = p.velocityFracBits,
-      accelerationFracBits = p.accelerationFracBits,
-      constantFracBits = p.constantFracBits,
-      internalFracBits = p.internalFracBits,
-      outputFracBits = p.outputFracBits,
-      productRounding = p.productRounding,
-      multiplierLatency = p.multiplierLatency,
-      memoryDelayMinCycles = p.memoryDelayMinCycles,
+      datapath = p.datapath,
       scheduleRequest = p.schedule,
       dynamics = if (p.model.closedForm) Dynamics.Joint3(p.model, p.robot) else Dynamics.Rnea
     )

@@ -24,11 +24,11 @@ object TargetFit {
 
   /** Each fraction-bit setting on its own, moved by some bits. */
   private val fracBitKinds: Seq[(ArmParams, Int) => ArmParams] = Seq(
-    (q, d) => q.copy(outputFracBits = q.outputFracBits + d),
-    (q, d) => q.copy(constantFracBits = q.constantFracBits + d),
-    (q, d) => q.copy(velocityFracBits = q.velocityFracBits + d),
-    (q, d) => q.copy(accelerationFracBits = q.accelerationFracBits + d),
-    (q, d) => q.copy(internalFracBits = q.internalFracBits + d)
+    (q, d) => q.copy(datapath = q.datapath.copy(outputFracBits = q.outputFracBits + d)),
+    (q, d) => q.copy(datapath = q.datapath.copy(constantFracBits = q.constantFracBits + d)),
+    (q, d) => q.copy(datapath = q.datapath.copy(velocityFracBits = q.velocityFracBits + d)),
+    (q, d) => q.copy(datapath = q.datapath.copy(accelerationFracBits = q.accelerationFracBits + d)),
+    (q, d) => q.copy(datapath = q.datapath.copy(internalFracBits = q.internalFracBits + d))
   )
 
   /**
@@ -43,15 +43,7 @@ object TargetFit {
    */
   def fitted(p: ArmParams, targets: Seq[Double]): ArmParams = {
     def shifted(d: Int) = scala.util
-      .Try(
-        p.copy(
-          velocityFracBits = p.velocityFracBits + d,
-          accelerationFracBits = p.accelerationFracBits + d,
-          constantFracBits = p.constantFracBits + d,
-          internalFracBits = p.internalFracBits + d,
-          outputFracBits = p.outputFracBits + d
-        )
-      )
+      .Try(p.copy(datapath = p.datapath.shifted(d)))
       .toOption
     def analysed(q: ArmParams, limits: FracBitLimits) =
       scala.util.Try(new Analysis(p.graph, q.numerics, p.rangeHints, limits)).toOption

@@ -15,6 +15,9 @@ class CliSpec extends AnyFlatSpec {
 
   private def params(args: String*) = Cli.parse("emit", args, Emit.options).params
 
+  /** Parsing checks the settings; compiling the design checks the rest (robot file, ranges, schedule). */
+  private def compiled(args: String*) = Cli.parse("emit", args, Emit.options).compiled
+
   it should "start from the default preset and apply flag overrides" in {
     assert(params() == LoadParams.default)
     assert(params("--preset", "paper") == LoadParams.paper)
@@ -30,7 +33,7 @@ class CliSpec extends AnyFlatSpec {
 
   it should "refuse bad flags with one line naming the flag" in {
     def refused(args: Seq[String], word: String): Unit = {
-      val e = intercept[InputError](params(args: _*))
+      val e = intercept[InputError](compiled(args: _*))
       assert(e.getMessage.contains(word) && !e.getMessage.contains("\n"), e.getMessage)
     }
     refused(Seq("--frobnicate", "1"), "--frobnicate")
@@ -65,7 +68,7 @@ class CliSpec extends AnyFlatSpec {
 
   it should "refuse a robot's bad ranges, tip or file with one line naming it" in {
     def refused(args: Seq[String], words: String*): Unit = {
-      val e = intercept[InputError](params(args: _*))
+      val e = intercept[InputError](compiled(args: _*))
       assert(words.forall(e.getMessage.contains) && !e.getMessage.contains("\n"), e.getMessage)
     }
     val ur5 = Seq("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0")
@@ -185,21 +188,19 @@ class CliSpec extends AnyFlatSpec {
       )
     )
     val fewer = scala.util.Try(
-      Compiler.arm(
-        params(
-          "--robot",
-          "golden/robots/ur5_robot.urdf",
-          "--tip",
-          "tool0",
-          "--max-acceleration",
-          "15",
-          "--max-multipliers",
-          "66",
-          "--clocks-per-sample",
-          (banked.schedule.clocksPerSample - 1).toString,
-          "--schedule.storage",
-          "memory"
-        )
+      compiled(
+        "--robot",
+        "golden/robots/ur5_robot.urdf",
+        "--tip",
+        "tool0",
+        "--max-acceleration",
+        "15",
+        "--max-multipliers",
+        "66",
+        "--clocks-per-sample",
+        (banked.schedule.clocksPerSample - 1).toString,
+        "--schedule.storage",
+        "memory"
       )
     )
     assert(

@@ -58,7 +58,7 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
    * input codes.
    */
   private def jointSamples(p: LoadParams, rng: Random): IndexedSeq[ArmSample] = {
-    val tie = 1 + math.scalb(1.0, -p.velocityFracBits - 1)
+    val tie = 1 + math.scalb(1.0, -p.datapath.velocityFracBits - 1)
     Golden.all.flatMap(_.samples).toIndexedSeq ++ IndexedSeq.fill(200)(
       LoadChecks.outOfRangeSample(p.robot, rng)
     ) ++ IndexedSeq(

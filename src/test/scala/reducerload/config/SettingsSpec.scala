@@ -49,12 +49,14 @@ class SettingsSpec extends AnyFlatSpec {
         angleGuardBits = 4,
         iterationsPerStage = 2
       ),
-      velocityFracBits = 14,
-      accelerationFracBits = 15,
-      constantFracBits = 18,
-      internalFracBits = 16,
-      outputFracBits = 12,
-      multiplierLatency = 2
+      datapath = DatapathParams(
+        velocityFracBits = 14,
+        accelerationFracBits = 15,
+        constantFracBits = 18,
+        internalFracBits = 16,
+        outputFracBits = 12,
+        multiplierLatency = 2
+      )
     )
     assert(parse(Settings.render(p, Seq("x"))) == p)
   }

@@ -1,5 +1,6 @@
 package reducerload.dynamics
 
+import reducerload.config.DatapathParams
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.arm.{ArmModel, ArmParams, ArmSample}
 import reducerload.cordic.CordicParams
@@ -88,11 +89,13 @@ class DynamicsSpec extends AnyFlatSpec {
         vmax,
         amax,
         cordic = cordic,
-        velocityFracBits = 16,
-        accelerationFracBits = 14,
-        constantFracBits = 18,
-        internalFracBits = 18,
-        outputFracBits = 16
+        datapath = DatapathParams(
+          velocityFracBits = 16,
+          accelerationFracBits = 14,
+          constantFracBits = 18,
+          internalFracBits = 18,
+          outputFracBits = 16
+        )
       )
       val model = new ArmModel(p)
       val worst = (0 until 40).map { _ =>

@@ -198,13 +198,7 @@ class TargetErrorSpec extends AnyFlatSpec {
       val fewer =
         TargetFit.fitted(p, Seq.fill(p.chain.size)(Double.MaxValue)) // any bits meet this: the fewest allowed
       val oneLess = scala.util.Try(
-        p.copy(
-          velocityFracBits = p.velocityFracBits - 1,
-          accelerationFracBits = p.accelerationFracBits - 1,
-          constantFracBits = p.constantFracBits - 1,
-          internalFracBits = p.internalFracBits - 1,
-          outputFracBits = p.outputFracBits - 1
-        )
+        p.copy(datapath = p.datapath.shifted(-1))
       )
       oneLess.foreach(q =>
         assert(
@@ -214,11 +208,13 @@ class TargetErrorSpec extends AnyFlatSpec {
       )
       // No kind of value can lose a bit on its own either (the fit narrows each kind after the common shift).
       val kinds = Seq[(String, ArmParams => ArmParams)](
-        "velocity" -> (q => q.copy(velocityFracBits = q.velocityFracBits - 1)),
-        "acceleration" -> (q => q.copy(accelerationFracBits = q.accelerationFracBits - 1)),
-        "constant" -> (q => q.copy(constantFracBits = q.constantFracBits - 1)),
-        "internal" -> (q => q.copy(internalFracBits = q.internalFracBits - 1)),
-        "output" -> (q => q.copy(outputFracBits = q.outputFracBits - 1))
+        "velocity" -> (q => q.copy(datapath = q.datapath.copy(velocityFracBits = q.velocityFracBits - 1))),
+        "acceleration" -> (q =>
+          q.copy(datapath = q.datapath.copy(accelerationFracBits = q.accelerationFracBits - 1))
+        ),
+        "constant" -> (q => q.copy(datapath = q.datapath.copy(constantFracBits = q.constantFracBits - 1))),
+        "internal" -> (q => q.copy(datapath = q.datapath.copy(internalFracBits = q.internalFracBits - 1))),
+        "output" -> (q => q.copy(datapath = q.datapath.copy(outputFracBits = q.outputFracBits - 1)))
       )
       // (With per-node caps chosen, the constants' and products' minimality is each node's, checked below.)
       kinds
