@@ -2,7 +2,8 @@ package reducerload.app
 
 import com.typesafe.config.{ConfigRenderOptions, ConfigValueFactory}
 import chisel3.Data
-import reducerload.arm.{ArmIO, ArmParams, MonitoredArmIO}
+import reducerload.arm.{ArmIO, ArmParams}
+import reducerload.monitor.MonitoredArmIO
 import reducerload.fixedpoint.FixedFormat
 import reducerload.monitor.{JointField, MonitorParams}
 import reducerload.sim.rtl.{ModulePort, ModulePorts, PortDirection}
@@ -11,8 +12,8 @@ import scala.jdk.CollectionConverters._
 
 /**
  * The report of an arm emission (every joint by RNEA), computed from the parameters that built the hardware;
- * with `monitor`, of the arm with its reducer monitor ([[reducerload.arm.MonitoredArm]]): the host ports, the
- * monitor's derivation, 20-year proof and register map too.
+ * with `monitor`, of the arm with its reducer monitor ([[reducerload.monitor.MonitoredArm]]): the host ports,
+ * the monitor's derivation, 20-year proof and register map too.
  */
 final case class ArmReport(
     p: ArmParams,
@@ -20,7 +21,8 @@ final case class ArmReport(
     command: String,
     estimate: Option[Estimate] = None,
     monitor: Option[MonitorParams] = None
-) {
+) extends EmissionReport {
+  def latency: Int = p.latency
   private val n = p.numerics
   private val joints = p.chain.joints
   private val counts = p.graph.counts

@@ -140,7 +140,7 @@ object ArmSweep {
       val config = ArmGolden.of(robot).head.config
       // Fitted with its own schedule: per-node fraction-bit caps are kept only where they make that schedule cheaper.
       val points = schedules.map { case (point, request, target) =>
-        point -> reducerload.arm.ArmConfig(config.copy(targetError = target, schedule = request))
+        point -> reducerload.compiler.Compiler.arm(config.copy(targetError = target, schedule = request))
       }
       // The errors depend on the numerics only: measured once per distinct fit.
       def numericsOf(p: ArmParams) = (p.numerics, p.fracBitLimits)

@@ -1,8 +1,9 @@
 package reducerload.app
 
 import com.typesafe.config.{Config, ConfigFactory}
+import reducerload.compiler.{Compiled, Compiler}
 import reducerload.config.Settings
-import reducerload.load.LoadParams
+import reducerload.config.LoadParams
 import reducerload.util.InputError
 
 import java.nio.file.{Files, Path, Paths}
@@ -23,11 +24,30 @@ final case class Cli(
 
   def path(name: String): Option[Path] = options.get(name).map(Paths.get(_))
 
-  /** The design parameters: a preset or a complete config file, then flag overrides. */
-  def params: LoadParams = {
+  /**
+   * The design parameters: a preset or a complete config file, then flag overrides. Only the settings are
+   * checked here; [[compiled]] builds the design.
+   */
+  def params: LoadParams = Settings.toParams(configuration, source)
+
+  /** The design `params` describe, compiled once; a refusal names [[source]]. */
+  def compiled: Compiled = Compiler.compile(params, source)
+
+  /** Where the configuration comes from, for error messages. */
+  def source: String = {
+    val base = get("config").getOrElse(s"preset ${presetName}")
+    if (overrides.isEmpty) base else s"$base with command-line overrides"
+  }
+
+  // Every joint of a robot starts from the arm preset, unless told otherwise.
+  private def presetName: String =
+    get("preset").getOrElse(if (overrides.exists(_._1 == "robot.source")) "arm" else "default")
+
+  /** The merged HOCON: the preset's or the file's, then each override. */
+  private def configuration: Config = {
     if (has("preset") && has("config"))
       throw new InputError("command line: --preset and --config are exclusive (a config file is complete)")
-    val (base, source) = get("config") match {
+    val base = get("config") match {
       case Some(file) =>
         val p = Paths.get(file)
         if (!Files.isRegularFile(p)) throw new InputError(s"$file: no such configuration file")
@@ -37,24 +57,23 @@ final case class Cli(
               s"$file: not a valid HOCON/JSON configuration: ${e.getMessage.split('\n').head}"
             )
         }.get
-        (parsed, file)
+        parsed
       case None =>
-        // Every joint of a robot starts from the arm preset, unless told otherwise.
-        val name = get("preset").getOrElse(if (overrides.exists(_._1 == "robot.source")) "arm" else "default")
+        val name = presetName
         val preset = LoadParams.allPresets.getOrElse(
           name,
           throw new InputError(
             s"command line: --preset '$name' is not a preset (${LoadParams.allPresets.keys.toSeq.sorted.mkString(", ")})"
           )
         )
-        (ConfigFactory.parseString(Settings.render(preset, Nil)), s"preset $name")
+        ConfigFactory.parseString(Settings.render(preset, Nil))
     }
     val merged = Cli.robotDefaults(overrides).foldLeft(base: Config) { case (c, (key, value)) =>
       val setting = Settings.byKey(key)
       val text = setting match {
         case _: reducerload.config.Setting.PerJoint if value.contains(",") && !value.trim.startsWith("[") =>
           s"[$value]"
-        case _: reducerload.config.Setting.Choice => "\"" + value.replace("\"", "") + "\""
+        case _: reducerload.config.Setting.Choice[_] => "\"" + value.replace("\"", "") + "\""
         case _: reducerload.config.Setting.Text =>
           com.typesafe.config.ConfigValueFactory.fromAnyRef(value).render()
         case _ => value
@@ -65,8 +84,7 @@ final case class Cli(
       setting.read(one, s"command line --$key")
       one.withFallback(c)
     }
-    val where = if (overrides.isEmpty) source else s"$source with command-line overrides"
-    Settings.toParams(merged.resolve(), where)
+    merged.resolve()
   }
 }
 
@@ -82,7 +100,7 @@ object Cli {
     overrides.collectFirst { case ("robot.source", v) => v } match {
       case None => overrides
       case Some(robot) =>
-        val planar = robot == reducerload.load.RobotParams.planar3
+        val planar = robot == reducerload.robot.RobotParams.planar3
         if (!planar && !keys("robot.max-acceleration"))
           throw new InputError(
             s"command line: --robot $robot: declare --max-acceleration A or [a1, ..., aN] in rad/s^2 (a URDF has no acceleration limits)"

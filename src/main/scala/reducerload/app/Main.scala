@@ -1,54 +1,134 @@
 package reducerload.app
 
 import reducerload.config.Settings
-import reducerload.load.LoadParams
+import reducerload.config.LoadParams
 import reducerload.util.InputError
 
 /**
  * `./sbt "run [command] [options]"`. Commands: emit (default), simulate, help. User mistakes end with one
  * line `error: ...` and exit status 2; nothing partial is written.
  */
-object Main {
-  val commands: Seq[(String, String, Seq[Opt], Seq[String])] = Seq(
-    ("emit", "emit SystemVerilog, report.md, report.json and config.conf", Emit.options, Emit.flags),
-    (
-      "simulate",
-      "stream a trajectory CSV through the RTL on Verilator and compare with the reference",
-      Simulate.options,
-      Simulate.flags
-    ),
-    (
-      "trajectory",
-      "write a seeded random trajectory CSV within the design's declared ranges (for simulate benchmarks)",
-      Trajectory.options,
-      Nil
-    ),
-    (
-      "sweep",
-      "design-space benchmark: error, latency, resources (and Fmax) over a grid; CSV, markdown, plots",
-      Sweep.options,
-      Sweep.flags
-    ),
-    (
-      "soak",
-      "stream many seeded random samples (bubbles, resets, out-of-range inputs) through the RTL, check each against the model",
-      Soak.options,
-      Nil
-    ),
-    (
-      "config",
-      "print the effective configuration as a complete HOCON file (a starting point for --config)",
-      Nil,
-      Nil
-    ),
-    ("settings-table", "print the README's settings table (markdown)", Nil, Nil),
-    (
-      "presets-table",
-      "print the README's preset table (markdown; measures each preset on the golden traces)",
-      Nil,
-      Nil
-    )
+/**
+ * A command word of `./sbt "run ..."`: its help line, its own options and switches, whether it takes the
+ * design options and settings flags, and what it does with the parsed command line.
+ */
+sealed abstract class Command(
+    val name: String,
+    val help: String,
+    val options: Seq[Opt] = Nil,
+    val flags: Seq[String] = Nil,
+    val flagHelp: Map[String, String] = Map.empty,
+    val design: Boolean = true
+) {
+  def run(cli: Cli, commandLine: String): Unit
+}
+
+object Command {
+  case object EmitDesign
+      extends Command(
+        "emit",
+        "emit SystemVerilog, report.md, report.json and config.conf",
+        Emit.options,
+        Emit.flags,
+        Simulate.flagHelp ++ Emit.flagHelp
+      ) {
+    def run(cli: Cli, commandLine: String): Unit = Emit.run(cli, commandLine)
+  }
+
+  case object SimulateTrajectory
+      extends Command(
+        "simulate",
+        "stream a trajectory CSV through the RTL on Verilator and compare with the reference",
+        Simulate.options,
+        Simulate.flags,
+        Simulate.flagHelp ++ Emit.flagHelp
+      ) {
+    def run(cli: Cli, commandLine: String): Unit = Simulate.run(cli)
+  }
+
+  case object WriteTrajectory
+      extends Command(
+        "trajectory",
+        "write a seeded random trajectory CSV within the design's declared ranges (for simulate benchmarks)",
+        Trajectory.options
+      ) {
+    def run(cli: Cli, commandLine: String): Unit = Trajectory.run(cli)
+  }
+
+  case object SweepDesigns
+      extends Command(
+        "sweep",
+        "design-space benchmark: error, latency, resources (and Fmax) over a grid; CSV, markdown, plots",
+        Sweep.options,
+        Sweep.flags,
+        Sweep.flagHelp,
+        design = false
+      ) {
+    def run(cli: Cli, commandLine: String): Unit = Sweep.run(cli)
+  }
+
+  case object SoakRtl
+      extends Command(
+        "soak",
+        "stream many seeded random samples (bubbles, resets, out-of-range inputs) through the RTL, check each against the model",
+        Soak.options
+      ) {
+    def run(cli: Cli, commandLine: String): Unit = Soak.main(cli)
+  }
+
+  case object PrintConfig
+      extends Command(
+        "config",
+        "print the effective configuration as a complete HOCON file (a starting point for --config)"
+      ) {
+    def run(cli: Cli, commandLine: String): Unit = {
+      val header =
+        if (cli.overrides.isEmpty && !cli.has("config"))
+          Main.presetHeader(cli.get("preset").getOrElse("default"))
+        else Seq("Configuration of the reducer-load generator, from:", s"  $commandLine")
+      // Compiled, so that a configuration that cannot be built is refused here too.
+      print(Settings.render(cli.compiled.config, header))
+    }
+  }
+
+  case object SettingsTable
+      extends Command("settings-table", "print the README's settings table (markdown)", design = false) {
+    def run(cli: Cli, commandLine: String): Unit = println(Settings.markdownTable)
+  }
+
+  case object ConfigurationDoc
+      extends Command(
+        "configuration-doc",
+        "print docs/configuration.md, the settings reference (markdown)",
+        design = false
+      ) {
+    def run(cli: Cli, commandLine: String): Unit = print(reducerload.config.SettingsDoc.markdown)
+  }
+
+  case object PresetsTable
+      extends Command(
+        "presets-table",
+        "print the README's preset table (markdown; measures each preset on the golden traces)",
+        design = false
+      ) {
+    def run(cli: Cli, commandLine: String): Unit = println(reducerload.app.PresetsTable.markdown)
+  }
+
+  /** In the order of --help. */
+  val all: Seq[Command] = Seq(
+    EmitDesign,
+    SimulateTrajectory,
+    WriteTrajectory,
+    SweepDesigns,
+    SoakRtl,
+    PrintConfig,
+    SettingsTable,
+    ConfigurationDoc,
+    PresetsTable
   )
+}
+
+object Main {
 
   /** The header of a shipped preset file: how to regenerate it. */
   def presetHeader(name: String): Seq[String] = Seq(
@@ -68,18 +148,14 @@ object Main {
       "usage: ./sbt \"run [command] [options]\"",
       "",
       "commands:"
-    ) ++ commands.map { case (n, h, _, _) => f"  $n%-15s $h" } ++ Seq(f"  ${"help"}%-15s this text", "") ++
-      commands.filter { case (_, _, opts, flags) => opts.nonEmpty || flags.nonEmpty }.flatMap {
-        case (n, _, opts, flags) =>
-          s"$n options:" +: (opts.map(o =>
-            f"  ${s"--${o.name} ${o.arg}"}%-34s ${o.help}" + (if (o.default.nonEmpty)
-                                                                s" (default ${o.default})"
-                                                              else "")
-          ) ++
-            flags.map(f =>
-              f"  ${"--" + f}%-34s ${(if (n == "sweep") Sweep.flagHelp
-                                      else Simulate.flagHelp ++ Emit.flagHelp).getOrElse(f, "")}"
-            )) :+ ""
+    ) ++ Command.all.map(c => f"  ${c.name}%-15s ${c.help}") ++ Seq(f"  ${"help"}%-15s this text", "") ++
+      Command.all.filter(c => c.options.nonEmpty || c.flags.nonEmpty).flatMap { c =>
+        s"${c.name} options:" +: (c.options.map(o =>
+          f"  ${s"--${o.name} ${o.arg}"}%-34s ${o.help}" + (if (o.default.nonEmpty)
+                                                              s" (default ${o.default})"
+                                                            else "")
+        ) ++
+          c.flags.map(f => f"  ${"--" + f}%-34s ${c.flagHelp.getOrElse(f, "")}")) :+ ""
       } ++ Seq("design options (emit, simulate, soak, config):") ++ Cli.designOptions.map(o =>
         f"  ${s"--${o.name} ${o.arg}"}%-34s ${o.help}"
       ) ++
@@ -96,29 +172,15 @@ object Main {
     val commandLine =
       "./sbt \"run " + (command +: rest.map(a => if (a.exists(_.isWhitespace)) s"'$a'" else a))
         .mkString(" ") + "\""
-    command match {
-      case "help"       => println(help)
-      case "emit"       => Emit.run(Cli.parse("emit", rest, Emit.options, Emit.flags), commandLine)
-      case "simulate"   => Simulate.run(Cli.parse("simulate", rest, Simulate.options, Simulate.flags))
-      case "trajectory" => Trajectory.run(Cli.parse("trajectory", rest, Trajectory.options))
-      case "sweep"      => Sweep.run(Cli.parse("sweep", rest, Sweep.options, Sweep.flags, design = false))
-      case "soak"       => Soak.main(Cli.parse("soak", rest, Soak.options))
-      case "settings-table" =>
-        Cli.parse("settings-table", rest, Nil, design = false); println(Settings.markdownTable)
-      case "presets-table" =>
-        Cli.parse("presets-table", rest, Nil, design = false); println(PresetsTable.markdown)
-      case "config" =>
-        val cli = Cli.parse("config", rest, Nil)
-        val header =
-          if (cli.overrides.isEmpty && !cli.has("config"))
-            presetHeader(cli.get("preset").getOrElse("default"))
-          else Seq("Configuration of the reducer-load generator, from:", s"  $commandLine")
-        print(Settings.render(cli.params, header))
-      case other =>
-        throw new InputError(
-          s"command line: unknown command '$other' (commands: ${(commands.map(_._1) :+ "help").mkString(", ")})"
-        )
-    }
+    if (command == "help") println(help)
+    else
+      Command.all.find(_.name == command) match {
+        case Some(c) => c.run(Cli.parse(c.name, rest, c.options, c.flags, c.design), commandLine)
+        case None =>
+          throw new InputError(
+            s"command line: unknown command '$command' (commands: ${(Command.all.map(_.name) :+ "help").mkString(", ")})"
+          )
+      }
   }
 
   def main(args: Array[String]): Unit = {

@@ -1,7 +1,8 @@
 package reducerload.app
 
 import reducerload.cordic.{CordicArchitecture, CordicParams}
-import reducerload.load.LoadParams
+import reducerload.compiler.{Compiled, Compiler}
+import reducerload.config.LoadParams
 
 /**
  * The README's preset table, made from the presets themselves: architecture, rate, latency, the derived error
@@ -21,8 +22,8 @@ object PresetsTable {
     classic + (table ++ shiftAdd ++ residual).mkString(" + ") + s", ${c.angleBits} / ${c.outputBits} bits"
   }
 
-  def rate(p: LoadParams): String = {
-    val ii = p.arm.schedule.clocksPerSample
+  def rate(c: Compiled): String = {
+    val ii = c.arm.schedule.clocksPerSample
     if (ii == 1) "every clock" else s"every $ii clocks"
   }
 
@@ -40,15 +41,16 @@ object PresetsTable {
 
   def markdown: String = {
     val rows = LoadParams.presets.toSeq.map { case (name, p) =>
+      val c = Compiler.compile(p, s"preset $name")
       Seq(
         s"`$name`",
         p.model.name,
         cordicSummary(p.cordic),
-        p.arm.schedule.cordicUnits.toString,
-        rate(p),
-        s"${p.arm.latency} cycles",
-        f"${p.errorBound}%.2e N·m",
-        f"${Sweep.goldenError(p)}%.2e N·m"
+        c.arm.schedule.cordicUnits.toString,
+        rate(c),
+        s"${c.arm.latency} cycles",
+        f"${c.arm.errorBound}%.2e N·m",
+        f"${Sweep.goldenError(c)}%.2e N·m"
       )
     }
     (header +: header.map(_ => "---") +: rows).map(_.mkString("| ", " | ", " |")).mkString("\n")

@@ -1,8 +1,8 @@
 package reducerload.app
 
-import reducerload.arm.{ArmConfig, ArmParams, ArmSample}
-import reducerload.load.LoadParams
-import reducerload.monitor.{MonitorConfig, MonitorParams, MonitorSummary}
+import reducerload.arm.ArmSample
+import reducerload.compiler.Compiled
+import reducerload.monitor.{MonitorConfig, MonitorSummary}
 import reducerload.sim.replay._
 import reducerload.sim.rtl.{CompiledHarness, VerilatorHarness}
 import reducerload.trace.TraceCsv
@@ -89,18 +89,14 @@ object Simulate {
   }
 
   /**
-   * The design `params` describe: the joint-3 closed form, or every joint of an arm (model rnea), with its
-   * reducer monitor when enabled (the emitted top's host inputs are then held at 0).
+   * The compiled design: the joint-3 closed form, or every joint of an arm (model rnea), with its reducer
+   * monitor when enabled (the emitted top's host inputs are then held at 0).
    */
-  def design(params: LoadParams): ReplayDesign[_, _] =
-    if (params.model.closedForm) new LoadReplay(params)
-    else {
-      val arm = ArmConfig(params)
-      new ArmReplay(arm, Option.when(params.monitor.enabled)(MonitorConfig(arm, params.monitor)))
-    }
+  def design(c: Compiled): ReplayDesign[_, _] =
+    if (c.config.model.closedForm) new LoadReplay(c.config, c.arm) else new ArmReplay(c.arm, c.monitor)
 
   /** Every check of the command line and the input file, before anything runs. */
-  def prepare(cli: Cli): SimulateRequest[_, _] = {
+  def prepare(cli: Cli, compiled: Compiled): SimulateRequest[_, _] = {
     val input = required(cli, "input")
     val output = required(cli, "output")
     val engineChoice = engine(cli)
@@ -108,8 +104,7 @@ object Simulate {
     val parent = output.toAbsolutePath.normalize.getParent
     if (parent != null && !Files.isDirectory(parent))
       throw new InputError(s"$output: directory $parent does not exist")
-    val params = cli.params
-    val d = design(params)
+    val d = design(compiled)
     val table = TraceCsv.read(input, d.columns)
     // The values as they are when the header is exactly the columns (the usual case): no copy.
     // Otherwise the design's columns picked out, still flat (no object per row).
@@ -156,7 +151,7 @@ object Simulate {
       throw new InputError(
         "simulate needs Verilator on the PATH (Debian: apt-get install verilator), or --engine model"
       )
-    SimulateRequest(params, d, rows, output, engineChoice, jobCount)
+    SimulateRequest(compiled, d, rows, output, engineChoice, jobCount)
   }
 
   /**
@@ -166,7 +161,7 @@ object Simulate {
   def harness(request: SimulateRequest[_, _], elaborated: Option[Future[Emission]]): CompiledHarness = {
     val emission = elaborated
       .map(Await.result(_, Duration.Inf))
-      .getOrElse(Emit.emit(request.params, Top.Load, emitCommand))
+      .getOrElse(Emit.emit(request.compiled, Top.Load, emitCommand))
     val start = System.nanoTime()
     val h = VerilatorHarness.compile(emission.verilog, emission.topModule, request.design.ports)
     val seconds = (System.nanoTime() - start) / 1e9
@@ -181,12 +176,13 @@ object Simulate {
   def run(cli: Cli): Unit = {
     // Elaborate while the trajectory is read and checked (seconds each, on different cores); only
     // in memory: the harness is built after every check. A bad command line fails here the same way.
+    val compiled = cli.compiled
     val elaborated =
       if (cli.get("engine").forall(_ == ReplayEngine.Rtl.name))
-        Some(Future(Emit.emit(cli.params, Top.Load, emitCommand))(ExecutionContext.global))
+        Some(Future(Emit.emit(compiled, Top.Load, emitCommand))(ExecutionContext.global))
       else None
     val readStart = System.nanoTime()
-    val request = prepare(cli)
+    val request = prepare(cli, compiled)
     println(
       f"input: ${request.rows.size} rows read and checked in ${(System.nanoTime() - readStart) / 1e9}%.1f s"
     )
@@ -198,11 +194,10 @@ object Simulate {
       val parent = path.toAbsolutePath.normalize.getParent
       if (parent != null && !Files.isDirectory(parent))
         throw new InputError(s"$path: directory $parent does not exist")
-      val arm = ArmConfig(request.params)
-      (path, arm, MonitorConfig(arm, request.params.monitor))
+      (path, compiled)
     }
     execute(request, elaborated)
-    monitor.foreach { case (path, arm, mp) => writeSummary(path, request, arm, mp) }
+    monitor.foreach { case (path, c) => writeSummary(path, request, c) }
   }
 
   /**
@@ -213,16 +208,17 @@ object Simulate {
   private def writeSummary(
       path: Path,
       request: SimulateRequest[_, _],
-      arm: ArmParams,
-      mp: MonitorParams
+      c: Compiled
   ): Unit = {
+    val arm = c.arm
+    val mp = c.monitor.getOrElse(MonitorConfig(arm, c.config.monitor))
     val n = arm.chain.size
     val samples = (0 until request.rows.size).map { i =>
       val r = request.rows.row(i)
       ArmSample(r.slice(0, n), r.slice(n, 2 * n), r.slice(2 * n, 3 * n))
     }
     val summary =
-      MonitorSummary.fromTrajectory(arm, mp, samples, MonitorConfig.rated(arm, request.params.monitor))
+      MonitorSummary.fromTrajectory(arm, mp, samples, MonitorConfig.rated(arm, c.config.monitor))
     writeAtomically(path)(_.write(summary.json))
     println(
       s"wrote $path: reducer monitor summary of ${samples.size} samples, ${n} joints (exponent ${mp.lifeExponents.distinct.mkString("/")})"

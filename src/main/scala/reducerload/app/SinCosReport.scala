@@ -14,7 +14,8 @@ final case class SinCosReport(
     moduleName: String,
     command: String,
     estimate: Option[Estimate] = None
-) {
+) extends EmissionReport {
+  def latency: Int = c.latency
   val throughput: String = "one angle per clock"
 
   private val io = new CordicSinCosIO(c)

@@ -112,11 +112,11 @@ object Soak {
     val resets = number("resets", 5L).toInt
     if (!reducerload.sim.rtl.VerilatorHarness.available)
       throw new InputError("soak needs Verilator on the PATH (Debian: apt-get install verilator)")
-    val p = cli.params
+    val c = cli.compiled
     println(
       s"soak: $samples samples, seed $seed, $resets resets, bubbles 1 in 8, 1 in 16 samples beyond the declared ranges"
     )
-    val r = run(p.arm, samples, seed, resets)
+    val r = run(c.arm, samples, seed, resets)
     println(
       f"soak: ${r.checked} outputs checked bit-exact against the model over ${r.cycles} cycles, ${r.mismatches} mismatches, " +
         f"${r.samples / r.seconds}%.0f samples/s (Verilator)"

@@ -2,6 +2,9 @@ package reducerload.app
 
 import circt.stage.ChiselStage
 import reducerload.cordic.{CordicArchitecture, CordicParams}
+import reducerload.arm.LoadReference
+import reducerload.compiler.{Compiled, Compiler}
+import reducerload.config.{DatapathParams, LoadParams}
 import reducerload.load._
 import reducerload.trace.TraceCsv
 import reducerload.util.InputError
@@ -47,11 +50,13 @@ object Sweep {
         architecture = arch,
         tableBits = table
       ),
-      velocityFracBits = frac,
-      accelerationFracBits = frac,
-      constantFracBits = frac + 4,
-      internalFracBits = frac,
-      outputFracBits = frac
+      datapath = DatapathParams(
+        velocityFracBits = frac,
+        accelerationFracBits = frac,
+        constantFracBits = frac + 4,
+        internalFracBits = frac,
+        outputFracBits = frac
+      )
     )
     val classic = Seq((16, 10, 12), (20, 16, 15), (23, 20, 17), (26, 26, 20)).map { case (b, n, f) =>
       s"classic-b$b-n$n" -> point(CordicArchitecture.Classic, b, n, f)
@@ -73,14 +78,15 @@ object Sweep {
     }
   }
 
-  final case class Row(name: String, p: LoadParams, maxError: Double, estimate: Estimate) {
-    def latency: Int = p.arm.latency
-    private def clocksPerSample = p.arm.schedule.clocksPerSample
+  final case class Row(name: String, c: Compiled, maxError: Double, estimate: Estimate) {
+    private def p = c.config
+    def latency: Int = c.arm.latency
+    private def clocksPerSample = c.arm.schedule.clocksPerSample
     def cells: Seq[String] = {
       val fmax = estimate.fmaxEcp5Mhz
       val arch =
         p.cordic.architecture.name + (if (p.cordic.tableBits > 0) s"+table${p.cordic.tableBits}" else "") +
-          (if (p.arm.schedule.cordicUnits < p.arm.graph.angles.size) "+shared" else "")
+          (if (c.arm.schedule.cordicUnits < c.arm.graph.angles.size) "+shared" else "")
       Seq(
         name,
         p.model.name,
@@ -89,7 +95,7 @@ object Sweep {
         p.cordic.iterations.toString,
         p.cordic.iterationsPerStage.toString,
         f"$maxError%.3e",
-        f"${p.errorBound}%.3e",
+        f"${c.arm.errorBound}%.3e",
         latency.toString,
         fmax.map(f => f"${latency * 1000 / f}%.1f").getOrElse(""),
         fmax.map(f => f"${f * 1e6 / clocksPerSample}%.3g").getOrElse(""),
@@ -121,11 +127,12 @@ object Sweep {
   )
 
   /** Max |model - reference| over every golden trace (reference: the configuration's own formula). */
-  def goldenError(p: LoadParams): Double = {
+  def goldenError(c: Compiled): Double = {
+    val p = c.config
     val files =
       Files.list(Paths.get("golden")).iterator().asScala.filter(_.toString.endsWith(".csv")).toSeq.sorted
     if (files.isEmpty) throw new InputError("golden/: no traces (run from the repository root)")
-    val m = new reducerload.arm.ArmModel(p.arm)
+    val m = new reducerload.arm.ArmModel(c.arm)
     files.map { f =>
       val t = TraceCsv.read(f, Joint3Columns.names)
       val cols = Joint3Columns.names.map(t.column)
@@ -185,18 +192,20 @@ object Sweep {
     // and the golden error run here in turn; the estimates (external processes) run `jobs` at once,
     // after the first one alone has set up the tools' virtual environments.
     val distinct = grid.map(_._2).distinct
+    val compiled = distinct.map(p => p -> Compiler.compile(p, "sweep grid")).toMap
     val designs = distinct.zipWithIndex.map { case (p, i) =>
+      val c = compiled(p)
       println(
         s"sweep: elaborating ${i + 1} of ${distinct.size}: ${grid.filter(_._2 == p).map(_._1).mkString(" = ")}"
       )
       (
         p,
-        p.arm.moduleName,
+        c.arm.moduleName,
         Emit.withBlackBoxes(
           ChiselStage
-            .emitSystemVerilog(new reducerload.arm.ArmDatapath(p.arm), Array.empty[String], Emit.firtoolOpts)
+            .emitSystemVerilog(new reducerload.arm.ArmDatapath(c.arm), Array.empty[String], Emit.firtoolOpts)
         ),
-        goldenError(p)
+        goldenError(c)
       )
     }
     val pool = java.util.concurrent.Executors.newFixedThreadPool(jobs)
@@ -219,7 +228,7 @@ object Sweep {
       } finally pool.shutdown()
     val rows = grid.map { case (name, p) =>
       val (error, estimate) = measured(p)
-      val row = Row(name, p, error, estimate)
+      val row = Row(name, compiled(p), error, estimate)
       println(row.cells.mkString("sweep: ", ", ", ""))
       row
     }

@@ -39,7 +39,7 @@ object Trajectory {
       cli.path("output").getOrElse(throw new InputError("command line: trajectory needs --output FILE"))
     val samples = number[Int](cli, "samples", 1000000, _.toInt, _ >= 1, "an integer >= 1")
     val seed = number[Long](cli, "seed", 1L, _.toLong, _ => true, "an integer")
-    val design = Simulate.design(cli.params)
+    val design = Simulate.design(cli.compiled)
     val limit = Array.tabulate(design.columns.size)(c => design.limits.collectFirst { case (`c`, l) => l })
     val rng = new Random(seed)
     Simulate.writeAtomically(output) { out =>

@@ -1,7 +1,7 @@
 package reducerload.arm
 
-import reducerload.load.{LoadParams, RobotParams}
-import reducerload.robot.SerialChain
+import reducerload.config.LoadParams
+import reducerload.robot.{RobotParams, SerialChain}
 import reducerload.trace.TraceCsv
 
 import java.nio.file.{Files, Paths}
@@ -38,7 +38,7 @@ object ArmGolden {
         tip = robot.get("tip").filter(_ != "-").getOrElse("")
       )
     )
-    val chain = ArmConfig.chain(config)
+    val chain = config.robot.chain
     val n = chain.size
     val t = TraceCsv.read(path, ArmTrajectory.columns(n) ++ (1 to n).map(j => s"tau$j"))
     val cols = ArmTrajectory.columns(n).map(t.column)

@@ -37,20 +37,8 @@ object LoadModel {
 
 /**
  * The joint-3 trace columns: angles t1..t3 (rad), velocities d1..d3 (rad/s), accelerations dd1..dd3
- * (rad/s^2); a row is an [[reducerload.arm.ArmSample]] of planar3.
+ * (rad/s^2); a row is one sample of planar3.
  */
 object Joint3Columns {
   val names: Seq[String] = Seq("t1", "t2", "t3", "d1", "d2", "d3", "dd1", "dd2", "dd3")
-}
-
-/** Double-precision reference of both closed forms: [[Joint3Load]] on doubles. */
-object LoadReference {
-  def torque(r: RobotParams, model: LoadModel, s: reducerload.arm.ArmSample): Double =
-    Joint3Load.torque[Double](
-      r,
-      model,
-      (fn, a) => reducerload.graph.TrigFn.reference(fn, a.radians(s.q)),
-      s.qd,
-      s.qdd
-    )
 }

@@ -1,6 +1,7 @@
 package reducerload.monitor
 
 import reducerload.arm.ArmParams
+import reducerload.config.MonitorSettings
 import reducerload.fixedpoint.FixedFormat
 
 /**

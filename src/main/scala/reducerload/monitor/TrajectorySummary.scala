@@ -1,6 +1,6 @@
 package reducerload.monitor
 
-import reducerload.arm.{ArmModel, ArmParams, ArmSample, MonitoredArm}
+import reducerload.arm.{ArmModel, ArmParams, ArmSample}
 import reducerload.dynamics.Rnea
 import reducerload.graph.SampleCodes
 

@@ -1,7 +1,5 @@
 package reducerload.robot
 
-import reducerload.load.RobotParams
-
 /**
  * The paper's planar arm as a serial chain: three revolute joints about z, link i along its joint's x axis, a
  * point mass m3 at the end of link 3 and no other body, gravity along +x (so t1 = 0 points link 1 down and

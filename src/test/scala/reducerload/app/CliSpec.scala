@@ -1,8 +1,11 @@
 package reducerload.app
 
+import reducerload.testutil.CompiledParams
 import reducerload.testutil.Scratch
 import org.scalatest.flatspec.AnyFlatSpec
-import reducerload.load.{LoadModel, LoadParams}
+import reducerload.compiler.Compiler
+import reducerload.config.LoadParams
+import reducerload.load.LoadModel
 import reducerload.util.InputError
 
 import java.nio.file.Files
@@ -11,6 +14,9 @@ class CliSpec extends AnyFlatSpec {
   behavior of "the command line"
 
   private def params(args: String*) = Cli.parse("emit", args, Emit.options).params
+
+  /** Parsing checks the settings; compiling the design checks the rest (robot file, ranges, schedule). */
+  private def compiled(args: String*) = Cli.parse("emit", args, Emit.options).compiled
 
   it should "start from the default preset and apply flag overrides" in {
     assert(params() == LoadParams.default)
@@ -27,7 +33,7 @@ class CliSpec extends AnyFlatSpec {
 
   it should "refuse bad flags with one line naming the flag" in {
     def refused(args: Seq[String], word: String): Unit = {
-      val e = intercept[InputError](params(args: _*))
+      val e = intercept[InputError](compiled(args: _*))
       assert(e.getMessage.contains(word) && !e.getMessage.contains("\n"), e.getMessage)
     }
     refused(Seq("--frobnicate", "1"), "--frobnicate")
@@ -45,7 +51,7 @@ class CliSpec extends AnyFlatSpec {
     assert(
       ur5.model == LoadModel.Rnea && ur5.cordic == LoadParams.arm.cordic && ur5.robot.maxVelocity.isEmpty
     )
-    val arm = reducerload.arm.ArmConfig(ur5)
+    val arm = Compiler.arm(ur5)
     assert(
       arm.chain.size == 6 && arm.maxVelocity == Seq(3.15, 3.15, 3.15, 3.2, 3.2,
         3.2) && arm.maxAcceleration == Seq.fill(6)(15.0)
@@ -53,8 +59,8 @@ class CliSpec extends AnyFlatSpec {
     assert(params("--robot", "planar3") == LoadParams.arm)
     val hand = java.nio.file.Paths.get(getClass.getResource("/urdf/arm.urdf").toURI).toString
     assert(
-      reducerload.arm
-        .ArmConfig(params("--robot", hand, "--tip", "l2", "--max-acceleration", "5", "--max-velocity", "2"))
+      Compiler
+        .arm(params("--robot", hand, "--tip", "l2", "--max-acceleration", "5", "--max-velocity", "2"))
         .chain
         .size == 2
     )
@@ -62,7 +68,7 @@ class CliSpec extends AnyFlatSpec {
 
   it should "refuse a robot's bad ranges, tip or file with one line naming it" in {
     def refused(args: Seq[String], words: String*): Unit = {
-      val e = intercept[InputError](params(args: _*))
+      val e = intercept[InputError](compiled(args: _*))
       assert(words.forall(e.getMessage.contains) && !e.getMessage.contains("\n"), e.getMessage)
     }
     val ur5 = Seq("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0")
@@ -146,7 +152,7 @@ class CliSpec extends AnyFlatSpec {
   }
 
   it should "derive the clocks per sample from a multiplier budget" in {
-    val ur5 = reducerload.arm.ArmConfig(
+    val ur5 = Compiler.arm(
       params(
         "--robot",
         "golden/robots/ur5_robot.urdf",
@@ -165,7 +171,7 @@ class CliSpec extends AnyFlatSpec {
       s"${ur5.schedule.clocksPerSample} clocks, ${ur5.schedule.multiplierBlocks} blocks"
     )
     // With block-RAM storage, the fewest clocks from the budget's on whose bank read ports can be served.
-    val banked = reducerload.arm.ArmConfig(
+    val banked = Compiler.arm(
       params(
         "--robot",
         "golden/robots/ur5_robot.urdf",
@@ -182,21 +188,19 @@ class CliSpec extends AnyFlatSpec {
       )
     )
     val fewer = scala.util.Try(
-      reducerload.arm.ArmConfig(
-        params(
-          "--robot",
-          "golden/robots/ur5_robot.urdf",
-          "--tip",
-          "tool0",
-          "--max-acceleration",
-          "15",
-          "--max-multipliers",
-          "66",
-          "--clocks-per-sample",
-          (banked.schedule.clocksPerSample - 1).toString,
-          "--schedule.storage",
-          "memory"
-        )
+      compiled(
+        "--robot",
+        "golden/robots/ur5_robot.urdf",
+        "--tip",
+        "tool0",
+        "--max-acceleration",
+        "15",
+        "--max-multipliers",
+        "66",
+        "--clocks-per-sample",
+        (banked.schedule.clocksPerSample - 1).toString,
+        "--schedule.storage",
+        "memory"
       )
     )
     assert(

@@ -1,7 +1,7 @@
 package reducerload.app
 
 import org.scalatest.flatspec.AnyFlatSpec
-import reducerload.load.LoadParams
+import reducerload.config.LoadParams
 import reducerload.monitor.MonitorDoc
 
 import java.nio.charset.StandardCharsets

@@ -2,7 +2,7 @@ package reducerload.app
 
 import reducerload.testutil.Scratch
 import org.scalatest.flatspec.AnyFlatSpec
-import reducerload.load.LoadParams
+import reducerload.config.LoadParams
 import reducerload.util.InputError
 
 import java.nio.file.{Files, Path}

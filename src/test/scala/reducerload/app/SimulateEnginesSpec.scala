@@ -1,9 +1,12 @@
 package reducerload.app
 
+import reducerload.testutil.CompiledParams
 import reducerload.testutil.Scratch
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import reducerload.arm.{ArmConfig, ArmDatapath, ArmModel, ArmOutputCodes, ArmSample, ArmTrajectory}
+import reducerload.arm.{ArmDatapath, ArmModel, ArmOutputCodes, ArmSample, ArmTrajectory, LoadReference}
+import reducerload.compiler.Compiler
+import reducerload.config.LoadParams
 import reducerload.dynamics.{RandomChains, Rnea}
 import reducerload.load._
 import reducerload.sim.rtl.{ArmDriver, Cycle}
@@ -56,7 +59,7 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
    * input codes.
    */
   private def jointSamples(p: LoadParams, rng: Random): IndexedSeq[ArmSample] = {
-    val tie = 1 + math.scalb(1.0, -p.velocityFracBits - 1)
+    val tie = 1 + math.scalb(1.0, -p.datapath.velocityFracBits - 1)
     Golden.all.flatMap(_.samples).toIndexedSeq ++ IndexedSeq.fill(200)(
       LoadChecks.outOfRangeSample(p.robot, rng)
     ) ++ IndexedSeq(
@@ -132,7 +135,7 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
    * velocity or acceleration beyond its range (flagged).
    */
   private def armCase(robot: String, design: Seq[String], seed: Long): (Path, String) = {
-    val arm = ArmConfig(Cli.parse("simulate", design, Simulate.options, Simulate.flags).params)
+    val arm = Compiler.arm(Cli.parse("simulate", design, Simulate.options, Simulate.flags).params)
     val n = arm.chain.size
     val rng = new Random(Seeds(s"simulate-engines-$robot", seed))
     val golden = ArmGolden.of(robot).flatMap(_.samples).toIndexedSeq

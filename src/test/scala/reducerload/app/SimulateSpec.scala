@@ -1,5 +1,6 @@
 package reducerload.app
 
+import reducerload.testutil.CompiledParams
 import reducerload.testutil.Scratch
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.testutil.Seeds
@@ -89,14 +90,15 @@ class SimulateSpec extends AnyFlatSpec {
       val out = Scratch.dir("sim-fuzz-").resolve("o.csv")
       // Every check runs before the simulation; a corruption that leaves a valid file is accepted.
       Try(
-        Simulate.prepare(
-          Cli.parse(
+        {
+          val cli = Cli.parse(
             "simulate",
             Seq("--input", f.toString, "--output", out.toString),
             Simulate.options,
             Simulate.flags
           )
-        )
+          Simulate.prepare(cli, cli.compiled)
+        }
       ).failed.foreach {
         case e: InputError => assert(!e.getMessage.contains("\n"), e.getMessage); assert(!Files.exists(out))
         case other         => fail(s"corrupted input gave ${other.getClass.getName}: ${other.getMessage}")
@@ -133,7 +135,9 @@ class SimulateSpec extends AnyFlatSpec {
     val joint3 = write()
     val table = reducerload.trace.TraceCsv.read(joint3, reducerload.load.Joint3Columns.names)
     assert(table.header.mkString(",") == header && table.rows.size == 500)
-    val d = Simulate.design(reducerload.load.LoadParams.default)
+    val d = Simulate.design(
+      reducerload.compiler.Compiler.compile(reducerload.config.LoadParams.default, "preset default")
+    )
     d.limits.foreach { case (c, limit) =>
       val column = table.rows.map(_._2(c))
       assert(column.forall(v => math.abs(v) <= limit), s"column ${d.columns(c)} beyond $limit")

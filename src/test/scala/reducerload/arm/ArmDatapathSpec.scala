@@ -2,6 +2,7 @@ package reducerload.arm
 
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
+import reducerload.compiler.Compiler
 import reducerload.dynamics.{RandomChains, Rnea}
 import reducerload.graph.{ScheduleRequest, Storage}
 import reducerload.testutil.{ArmGolden, Seeds, SimBackend}
@@ -37,7 +38,7 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     )
     // Fitted with its own schedule, as `run emit` does (per-node caps are kept only where that schedule gets
     // cheaper).
-    val p = ArmConfig(traces.head.config.copy(targetError = targetError, schedule = schedule))
+    val p = Compiler.arm(traces.head.config.copy(targetError = targetError, schedule = schedule))
     assert(
       p.errorBound <= ArmChecks.target,
       s"$robot: derived bound ${p.errorBound} misses the target ${ArmChecks.target}"

@@ -5,6 +5,7 @@ import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.dynamics.RandomChains
 import reducerload.graph.SampleCodes
+import reducerload.config.{DatapathParams, MonitorSettings}
 import reducerload.monitor._
 import reducerload.testutil.{ArmGolden, ArmGoldenTrace, Seeds, SimBackend}
 
@@ -69,7 +70,13 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
       samplePeriodS: Double
   ): (ArmParams, MonitorParams) = {
     val first = traces.head
-    val arm = ArmParams(first.chain, first.config.robot.maxVelocity, first.config.robot.maxAcceleration)
+    // 22 internal fraction bits: the datapath this test was written against (ArmParams' default then).
+    val arm = ArmParams(
+      first.chain,
+      first.config.robot.maxVelocity,
+      first.config.robot.maxAcceleration,
+      datapath = DatapathParams(internalFracBits = 22)
+    )
     val peaks = arm.jointNames.indices.map(j => traces.flatMap(_.torques).map(t => math.abs(t(j))).max)
     (arm, MonitorConfig(arm, settings(peaks, arm.jointNames.size, samplePeriodS)))
   }

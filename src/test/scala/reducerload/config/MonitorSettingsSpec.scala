@@ -1,11 +1,12 @@
 package reducerload.config
 
+import reducerload.testutil.CompiledParams
 import com.typesafe.config.ConfigFactory
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.app.Cli
-import reducerload.arm.ArmConfig
-import reducerload.load.{LoadModel, LoadParams}
-import reducerload.monitor.{MonitorConfig, MonitorSettings}
+import reducerload.compiler.Compiler
+import reducerload.load.LoadModel
+import reducerload.monitor.MonitorConfig
 import reducerload.util.InputError
 
 /** The `monitor.*` keys: defaults, round trip, derived values, and one-line refusals naming the key. */
@@ -70,7 +71,7 @@ class MonitorSettingsSpec extends AnyFlatSpec {
 
   it should "derive the UR5's limits from <limit effort> and auto bin widths from the torque range" in {
     val p = params(ur5 ++ Seq("--monitor.enabled", "true", "--monitor.momentary-peak-factor", "2"): _*)
-    val arm = ArmConfig(p)
+    val arm = Compiler.arm(p)
     val m = MonitorConfig(arm, p.monitor)
     assert(m.repeatedPeakNm == arm.chain.joints.map(_.effortLimit.get))
     assert(m.momentaryPeakNm == arm.chain.joints.map(_.effortLimit.get * 2))
@@ -86,7 +87,8 @@ class MonitorSettingsSpec extends AnyFlatSpec {
 
   it should "refuse bad values with one line naming the key" in {
     def refused(text: String, words: String*): Unit = {
-      val e = intercept[InputError](parse(defaultText + "\n" + text + "\n"))
+      // Settings are checked when read; the monitor against its arm when the design compiles.
+      val e = intercept[InputError](Compiler.compile(parse(defaultText + "\n" + text + "\n"), "test.conf"))
       assert(!e.getMessage.contains("\n"), s"error spans lines: ${e.getMessage}")
       (words :+ "test.conf").foreach(w =>
         assert(e.getMessage.contains(w), s"'${e.getMessage}' does not mention '$w'")

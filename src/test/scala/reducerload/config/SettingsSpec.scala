@@ -4,7 +4,8 @@ import com.typesafe.config.ConfigFactory
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.app.Main
 import reducerload.cordic.CordicParams
-import reducerload.load.{LoadModel, LoadParams, RobotParams}
+import reducerload.load.LoadModel
+import reducerload.robot.RobotParams
 import reducerload.util.InputError
 
 import java.nio.file.{Files, Paths}
@@ -48,12 +49,14 @@ class SettingsSpec extends AnyFlatSpec {
         angleGuardBits = 4,
         iterationsPerStage = 2
       ),
-      velocityFracBits = 14,
-      accelerationFracBits = 15,
-      constantFracBits = 18,
-      internalFracBits = 16,
-      outputFracBits = 12,
-      multiplierLatency = 2
+      datapath = DatapathParams(
+        velocityFracBits = 14,
+        accelerationFracBits = 15,
+        constantFracBits = 18,
+        internalFracBits = 16,
+        outputFracBits = 12,
+        multiplierLatency = 2
+      )
     )
     assert(parse(Settings.render(p, Seq("x"))) == p)
   }

@@ -1,5 +1,6 @@
 package reducerload.cordic
 
+import reducerload.testutil.CompiledParams
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.testutil.Seeds
 
@@ -62,7 +63,7 @@ class CordicModelSpec extends AnyFlatSpec {
       val small = CordicParams.smallResidual.copy(tableBits = CordicParams.smallResidual.iterations - 1)
       assert(small.stageIterations.isEmpty)
       sweep("exhaustive", small, (0 until (1 << small.angleBits)).map(BigInt(_)))
-      val p = reducerload.load.LoadParams.paper.cordic
+      val p = reducerload.config.LoadParams.paper.cordic
       assert(p.stageIterations.isEmpty, "the paper load preset's unit has no shift-add stage")
       sweep("dense", p, dense(p, "table-only-dense", 14L))
     }

@@ -1,10 +1,13 @@
 package reducerload.dynamics
 
+import reducerload.config.DatapathParams
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.arm.{ArmModel, ArmParams, ArmSample}
 import reducerload.cordic.CordicParams
 import reducerload.graph.{GraphReference, Op}
-import reducerload.load.{LoadModel, LoadReference, RobotParams}
+import reducerload.arm.LoadReference
+import reducerload.load.LoadModel
+import reducerload.robot.RobotParams
 import reducerload.robot.Planar3
 import reducerload.testutil.{Golden, Seeds}
 
@@ -30,8 +33,7 @@ class DynamicsSpec extends AnyFlatSpec {
       }
     }.max
     println(
-      f"[dynamics] planar3: max |rnea tau3 - (pinocchio, closed form)| = $worst%.2e N·m over " +
-        f"${Golden.all.map(_.samples.size).sum} samples"
+      f"[dynamics] planar3: max |rnea tau3 - (pinocchio, closed form)| = $worst%.2e N·m over ${Golden.all.map(_.samples.size).sum} samples"
     )
     assert(worst < 1e-9)
   }
@@ -51,68 +53,67 @@ class DynamicsSpec extends AnyFlatSpec {
     assert(worst < 1e-6)
   }
 
-  it should "fold robot constants: the graph in doubles equals RNEA in doubles, with " +
-    "fewer operations than generic RNEA" in {
-      val rng = new Random(Seeds("graph-vs-rnea", 32L))
-      (2 to 7).foreach { n =>
-        val chain = RandomChains.chain(rng, n)
-        val graph = ArmParams.rneaGraph(chain, Seq.fill(n)(3.0), Seq.fill(n)(10.0))._1
-        assert(!graph.ops.exists {
-          case Op.Mul(a, b) => graph(a).isInstanceOf[Op.Const] && graph(b).isInstanceOf[Op.Const];
-          case _            => false
-        })
-        (0 until 20).foreach { _ =>
-          val (q, qd, qdd) = RandomChains.sample(rng, Seq.fill(n)(3.0), Seq.fill(n)(10.0))
-          val a = Rnea.reference(chain, q, qd, qdd)
-          val b = GraphReference.outputs(graph, q, qd, qdd)
-          a.zip(b).foreach { case (x, y) =>
-            assert(math.abs(x - y) <= 1e-9 * (1 + math.abs(x)), s"$n joints: rnea $x, graph $y")
-          }
+  it should "fold robot constants: the graph in doubles equals RNEA in doubles, with fewer operations than generic RNEA" in {
+    val rng = new Random(Seeds("graph-vs-rnea", 32L))
+    (2 to 7).foreach { n =>
+      val chain = RandomChains.chain(rng, n)
+      val graph = ArmParams.rneaGraph(chain, Seq.fill(n)(3.0), Seq.fill(n)(10.0))._1
+      assert(!graph.ops.exists {
+        case Op.Mul(a, b) => graph(a).isInstanceOf[Op.Const] && graph(b).isInstanceOf[Op.Const];
+        case _            => false
+      })
+      (0 until 20).foreach { _ =>
+        val (q, qd, qdd) = RandomChains.sample(rng, Seq.fill(n)(3.0), Seq.fill(n)(10.0))
+        val a = Rnea.reference(chain, q, qd, qdd)
+        val b = GraphReference.outputs(graph, q, qd, qdd)
+        a.zip(b).foreach { case (x, y) =>
+          assert(math.abs(x - y) <= 1e-9 * (1 + math.abs(x)), s"$n joints: rnea $x, graph $y")
         }
       }
-      val planar = ArmParams.rneaGraph(Planar3.chain(), Seq.fill(3)(3.0), Seq.fill(3)(10.0))._1.counts
-      println(s"[dynamics] planar3 graph: $planar")
-      assert(planar.sinCos == 3)
     }
+    val planar = ArmParams.rneaGraph(Planar3.chain(), Seq.fill(3)(3.0), Seq.fill(3)(10.0))._1.counts
+    println(s"[dynamics] planar3 graph: $planar")
+    assert(planar.sinCos == 3)
+  }
 
-  it should "keep the bit-accurate model within its derived bound on random arms " +
-    "(and every value in its format)" in {
-      val rng = new Random(Seeds("model-bound", 33L))
-      val cordic =
-        CordicParams(angleBits = 20, outputBits = 20, iterations = 16, guardBits = 3, angleGuardBits = 4)
-      (2 to 7).foreach { n =>
-        val chain = RandomChains.chain(rng, n)
-        val vmax = Seq.fill(n)(1 + 3 * rng.nextDouble())
-        val amax = Seq.fill(n)(5 + 10 * rng.nextDouble())
-        val p = ArmParams(
-          chain,
-          vmax,
-          amax,
-          cordic = cordic,
+  it should "keep the bit-accurate model within its derived bound on random arms (and every value in its format)" in {
+    val rng = new Random(Seeds("model-bound", 33L))
+    val cordic =
+      CordicParams(angleBits = 20, outputBits = 20, iterations = 16, guardBits = 3, angleGuardBits = 4)
+    (2 to 7).foreach { n =>
+      val chain = RandomChains.chain(rng, n)
+      val vmax = Seq.fill(n)(1 + 3 * rng.nextDouble())
+      val amax = Seq.fill(n)(5 + 10 * rng.nextDouble())
+      val p = ArmParams(
+        chain,
+        vmax,
+        amax,
+        cordic = cordic,
+        datapath = DatapathParams(
           velocityFracBits = 16,
           accelerationFracBits = 14,
           constantFracBits = 18,
           internalFracBits = 18,
           outputFracBits = 16
         )
-        val model = new ArmModel(p)
-        val worst = (0 until 40).map { _ =>
-          val (q, qd, qdd) = RandomChains.sample(rng, vmax, amax)
-          val hw = model.evaluate(ArmSample(q, qd, qdd))
-          val ref = Rnea.reference(chain, q, qd, qdd)
-          hw.indices.map { j =>
-            val err = math.abs(hw(j) - ref(j))
-            assert(
-              err <= p.errorBounds(j),
-              s"$n joints, joint ${j + 1}: error $err above the bound ${p.errorBounds(j)}"
-            )
-            err / p.errorBounds(j)
-          }.max
+      )
+      val model = new ArmModel(p)
+      val worst = (0 until 40).map { _ =>
+        val (q, qd, qdd) = RandomChains.sample(rng, vmax, amax)
+        val hw = model.evaluate(ArmSample(q, qd, qdd))
+        val ref = Rnea.reference(chain, q, qd, qdd)
+        hw.indices.map { j =>
+          val err = math.abs(hw(j) - ref(j))
+          assert(
+            err <= p.errorBounds(j),
+            s"$n joints, joint ${j + 1}: error $err above the bound ${p.errorBounds(j)}"
+          )
+          err / p.errorBounds(j)
         }.max
-        println(
-          f"[dynamics] random $n-joint arm: ${p.graph.counts.multiplications} multiplications, worst error " +
-            f"at ${worst * 100}%.1f%% of the bound (max bound ${p.errorBound}%.2e N·m)"
-        )
-      }
+      }.max
+      println(
+        f"[dynamics] random $n-joint arm: ${p.graph.counts.multiplications} multiplications, worst error at ${worst * 100}%.1f%% of the bound (max bound ${p.errorBound}%.2e N·m)"
+      )
     }
+  }
 }

@@ -1,7 +1,8 @@
 package reducerload.graph
 
 import org.scalatest.flatspec.AnyFlatSpec
-import reducerload.arm.{ArmConfig, ArmParams, MuxInput}
+import reducerload.arm.{ArmParams, MuxInput}
+import reducerload.compiler.Compiler
 import reducerload.pipeline.PipelinedMultiplier
 import reducerload.testutil.ArmGolden
 
@@ -19,7 +20,8 @@ class BankedScheduleSpec extends AnyFlatSpec {
   behavior of "BankedSchedule"
 
   private def params(robot: String, ii: Int, targetError: Seq[Double] = Nil): ArmParams =
-    ArmConfig(ArmGolden.of(robot).head.config.copy(targetError = targetError))
+    Compiler
+      .arm(ArmGolden.of(robot).head.config.copy(targetError = targetError))
       .copy(scheduleRequest = ScheduleRequest(clocksPerSample = Some(ii), storage = Storage.Memory))
 
   private def check(p: ArmParams): BankedSchedule = {

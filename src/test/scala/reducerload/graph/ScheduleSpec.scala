@@ -1,7 +1,9 @@
 package reducerload.graph
 
+import reducerload.testutil.CompiledParams
 import org.scalatest.flatspec.AnyFlatSpec
-import reducerload.arm.{ArmConfig, ArmParams}
+import reducerload.arm.ArmParams
+import reducerload.compiler.{Compiler, TargetFit}
 import reducerload.pipeline.PipelinedMultiplier
 import reducerload.testutil.ArmGolden
 
@@ -14,8 +16,8 @@ import reducerload.testutil.ArmGolden
 class ScheduleSpec extends AnyFlatSpec {
   behavior of "Schedule"
 
-  private lazy val ur5: ArmParams = ArmConfig(ArmGolden.of("ur5").head.config)
-  private lazy val planar3: ArmParams = ArmConfig(ArmGolden.of("planar3").head.config)
+  private lazy val ur5: ArmParams = Compiler.arm(ArmGolden.of("ur5").head.config)
+  private lazy val planar3: ArmParams = Compiler.arm(ArmGolden.of("planar3").head.config)
 
   private def scheduled(p: ArmParams, request: ScheduleRequest): ArmParams = p.copy(scheduleRequest = request)
 
@@ -193,18 +195,12 @@ class TargetErrorSpec extends AnyFlatSpec {
 
   it should "pick the fewest fraction bits that meet the target on every joint" in {
     Seq(1e-2, 1e-3, 4e-4).foreach { target =>
-      val p = ArmConfig(ur5.copy(targetError = Seq(target)))
+      val p = Compiler.arm(ur5.copy(targetError = Seq(target)))
       assert(p.errorBounds.forall(_ <= target), s"target $target: bounds ${p.errorBounds}")
       val fewer =
-        ArmConfig.fitted(p, Seq.fill(p.chain.size)(Double.MaxValue)) // any bits meet this: the fewest allowed
+        TargetFit.fitted(p, Seq.fill(p.chain.size)(Double.MaxValue)) // any bits meet this: the fewest allowed
       val oneLess = scala.util.Try(
-        p.copy(
-          velocityFracBits = p.velocityFracBits - 1,
-          accelerationFracBits = p.accelerationFracBits - 1,
-          constantFracBits = p.constantFracBits - 1,
-          internalFracBits = p.internalFracBits - 1,
-          outputFracBits = p.outputFracBits - 1
-        )
+        p.copy(datapath = p.datapath.shifted(-1))
       )
       oneLess.foreach(q =>
         assert(
@@ -214,11 +210,13 @@ class TargetErrorSpec extends AnyFlatSpec {
       )
       // No kind of value can lose a bit on its own either (the fit narrows each kind after the common shift).
       val kinds = Seq[(String, ArmParams => ArmParams)](
-        "velocity" -> (q => q.copy(velocityFracBits = q.velocityFracBits - 1)),
-        "acceleration" -> (q => q.copy(accelerationFracBits = q.accelerationFracBits - 1)),
-        "constant" -> (q => q.copy(constantFracBits = q.constantFracBits - 1)),
-        "internal" -> (q => q.copy(internalFracBits = q.internalFracBits - 1)),
-        "output" -> (q => q.copy(outputFracBits = q.outputFracBits - 1))
+        "velocity" -> (q => q.copy(datapath = q.datapath.copy(velocityFracBits = q.velocityFracBits - 1))),
+        "acceleration" -> (q =>
+          q.copy(datapath = q.datapath.copy(accelerationFracBits = q.accelerationFracBits - 1))
+        ),
+        "constant" -> (q => q.copy(datapath = q.datapath.copy(constantFracBits = q.constantFracBits - 1))),
+        "internal" -> (q => q.copy(datapath = q.datapath.copy(internalFracBits = q.internalFracBits - 1))),
+        "output" -> (q => q.copy(datapath = q.datapath.copy(outputFracBits = q.outputFracBits - 1)))
       )
       // (With per-node caps chosen, the constants' and products' minimality is each node's, checked below.)
       kinds
@@ -240,31 +238,31 @@ class TargetErrorSpec extends AnyFlatSpec {
           s"${p.copy(scheduleRequest = ScheduleRequest(None, Some(66))).schedule.unitSummary}"
       )
     }
-    val perJoint = ArmConfig(ur5.copy(targetError = Seq(1e-3, 1e-3, 1e-3, 1e-4, 1e-4, 1e-5)))
+    val perJoint = Compiler.arm(ur5.copy(targetError = Seq(1e-3, 1e-3, 1e-3, 1e-4, 1e-4, 1e-5)))
     assert(perJoint.errorBounds.zip(Seq(1e-3, 1e-3, 1e-3, 1e-4, 1e-4, 1e-5)).forall { case (b, t) => b <= t })
   }
 
   it should "cap single constants and products where that makes the design cheaper, and " +
     "keep the per-kind fit where not" in {
-      val shared = reducerload.load.LoadParams.shared
+      val shared = reducerload.config.LoadParams.shared
       val joint3 = shared.arm
       assert(!joint3.fracBitLimits.isEmpty, "the shared preset's fit caps no node")
       TargetErrorSpec.checkNodes(joint3, shared.targetError, "preset shared")
       // Capped nodes mix widths; in the UR5's 64-clock memory schedule that splits a multiplier class, so the
       // fit keeps the kinds' bits.
-      val memory = ArmConfig(
+      val memory = Compiler.arm(
         ur5.copy(targetError = Seq(1e-3), schedule = ScheduleRequest(Some(64), storage = Storage.Memory))
       )
       TargetErrorSpec.checkNodes(memory, Seq.fill(memory.chain.size)(1e-3), "ur5 memory ii64")
     }
 
   it should "refuse a target the sin/cos unit cannot reach, and a wrong number of targets" in {
-    val e = intercept[IllegalArgumentException](ArmConfig(ur5.copy(targetError = Seq(1e-12))))
+    val e = intercept[IllegalArgumentException](Compiler.arm(ur5.copy(targetError = Seq(1e-12))))
     assert(
       e.getMessage.contains("numeric.target-error") && e.getMessage.contains("cordic.output-bits"),
       e.getMessage
     )
-    val n = intercept[IllegalArgumentException](ArmConfig(ur5.copy(targetError = Seq(1e-3, 1e-3))))
+    val n = intercept[IllegalArgumentException](Compiler.arm(ur5.copy(targetError = Seq(1e-3, 1e-3))))
     assert(n.getMessage.contains("numeric.target-error gives 2 values"), n.getMessage)
   }
 }
@@ -283,11 +281,11 @@ object TargetErrorSpec {
     assert(meets(p.analysis), s"$label: bounds ${p.errorBounds} miss $targets")
     val alternative =
       if (p.fracBitLimits.isEmpty)
-        p.copy(fracBitLimits = ArmConfig.narrowedNodes(p.analysis, l => under(l).filter(meets)))
+        p.copy(fracBitLimits = TargetFit.narrowedNodes(p.analysis, l => under(l).filter(meets)))
       else p.copy(fracBitLimits = FracBitLimits.none)
     assert(
-      Ordering[(Int, Int, Int)].lteq(ArmConfig.cost(p), ArmConfig.cost(alternative)),
-      s"$label: the fit chose cost ${ArmConfig.cost(p)} over ${ArmConfig.cost(alternative)}"
+      Ordering[(Int, Int, Int)].lteq(TargetFit.cost(p), TargetFit.cost(alternative)),
+      s"$label: the fit chose cost ${TargetFit.cost(p)} over ${TargetFit.cost(alternative)}"
     )
     if (!p.fracBitLimits.isEmpty) p.graph.ids.foreach { id =>
       val bits = p.analysis(id).format.fracBits
@@ -301,7 +299,7 @@ object TargetErrorSpec {
     }
     println(
       s"[target] $label: ${p.fracBitLimits.byNode.size} node(s) capped below their kind; cost (blocks, " +
-        s"units, bits) ${ArmConfig.cost(p)}, the other fit ${ArmConfig.cost(alternative)}"
+        s"units, bits) ${TargetFit.cost(p)}, the other fit ${TargetFit.cost(alternative)}"
     )
   }
 }

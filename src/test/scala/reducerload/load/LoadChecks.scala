@@ -1,5 +1,8 @@
 package reducerload.load
 
+import reducerload.testutil.CompiledParams
+import reducerload.config.LoadParams
+import reducerload.robot.RobotParams
 import reducerload.arm.{ArmModel, ArmOutputCodes, ArmSample}
 import reducerload.graph.SampleCodes
 

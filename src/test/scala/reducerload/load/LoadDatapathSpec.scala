@@ -1,5 +1,8 @@
 package reducerload.load
 
+import reducerload.testutil.CompiledParams
+import reducerload.config.LoadParams
+import reducerload.arm.LoadReference
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.arm.ArmChecks

@@ -1,5 +1,10 @@
 package reducerload.load
 
+import reducerload.config.DatapathParams
+import reducerload.testutil.CompiledParams
+import reducerload.config.LoadParams
+import reducerload.arm.LoadReference
+import reducerload.robot.RobotParams
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.arm.ArmSample
 import reducerload.cordic.CordicParams
@@ -70,11 +75,13 @@ class LoadModelSpec extends AnyFlatSpec {
           guardBits = 1 + rng.nextInt(5),
           angleGuardBits = 3 + rng.nextInt(3)
         ),
-        velocityFracBits = 10 + rng.nextInt(12),
-        accelerationFracBits = 10 + rng.nextInt(12),
-        constantFracBits = 12 + rng.nextInt(14),
-        internalFracBits = 12 + rng.nextInt(8),
-        outputFracBits = 8 + rng.nextInt(4)
+        datapath = DatapathParams(
+          velocityFracBits = 10 + rng.nextInt(12),
+          accelerationFracBits = 10 + rng.nextInt(12),
+          constantFracBits = 12 + rng.nextInt(14),
+          internalFracBits = 12 + rng.nextInt(8),
+          outputFracBits = 8 + rng.nextInt(4)
+        )
       )
       val m = new LoadChecks.Joint3Model(p)
       (0 until 100).map { _ =>

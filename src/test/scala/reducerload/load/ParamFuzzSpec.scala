@@ -1,5 +1,10 @@
 package reducerload.load
 
+import reducerload.config.DatapathParams
+import reducerload.testutil.CompiledParams
+import reducerload.config.LoadParams
+import reducerload.arm.LoadReference
+import reducerload.robot.RobotParams
 import circt.stage.ChiselStage
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.cordic.{CordicArchitecture, CordicParams}
@@ -49,14 +54,16 @@ class ParamFuzzSpec extends AnyFlatSpec {
             iterationsPerStage = pick(1, 3),
             architecture = CordicArchitecture.all(rng.nextInt(2))
           ),
-          velocityFracBits = pick(8, 24),
-          accelerationFracBits = pick(8, 24),
-          constantFracBits = pick(10, 26),
-          internalFracBits = pick(8, 22),
-          outputFracBits = pick(6, 16),
-          productRounding = Rounding.all(rng.nextInt(2)),
-          multiplierLatency = pick(1, 3),
-          memoryDelayMinCycles = Seq(0, 3, 4, 8)(rng.nextInt(4))
+          datapath = DatapathParams(
+            velocityFracBits = pick(8, 24),
+            accelerationFracBits = pick(8, 24),
+            constantFracBits = pick(10, 26),
+            internalFracBits = pick(8, 22),
+            outputFracBits = pick(6, 16),
+            productRounding = Rounding.all(rng.nextInt(2)),
+            multiplierLatency = pick(1, 3),
+            memoryDelayMinCycles = Seq(0, 3, 4, 8)(rng.nextInt(4))
+          )
         )
       }.flatMap(p => Try { p.arm.analysis; p }) match {
         case Failure(e: IllegalArgumentException) =>

@@ -1,5 +1,7 @@
 package reducerload.load
 
+import reducerload.testutil.CompiledParams
+import reducerload.config.LoadParams
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.app.Soak
 import reducerload.sim.rtl.{Cycle, Stream, StreamChecker}

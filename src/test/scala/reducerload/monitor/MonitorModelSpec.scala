@@ -1,8 +1,9 @@
 package reducerload.monitor
 
+import reducerload.testutil.CompiledParams
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.fixedpoint.Rounding
-import reducerload.load.LoadParams
+import reducerload.config.LoadParams
 import reducerload.testutil.{Golden, Seeds}
 
 import scala.util.Random

@@ -2,6 +2,7 @@ package reducerload.monitor
 
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.arm.ArmParams
+import reducerload.config.{DatapathParams, MonitorSettings}
 import reducerload.testutil.ArmGolden
 
 /**
@@ -12,7 +13,13 @@ class TrajectorySummarySpec extends AnyFlatSpec {
   behavior of "MonitorSummary.fromTrajectory"
 
   private val trace = ArmGolden.load("planar3_multiturn.csv")
-  private val arm = ArmParams(trace.chain, trace.config.robot.maxVelocity, trace.config.robot.maxAcceleration)
+  // 22 internal fraction bits: the datapath this test was written against (ArmParams' default then).
+  private val arm = ArmParams(
+    trace.chain,
+    trace.config.robot.maxVelocity,
+    trace.config.robot.maxAcceleration,
+    datapath = DatapathParams(internalFracBits = 22)
+  )
 
   /**
    * The trajectory is sampled every 10 ms; limits where it crosses them (its peaks are about 104, 46, 30

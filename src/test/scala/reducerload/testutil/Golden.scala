@@ -1,7 +1,8 @@
 package reducerload.testutil
 
 import reducerload.arm.ArmSample
-import reducerload.load.{Joint3Columns, RobotParams}
+import reducerload.load.Joint3Columns
+import reducerload.robot.RobotParams
 import reducerload.trace.TraceCsv
 
 import java.nio.file.{Files, Paths}

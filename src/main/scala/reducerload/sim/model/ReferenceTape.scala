@@ -2,7 +2,8 @@ package reducerload.sim.model
 
 import reducerload.dynamics.{JointState, Num, Rnea, VectorAlgebra}
 import reducerload.graph.{AngleSum, TrigFn}
-import reducerload.load.{Joint3Load, LoadModel, RobotParams}
+import reducerload.load.{Joint3Load, LoadModel}
+import reducerload.robot.RobotParams
 import reducerload.robot.SerialChain
 
 import scala.collection.mutable

@@ -1,10 +1,11 @@
 package reducerload.sim.replay
 
-import reducerload.arm.{ArmIO, ArmModel, ArmOutputCodes, ArmParams, ArmSample, ArmTrajectory, MonitoredArmIO}
+import reducerload.arm.{ArmIO, ArmModel, ArmOutputCodes, ArmParams, ArmSample, ArmTrajectory, LoadReference}
+import reducerload.config.LoadParams
 import reducerload.dynamics.Rnea
 import reducerload.graph.SampleCodes
-import reducerload.load.{Joint3Columns, LoadParams, LoadReference}
-import reducerload.monitor.MonitorParams
+import reducerload.load.Joint3Columns
+import reducerload.monitor.{MonitorParams, MonitoredArmIO}
 import reducerload.sim.model.{FastArmModel, FastFixed, ReferenceTape}
 import reducerload.sim.rtl.{ArmHarnessPorts, HarnessPorts}
 import reducerload.sim.text.{DoubleText, FixedDecimal}
@@ -158,7 +159,7 @@ class ArmReplay(val p: ArmParams, monitor: Option[MonitorParams] = None)
  * graph, with the joint-3 trace columns `t1,t2,t3,d1,d2,d3,dd1,dd2,dd3` (in the arm's q, qd, qdd order) and
  * the result `idx,load_hw,load_ref,error,out_of_range`.
  */
-final class LoadReplay(settings: LoadParams) extends ArmReplay(settings.arm) {
+final class LoadReplay(settings: LoadParams, arm: ArmParams) extends ArmReplay(arm) {
   require(settings.model.closedForm, s"LoadReplay: model ${settings.model.name} is not a joint-3 closed form")
 
   override def columns: Seq[String] = Joint3Columns.names

@@ -1,11 +1,14 @@
 package reducerload.sim.model
 
+import reducerload.testutil.CompiledParams
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.fixedpoint.{FixedFormat, Rounding}
 import reducerload.cordic.CordicModel
-import reducerload.arm.{ArmConfig, ArmModel, ArmParams}
+import reducerload.arm.{ArmModel, ArmParams}
+import reducerload.compiler.Compiler
+import reducerload.config.LoadParams
 import reducerload.graph.SampleCodes
-import reducerload.load.{LoadChecks, LoadParams}
+import reducerload.load.LoadChecks
 import reducerload.testutil.ArmGolden
 import reducerload.testutil.Seeds
 
@@ -154,7 +157,7 @@ class FastFixedSpec extends AnyFlatSpec {
     val rng = new Random(Seeds("fast-arm-model", 66L))
     Seq("ur5", "panda").foreach { robot =>
       val traces = ArmGolden.of(robot)
-      val p = ArmConfig(traces.head.config)
+      val p = Compiler.arm(traces.head.config)
       val model = new ArmModel(p)
       checkFastModel(robot, p, traces.flatMap(_.samples).take(1500).map(model.encode), rng)
     }

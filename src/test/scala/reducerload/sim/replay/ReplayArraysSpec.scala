@@ -1,10 +1,12 @@
 package reducerload.sim.replay
 
+import reducerload.testutil.CompiledParams
 import org.scalatest.flatspec.AnyFlatSpec
-import reducerload.arm.{ArmConfig, ArmSample}
+import reducerload.arm.{ArmSample, LoadReference}
+import reducerload.compiler.Compiler
 import reducerload.dynamics.Rnea
 import reducerload.sim.model.ReferenceTape
-import reducerload.load.{LoadParams, LoadReference}
+import reducerload.config.LoadParams
 import reducerload.testutil.{ArmGolden, Seeds}
 
 import scala.collection.immutable.ArraySeq
@@ -80,7 +82,7 @@ class ReplayArraysSpec extends AnyFlatSpec {
   it should "write the design's lines for every joint-3 preset" in {
     val rng = new Random(Seeds("replay-arrays-joint3", 71L))
     LoadParams.presets.foreach { case (name, p) =>
-      val design = new LoadReplay(p)
+      val design = new LoadReplay(p, p.arm)
       check(s"preset $name", design, rows(design, Nil, rng, p.arm.numerics.velocityPortFormat.fracBits))
     }
   }
@@ -89,7 +91,7 @@ class ReplayArraysSpec extends AnyFlatSpec {
     val rng = new Random(Seeds("replay-arrays-arm", 72L))
     Seq("planar3", "ur5", "panda").foreach { robot =>
       val traces = ArmGolden.of(robot)
-      val p = ArmConfig(traces.head.config)
+      val p = Compiler.arm(traces.head.config)
       val design = new ArmReplay(p)
       check(
         robot,
@@ -124,7 +126,7 @@ class ReplayArraysSpec extends AnyFlatSpec {
       }
     }
     Seq("planar3", "ur5", "panda").foreach { robot =>
-      val chain = ArmConfig(ArmGolden.of(robot).head.config).chain
+      val chain = Compiler.arm(ArmGolden.of(robot).head.config).chain
       val tape = ReferenceTape.rnea(chain)
       val v = tape.tape.scratch()
       val n = chain.size

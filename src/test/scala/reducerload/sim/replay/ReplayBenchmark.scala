@@ -21,7 +21,7 @@ object ReplayBenchmark {
       Simulate.options,
       Simulate.flags
     )
-    val request = Simulate.prepare(cli)
+    val request = Simulate.prepare(cli, cli.compiled)
     val nowhere = new OutputStream {
       def write(b: Int): Unit = (); override def write(b: Array[Byte], o: Int, l: Int): Unit = ()
     }

@@ -1,7 +1,9 @@
 package reducerload.sim.rtl
 
+import reducerload.testutil.CompiledParams
 import reducerload.app.{Emit, Top}
-import reducerload.load.{LoadChecks, LoadParams}
+import reducerload.config.LoadParams
+import reducerload.load.LoadChecks
 
 import scala.util.Random
 
@@ -22,7 +24,8 @@ object HarnessBenchmark {
     val rng = new Random(7L)
     val codes = IndexedSeq.fill(n)(model.encode(LoadChecks.randomSample(p.robot, rng)))
     val inputs = codes.map(ArmHarnessPorts.values)
-    val verilog = Emit.emit(p, Top.Load, "benchmark").verilog
+    val verilog =
+      Emit.emit(reducerload.compiler.Compiler.compile(p, "benchmark"), Top.Load, "benchmark").verilog
 
     val compileStart = System.nanoTime()
     val harness = VerilatorHarness.compile(verilog, p.arm.moduleName, ArmHarnessPorts(p.arm), cache)

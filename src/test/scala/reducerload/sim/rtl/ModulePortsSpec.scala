@@ -2,9 +2,9 @@ package reducerload.sim.rtl
 
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.app.{Cli, Emission, Emit, Simulate, Top}
-import reducerload.arm.{ArmConfig, ArmIO, MonitoredArmIO}
+import reducerload.arm.ArmIO
 import reducerload.cordic.CordicSinCosIO
-import reducerload.monitor.MonitorConfig
+import reducerload.monitor.MonitoredArmIO
 
 /**
  * The ports derived from a module's IO Bundle are the emitted Verilog's, name, direction, width and order:
@@ -13,7 +13,7 @@ import reducerload.monitor.MonitorConfig
 class ModulePortsSpec extends AnyFlatSpec {
   behavior of "ModulePorts"
 
-  private def params(args: String*) = Cli.parse("simulate", args, Simulate.options, Simulate.flags).params
+  private def params(args: String*) = Cli.parse("simulate", args, Simulate.options, Simulate.flags).compiled
 
   private def inVerilog(e: Emission) =
     VerilogPortList(e.verilog, e.topModule).map(v => (v.name, v.direction, v.width))
@@ -24,7 +24,7 @@ class ModulePortsSpec extends AnyFlatSpec {
 
   it should "name every port of planar3's datapath and monitored arm, and of the sin/cos unit, as firtool does" in {
     val plain = params("--robot", "planar3")
-    val arm = ArmConfig(plain)
+    val arm = plain.arm
     assert(derived(ModulePorts(new ArmIO(arm))) == inVerilog(Emit.emit(plain, Top.Load, "test")))
 
     val monitored = params(
@@ -37,7 +37,7 @@ class ModulePortsSpec extends AnyFlatSpec {
       "--monitor.momentary-peak",
       "[100, 40, 28]"
     )
-    val io = new MonitoredArmIO(ArmConfig(monitored), MonitorConfig(ArmConfig(monitored), monitored.monitor))
+    val io = new MonitoredArmIO(monitored.arm, monitored.monitor.get)
     val ports = ModulePorts(io)
     assert(derived(ports) == inVerilog(Emit.emit(monitored, Top.Load, "test")))
     assert(ports(io.host.readAddress).name == "io_host_readAddress")
@@ -50,7 +50,9 @@ class ModulePortsSpec extends AnyFlatSpec {
 
     val lone = params()
     assert(
-      derived(ModulePorts(new CordicSinCosIO(lone.cordic))) == inVerilog(Emit.emit(lone, Top.SinCos, "test"))
+      derived(ModulePorts(new CordicSinCosIO(lone.config.cordic))) == inVerilog(
+        Emit.emit(lone, Top.SinCos, "test")
+      )
     )
   }
 }

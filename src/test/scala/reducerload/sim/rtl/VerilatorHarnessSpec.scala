@@ -1,11 +1,13 @@
 package reducerload.sim.rtl
 
+import reducerload.testutil.CompiledParams
 import reducerload.testutil.Scratch
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.app.{Emit, Top}
 import reducerload.arm.ArmModel
 import reducerload.graph.SampleCodes
-import reducerload.load.{LoadChecks, LoadParams}
+import reducerload.config.LoadParams
+import reducerload.load.LoadChecks
 import reducerload.testutil.{Golden, Seeds}
 
 import scala.jdk.CollectionConverters._
@@ -24,7 +26,8 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
     Seq("verilator", "--version").!!(ProcessLogger(_ => ()))
   ).isSuccess
 
-  private def emitted(p: LoadParams) = Emit.emit(p, Top.Load, "test")
+  private def emitted(p: LoadParams) =
+    Emit.emit(reducerload.compiler.Compiler.compile(p, "test"), Top.Load, "test")
 
   /**
    * Golden traces, then seeded random samples (1 in 8 beyond the declared ranges), then every port at its

@@ -1,36 +1,23 @@
-package reducerload.load
+package reducerload.config
 
 import reducerload.cordic.CordicParams
 import reducerload.fixedpoint.Rounding
+import reducerload.load.LoadModel
+import reducerload.robot.RobotParams
 
 /**
  * The generator's settings (every configuration key): the robot, what to compute (`model`), the sin/cos unit,
- * the fraction bits of each kind of value and the schedule. The datapath they describe is [[arm]]; every
- * node's format, each output's error bound (input quantization, CORDIC error, constant quantization and every
- * rounding) and the schedule are derived there.
+ * the fraction bits of each kind of value and the schedule. Reading them checks each sub-configuration on its
+ * own; [[reducerload.compiler.Compiler]] derives the datapath (every node's format, each output's error
+ * bound, the schedule).
  *
- * @param velocityFracBits
- *   fraction bits of the velocity inputs (rad/s)
- * @param accelerationFracBits
- *   fraction bits of the acceleration inputs (rad/s^2)
- * @param constantFracBits
- *   fraction bits of the folded robot constants m3 l1 l3, m3 l2 l3, ...
- * @param internalFracBits
- *   fraction bits (N·m and friends) of products and sums
- * @param outputFracBits
- *   fraction bits of the load output (N·m)
- * @param productRounding
- *   how products drop to `internalFracBits` (truncate costs no adder)
- * @param multiplierLatency
- *   registers after each multiplier (>= 1; more lets Quartus retime into the DSP)
- * @param memoryDelayMinCycles
- *   pipeline-balancing delays of at least this many cycles use block RAM (M9K) instead of registers; 0 keeps
- *   every delay in registers
+ * @param datapath
+ *   fraction bits, product rounding, multiplier latency, block-RAM delays (`datapath.*` keys)
  * @param monitor
  *   the reducer life and limit monitor beside the arm datapath (`monitor.*` keys)
  * @param targetError
  *   N·m per output torque (one value: every joint; empty: none); the fraction bits become the fewest that
- *   meet it (see [[reducerload.arm.ArmConfig]])
+ *   meet it (see [[reducerload.compiler.TargetFit]])
  * @param schedule
  *   clocks per sample, multiplier budget, CORDIC units (`schedule.*` keys; see
  *   [[reducerload.graph.Schedule]])
@@ -39,34 +26,12 @@ final case class LoadParams(
     robot: RobotParams = RobotParams(),
     model: LoadModel = LoadModel.Exact,
     cordic: CordicParams = CordicParams.tableResidual,
-    velocityFracBits: Int = 20,
-    accelerationFracBits: Int = 20,
-    constantFracBits: Int = 24,
-    internalFracBits: Int = 20,
-    outputFracBits: Int = 20,
-    productRounding: Rounding = Rounding.Truncate,
-    multiplierLatency: Int = 1,
-    memoryDelayMinCycles: Int = 4,
-    monitor: reducerload.monitor.MonitorSettings = reducerload.monitor.MonitorSettings(),
+    datapath: DatapathParams = DatapathParams(),
+    monitor: MonitorSettings = MonitorSettings(),
     schedule: reducerload.graph.ScheduleRequest = reducerload.graph.ScheduleRequest(),
     targetError: Seq[Double] = Nil
 ) {
 
-  reducerload.graph.Numerics.checkFracBits(
-    velocityFracBits,
-    accelerationFracBits,
-    constantFracBits,
-    internalFracBits,
-    outputFracBits
-  )
-  require(
-    multiplierLatency >= 1 && multiplierLatency <= 4,
-    s"datapath.multiplier-latency must be in 1..4, got $multiplierLatency"
-  )
-  require(
-    memoryDelayMinCycles == 0 || (memoryDelayMinCycles >= 3 && memoryDelayMinCycles <= 1024),
-    s"datapath.memory-delay-min-cycles must be 0 (registers only) or in 3..1024, got $memoryDelayMinCycles"
-  )
   require(
     robot.isPlanar3 || !model.closedForm,
     s"model ${model.name} is the planar arm's joint-3 closed form; robot ${robot.source} needs model rnea"
@@ -78,18 +43,6 @@ final case class LoadParams(
     !monitor.enabled || !model.closedForm,
     s"monitor.enabled = true needs model rnea (the monitor watches every joint of the arm datapath); model ${model.name} is planar3's joint-3 closed form"
   )
-
-  /**
-   * The datapath these settings describe: the robot's torques as one graph on [[reducerload.arm.ArmDatapath]]
-   * (for the closed forms, the joint-3 load of planar3), with every format, bound and the schedule derived.
-   */
-  lazy val arm: reducerload.arm.ArmParams = reducerload.arm.ArmConfig(this)
-
-  /**
-   * Worst-case |torque - exact double-precision value at the unquantized inputs|, N·m, largest over the
-   * outputs.
-   */
-  def errorBound: Double = arm.errorBound
 }
 
 object LoadParams {
@@ -98,7 +51,7 @@ object LoadParams {
   private def sharedCordic =
     reducerload.graph.ScheduleRequest(clocksPerSample = Some(3), cordicUnits = Some(1))
 
-  /** Exact model, error well under 1e-4 N·m for the typical arm (SPEC.md). */
+  /** The exact joint-3 load of the built-in planar3, derived bound under 1e-4 N·m. */
   val default: LoadParams = LoadParams()
 
   /**
@@ -117,25 +70,27 @@ object LoadParams {
       architecture = reducerload.cordic.CordicArchitecture.ResidualRotation,
       tableBits = 10
     ),
-    velocityFracBits = 16,
-    accelerationFracBits = 16,
-    constantFracBits = 19,
-    internalFracBits = 16,
-    outputFracBits = 16,
-    memoryDelayMinCycles = 3
+    datapath = DatapathParams(
+      velocityFracBits = 16,
+      accelerationFracBits = 16,
+      constantFracBits = 19,
+      internalFracBits = 16,
+      outputFracBits = 16,
+      memoryDelayMinCycles = 3
+    )
   )
 
   /**
    * The paper's accuracy (derived bound <= 1e-3 N·m, exact model) in the fewest logic elements: the `paper`
-   * preset's arithmetic with one CORDIC unit shared by the three angles, so one sample every 3 clocks (50 M
-   * samples/s at 150 MHz, far above any control loop's rate).
+   * preset's arithmetic with one CORDIC unit shared by the three angles, so one sample every 3 clocks (still
+   * far above any control loop's rate).
    */
   val compact: LoadParams = paper.copy(model = LoadModel.Exact, schedule = sharedCordic)
 
   /**
    * The default's accuracy (derived bound <= 1e-4 N·m, `numeric.target-error` choosing the fraction bits)
-   * with one CORDIC unit and shared multipliers, a sample every 3 clocks (50 M samples/s at 150 MHz): a
-   * 24-bit unit whose 2^11-entry table feeds the residual rotation directly.
+   * with one CORDIC unit and shared multipliers, a sample every 3 clocks: a 24-bit unit whose 2^11-entry
+   * table feeds the residual rotation directly.
    */
   val shared: LoadParams = LoadParams(
     cordic =
@@ -158,11 +113,13 @@ object LoadParams {
       architecture = reducerload.cordic.CordicArchitecture.ResidualRotation,
       tableBits = 4
     ),
-    velocityFracBits = 12,
-    accelerationFracBits = 12,
-    constantFracBits = 16,
-    internalFracBits = 12,
-    outputFracBits = 12,
+    datapath = DatapathParams(
+      velocityFracBits = 12,
+      accelerationFracBits = 12,
+      constantFracBits = 16,
+      internalFracBits = 12,
+      outputFracBits = 12
+    ),
     schedule = sharedCordic
   )
 
@@ -170,26 +127,30 @@ object LoadParams {
   val accurate: LoadParams = LoadParams(
     cordic =
       CordicParams(angleBits = 30, outputBits = 30, iterations = 30, guardBits = 5, angleGuardBits = 5),
-    velocityFracBits = 24,
-    accelerationFracBits = 24,
-    constantFracBits = 28,
-    internalFracBits = 24,
-    outputFracBits = 24
+    datapath = DatapathParams(
+      velocityFracBits = 24,
+      accelerationFracBits = 24,
+      constantFracBits = 28,
+      internalFracBits = 24,
+      outputFracBits = 24
+    )
   )
 
   /**
    * The highest clock and load rate within the paper's accuracy (derived bound <= 1e-3 N·m): a 23-bit classic
-   * CORDIC, whose short carry chains, with no table ROM and no multiply in the angle path, measured the
-   * fastest in the sweep (`classic-b23-n20`); paid for in logic elements.
+   * CORDIC: short carry chains, no table ROM and no multiply in the angle path (docs/sweep has the figures);
+   * paid for in logic elements.
    */
   val fastest: LoadParams = LoadParams(
     cordic =
       CordicParams(angleBits = 23, outputBits = 23, iterations = 20, guardBits = 3, angleGuardBits = 4),
-    velocityFracBits = 17,
-    accelerationFracBits = 17,
-    constantFracBits = 21,
-    internalFracBits = 17,
-    outputFracBits = 17
+    datapath = DatapathParams(
+      velocityFracBits = 17,
+      accelerationFracBits = 17,
+      constantFracBits = 21,
+      internalFracBits = 17,
+      outputFracBits = 17
+    )
   )
 
   /**
@@ -207,11 +168,13 @@ object LoadParams {
       architecture = reducerload.cordic.CordicArchitecture.ResidualRotation,
       tableBits = 9
     ),
-    velocityFracBits = 24,
-    accelerationFracBits = 22,
-    constantFracBits = 28,
-    internalFracBits = 24,
-    outputFracBits = 20
+    datapath = DatapathParams(
+      velocityFracBits = 24,
+      accelerationFracBits = 22,
+      constantFracBits = 28,
+      internalFracBits = 24,
+      outputFracBits = 20
+    )
   )
 
   /** The arm presets (every joint; not in the joint-3 preset table or sweep). */

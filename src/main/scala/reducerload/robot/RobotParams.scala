@@ -1,4 +1,4 @@
-package reducerload.load
+package reducerload.robot
 
 /**
  * The arm, in SI units, and the declared input ranges the fixed-point formats are derived from. Joint angles
@@ -69,7 +69,12 @@ final case class RobotParams(
 
   def isPlanar3: Boolean = source == RobotParams.planar3
 
-  /** Products of robot constants, folded at elaboration (SPEC.md's tau3 in these four). */
+  /** The serial chain: the built-in planar arm, or the URDF file's chain to its tip (read on each call). */
+  def chain: SerialChain =
+    if (isPlanar3) Planar3.chain(this)
+    else Urdf.read(java.nio.file.Paths.get(source), Option(tip).filter(_.nonEmpty))
+
+  /** Products of robot constants, folded at elaboration (the joint-3 closed form's coefficients). */
   val a: Double = m3 * l1 * l3 // multiplies dd1 cos(t2+t3) and d1^2 sin(t2+t3)
   val b: Double = m3 * l2 * l3 // multiplies (dd1+dd2) cos t3 and (d1+d2)^2 sin t3
   val c: Double = m3 * l3 * l3 // multiplies dd1+dd2+dd3

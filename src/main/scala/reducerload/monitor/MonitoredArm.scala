@@ -1,11 +1,11 @@
-package reducerload.arm
+package reducerload.monitor
 
 import chisel3._
 import chisel3.util._
 import reducerload.fixedpoint.{FixedFormat, FixedHw}
 import reducerload.graph.SampleCodes
 import reducerload.pipeline.{MemoryDelay, MultiplierImpl}
-import reducerload.monitor.{MonitorHostPort, MonitorParams, MonitorSample, MonitorSampleCodes, ReducerMonitor}
+import reducerload.arm.{ArmDatapath, ArmIO, ArmInput, ArmOutput, ArmOutputCodes, ArmParams, ArmSample}
 
 /**
  * Every joint torque of an arm ([[ArmDatapath]]) and, beside it, the reducer life and limit monitor

@@ -1,11 +1,11 @@
-package reducerload.monitor
+package reducerload.config
 
 /**
  * The monitor's configuration keys (`monitor.*`) as written, before the arm is known. A per-joint value is
  * one number for every joint or one number per joint; an empty Seq stands for the key's keyword: `urdf` for
  * the limits (derived from the URDF's `<limit effort>`), `auto` for the bin width (from the joint's derived
- * torque range), `none` for the rated torque (no life figure). [[MonitorConfig]] resolves them against the
- * arm; here only what needs no robot is checked, and every message names its key.
+ * torque range), `none` for the rated torque (no life figure). [[reducerload.monitor.MonitorConfig]] resolves
+ * them against the arm; here only what needs no robot is checked, and every message names its key.
  *
  * @param enabled
  *   build the monitor beside the arm datapath (model rnea only)

@@ -1,0 +1,93 @@
+package reducerload.compiler
+
+import reducerload.arm.{ArmParams, Dynamics}
+import reducerload.config.LoadParams
+import reducerload.graph.BankedSchedule
+import reducerload.monitor.{MonitorConfig, MonitorParams, RatedReducer}
+import reducerload.robot.SerialChain
+import reducerload.util.InputError
+
+/**
+ * A configuration compiled: the arm datapath's parameters with every derived fact forced once (chain, graph,
+ * analysis and target-error fit, schedule, banked schedule) and, with `monitor.enabled`, the monitor resolved
+ * against the arm. Emit, simulate, sweep and soak consume this; none compiles again.
+ */
+final case class Compiled(
+    config: LoadParams,
+    arm: ArmParams,
+    monitor: Option[MonitorParams],
+    rated: IndexedSeq[Option[RatedReducer]]
+) {
+  def banked: Option[BankedSchedule] = arm.banked
+}
+
+/** The compiler pipeline: robot -> chain -> graph -> analysis / target-error fit -> schedule -> banks. */
+object Compiler {
+
+  /**
+   * Compile `p`; `source` names the configuration (file, preset, flags) in the one-line error a refusal
+   * becomes.
+   */
+  def compile(p: LoadParams, source: String): Compiled =
+    try {
+      val a = arm(p)
+      a.schedule
+      a.banked
+      val monitor = if (p.monitor.enabled) Some(MonitorConfig(a, p.monitor)) else None
+      val rated =
+        if (p.monitor.enabled) MonitorConfig.rated(a, p.monitor) else IndexedSeq.fill(a.chain.size)(None)
+      Compiled(p, a, monitor, rated)
+    } catch {
+      case e: IllegalArgumentException =>
+        throw new InputError(s"$source: ${e.getMessage.stripPrefix("requirement failed: ")}")
+    }
+
+  /**
+   * The datapath's parameters (fraction bits fitted to `numeric.target-error` if set); lazy in the schedule,
+   * which [[compile]] forces.
+   */
+  def arm(p: LoadParams): ArmParams = {
+    val asSet = configured(p)
+    if (p.targetError.isEmpty) asSet
+    else TargetFit.fitted(asSet, TargetFit.perOutput(asSet, p.targetError))
+  }
+
+  /** One value for every joint, one per joint, or (velocities only) none: the URDF's limits. */
+  private def perJoint(
+      chain: SerialChain,
+      values: Seq[Double],
+      key: String,
+      fromUrdf: Option[IndexedSeq[Option[Double]]]
+  ): Seq[Double] =
+    values.size match {
+      case 0 =>
+        val limits =
+          fromUrdf.getOrElse(throw new IllegalArgumentException(s"$key must be declared for ${chain.name}"))
+        chain.joints.zip(limits).map { case (j, l) =>
+          l.getOrElse(
+            throw new IllegalArgumentException(
+              s"joint ${j.name} has no <limit velocity> in the URDF: declare $key"
+            )
+          )
+        }
+      case 1                    => Seq.fill(chain.size)(values.head)
+      case n if n == chain.size => values
+      case n =>
+        throw new IllegalArgumentException(
+          s"robot ${chain.name} has ${chain.size} joints but $key gives $n values"
+        )
+    }
+
+  private def configured(p: LoadParams): ArmParams = {
+    val c = p.robot.chain
+    ArmParams(
+      c,
+      perJoint(c, p.robot.maxVelocity, "robot.max-velocity", Some(c.joints.map(_.velocityLimit))),
+      perJoint(c, p.robot.maxAcceleration, "robot.max-acceleration", None),
+      cordic = p.cordic,
+      datapath = p.datapath,
+      scheduleRequest = p.schedule,
+      dynamics = if (p.model.closedForm) Dynamics.Joint3(p.model, p.robot) else Dynamics.Rnea
+    )
+  }
+}

@@ -1,0 +1,64 @@
+package reducerload.config
+
+import reducerload.fixedpoint.Rounding
+
+/**
+ * The arithmetic of the datapath (`datapath.*` keys): the fraction bits of each kind of value, how products
+ * round, and how values are delayed. The arm datapath ([[reducerload.arm.ArmParams]]) takes these as they
+ * are; the target-error fit moves the fraction bits.
+ *
+ * @param velocityFracBits
+ *   fraction bits of the velocity inputs (rad/s)
+ * @param accelerationFracBits
+ *   fraction bits of the acceleration inputs (rad/s^2)
+ * @param constantFracBits
+ *   fraction bits of the folded robot constants
+ * @param internalFracBits
+ *   fraction bits (N·m and friends) of products and sums
+ * @param outputFracBits
+ *   fraction bits of the torque outputs (N·m)
+ * @param productRounding
+ *   how products drop to `internalFracBits` (truncate costs no adder)
+ * @param multiplierLatency
+ *   registers after each multiplier (>= 1; more lets Quartus retime into the DSP)
+ * @param memoryDelayMinCycles
+ *   pipeline-balancing delays of at least this many cycles use block RAM (M9K) instead of registers; 0 keeps
+ *   every delay in registers
+ */
+final case class DatapathParams(
+    velocityFracBits: Int = 20,
+    accelerationFracBits: Int = 20,
+    constantFracBits: Int = 24,
+    internalFracBits: Int = 20,
+    outputFracBits: Int = 20,
+    productRounding: Rounding = Rounding.Truncate,
+    multiplierLatency: Int = 1,
+    memoryDelayMinCycles: Int = 4
+) {
+  reducerload.graph.Numerics.checkFracBits(
+    velocityFracBits,
+    accelerationFracBits,
+    constantFracBits,
+    internalFracBits,
+    outputFracBits
+  )
+  require(
+    multiplierLatency >= 1 && multiplierLatency <= 4,
+    s"datapath.multiplier-latency must be in 1..4, got $multiplierLatency"
+  )
+  // A block-RAM delay (pipeline.MemoryDelay) takes 3 cycles or more; 1024 bounds its address counter.
+  require(
+    memoryDelayMinCycles == 0 || (memoryDelayMinCycles >= 3 && memoryDelayMinCycles <= 1024),
+    s"datapath.memory-delay-min-cycles must be 0 (registers only) or in 3..1024, got $memoryDelayMinCycles"
+  )
+
+  /** Every kind's fraction bits moved by `d` (the target-error fit's first step). */
+  def shifted(d: Int): DatapathParams = copy(
+    velocityFracBits = velocityFracBits + d,
+    accelerationFracBits = accelerationFracBits + d,
+    constantFracBits = constantFracBits + d,
+    internalFracBits = internalFracBits + d,
+    outputFracBits = outputFracBits + d
+  )
+
+}
