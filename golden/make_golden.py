@@ -4,7 +4,7 @@
 The reference is Pinocchio's RNEA on a planar 3R arm built from the robot parameters: three revolute
 joints about z, link lengths along each link's x axis, a point mass m3 at the end of link 3, links 1
 and 2 with no body at all (exactly zero mass), gravity along +x so that t1 = 0 points link 1 down and
-the gravity term is +m3 g l3 sin(t1+t2+t3). Beside it go the closed-form exact torque (SPEC.md tau3)
+the gravity term is +m3 g l3 sin(t1+t2+t3). Beside it go the closed-form exact torque (tau3 of docs/equations.md)
 and the paper's equation (6) as written; the script stops if RNEA and the closed form disagree by
 more than 1e-9 N*m on any row, if any sample leaves the declared ranges, or if a trajectory's
 velocities and accelerations are not the derivatives of its angles.
@@ -67,7 +67,7 @@ def tau3_exact(r, s):
 
 
 def tau3_paper(r, s):
-    """The paper's equation (6), exactly as written (SPEC.md)."""
+    """The paper's equation (6), exactly as written (docs/equations.md)."""
     t1, t2, t3, d1, d2, d3, dd1, dd2, dd3 = s
     m3, l1, l2, l3, g = r["m3"], r["l1"], r["l2"], r["l3"], r["g"]
     return (m3 * l1 * l3 * dd1 * math.cos(t2 + t3) + (m3 * l2 * l3 * dd1 + 2 * m3 * l2 * l3 * dd2) * math.cos(t3)
@@ -272,7 +272,7 @@ def write(name, description, seed, rows, model, data):
     header = [
         f"# {name}: {description}",
         f"# regenerate: {COMMAND}",
-        f"# reference: Pinocchio {pin.__version__} RNEA (tau3_rnea); closed forms tau3_exact (SPEC.md) and "
+        f"# reference: Pinocchio {pin.__version__} RNEA (tau3_rnea); closed forms tau3_exact (docs/equations.md) and "
         f"tau3_paper (the paper's equation (6)); max |rnea - exact| = {worst:.1e} N*m",
         f"# seed: {seed}",
         f"# robot: {robot}",

@@ -54,7 +54,7 @@ Independent checks (on every row; the script stops on any failure):
      and locked joints merged into the moving body they ride on) - independent of Pinocchio's
      parser and algorithms; for planar3 built from the arm's parameters;
   2. Pinocchio's second formulation M(q) qdd + nle(q, qd) (pin.crba + pin.nonLinearEffects);
-  3. planar3: the closed form tau3 of SPEC.md (make_golden.tau3_exact).
+  3. planar3: the closed form tau3 of docs/equations.md (make_golden.tau3_exact).
   Tolerance 1e-9 N*m (absolute) for each; the torques are at most a few hundred N*m, so doubles
   agree to about 1e-13 N*m and 1e-9 leaves room only for rounding, not for a modelling difference.
   Also checked: every sample within the declared ranges, |q| <= 4 pi, the URDF files' SHA-256, the
@@ -519,7 +519,7 @@ def write(robot, model, chain, gravity, kind, description, seed, rows):
         lines.append(",".join(num(x) for x in s + tau))
     checks = f"max |rnea - own Newton-Euler| = {worst_own:.1e} N*m, max |rnea - (crba qdd + nle)| = {worst_crba:.1e} N*m"
     if robot["name"] == "planar3":
-        checks += f", max |tau3 - closed form (SPEC.md)| = {worst_closed:.1e} N*m"
+        checks += f", max |tau3 - closed form (docs/equations.md)| = {worst_closed:.1e} N*m"
     names = [model.names[i] for i in range(1, model.njoints)]
     gravity_text = ",".join(short(g) for g in model.gravity.linear)
     urdf = (f"{robot['source']} ({EXAMPLE_ROBOT_DATA}, sha256 {robot['sha256']})" if robot["sha256"]

@@ -232,7 +232,7 @@ object Settings {
   val model = new Choice(
     "model",
     "",
-    "exact (SPEC.md tau3) or paper (equation (6) as published): planar3's joint 3; rnea: every joint of any robot",
+    "exact (tau3 of docs/equations.md) or paper (equation (6) as published): planar3's joint 3; rnea: every joint of any robot",
     Nil,
     LoadModel.all,
     (m: LoadModel) => m.name,

@@ -23,7 +23,7 @@ object CordicArchitecture {
 }
 
 /**
- * Parameters of the pipelined circular-rotation CORDIC (SPEC.md "The CORDIC unit"; paper section 1.2).
+ * Parameters of the pipelined circular-rotation CORDIC (docs/equations.md, "The CORDIC unit"; paper section 1.2).
  *
  * The angle enters as a binary angle: an unsigned `angleBits`-bit code, one full turn = 2^angleBits, so the
  * quadrant is the top two bits and angle sums wrap for free. Outputs are cos and sin in `outputFormat` =
@@ -325,7 +325,7 @@ object CordicParams {
   val paper: CordicParams =
     CordicParams(angleBits = 16, outputBits = 16, iterations = 10, guardBits = 2, angleGuardBits = 2)
 
-  /** Precise default: sin/cos error near 2^-23, what the load targets in SPEC.md need. */
+  /** Precise default: sin/cos error near 2^-23, what the load targets of the presets need. */
   val precise: CordicParams = CordicParams()
 
   /** A small unit whose every angle code can be simulated. */

@@ -6,7 +6,7 @@ import reducerload.graph.{AngleSum, TrigFn}
 import reducerload.robot.RobotParams
 
 /**
- * The planar arm's joint-3 load in closed form (SPEC.md's tau3, or the paper's equation (6) with weight 2 on
+ * The planar arm's joint-3 load in closed form (tau3 of docs/equations.md, or the paper's equation (6) with weight 2 on
  * dd2), written once over [[Num]]: on doubles it is the reference ([[reducerload.arm.LoadReference]]), on
  * graph nodes the datapath ([[reducerload.arm.Dynamics.Joint3]]).
  *

@@ -3,7 +3,7 @@ package reducerload.robot
 /**
  * The paper's planar arm as a serial chain: three revolute joints about z, link i along its joint's x axis, a
  * point mass m3 at the end of link 3 and no other body, gravity along +x (so t1 = 0 points link 1 down and
- * the gravity term is +m3 g l3 sin(t1+t2+t3), as in SPEC.md).
+ * the gravity term is +m3 g l3 sin(t1+t2+t3), as in docs/equations.md).
  */
 object Planar3 {
   val name: String = "planar3"
