@@ -137,7 +137,14 @@ object Cli {
     )
   )
 
-  /** Parse `args` for `command`, accepting its own options, the design options and the settings flags. */
+  /**
+   * Parse `args` for `command`, accepting its own options, the design options and the settings flags.
+   *
+   * Hand-written rather than scopt 4: with every option declared and `validate` hooks, scopt still words its
+   * own refusals ("Unknown option --x=1", "Unknown argument 'w'", "Missing value after --x") with no hook to
+   * replace them, so keeping our one-line `command line: ...` messages would mean matching its English text;
+   * and it also accepts `--key:value`. Splitting `--key=value` and `--key value` is all it would take over.
+   */
   def parse(
       command: String,
       args: Seq[String],
