@@ -1,9 +1,8 @@
 package reducerload.app
 
-import com.typesafe.config.{Config, ConfigFactory}
+import com.typesafe.config.{Config, ConfigException, ConfigFactory, ConfigValueFactory}
 import reducerload.compiler.{Compiled, Compiler}
-import reducerload.config.Settings
-import reducerload.config.LoadParams
+import reducerload.config.{Assignment, LoadParams, Setting, Settings}
 import reducerload.util.InputError
 
 import java.nio.file.{Files, Path, Paths}
@@ -28,7 +27,24 @@ final case class Cli(
    * The design parameters: a preset or a complete config file, then flag overrides. Only the settings are
    * checked here; [[compiled]] builds the design.
    */
-  def params: LoadParams = Settings.toParams(configuration, source)
+  def params: LoadParams = {
+    if (has("preset") && has("config"))
+      throw new InputError("command line: --preset and --config are exclusive (a config file is complete)")
+    get("config") match {
+      case Some(file) =>
+        val c = Cli.configFile(file)
+        Settings.toParams(c, source, assignments)
+      case None =>
+        val name = presetName
+        val preset = LoadParams.allPresets.getOrElse(
+          name,
+          throw new InputError(
+            s"command line: --preset '$name' is not a preset (${LoadParams.allPresets.keys.toSeq.sorted.mkString(", ")})"
+          )
+        )
+        Settings.withOverrides(preset, assignments, source)
+    }
+  }
 
   /** The design `params` describe, compiled once; a refusal names [[source]]. */
   def compiled: Compiled = Compiler.compile(params, source)
@@ -43,49 +59,9 @@ final case class Cli(
   private def presetName: String =
     get("preset").getOrElse(if (overrides.exists(_._1 == "robot.source")) "arm" else "default")
 
-  /** The merged HOCON: the preset's or the file's, then each override. */
-  private def configuration: Config = {
-    if (has("preset") && has("config"))
-      throw new InputError("command line: --preset and --config are exclusive (a config file is complete)")
-    val base = get("config") match {
-      case Some(file) =>
-        val p = Paths.get(file)
-        if (!Files.isRegularFile(p)) throw new InputError(s"$file: no such configuration file")
-        val parsed = Try(ConfigFactory.parseFile(p.toFile, Cli.strictParse)).recover {
-          case e: com.typesafe.config.ConfigException =>
-            throw new InputError(
-              s"$file: not a valid HOCON/JSON configuration: ${e.getMessage.split('\n').head}"
-            )
-        }.get
-        parsed
-      case None =>
-        val name = presetName
-        val preset = LoadParams.allPresets.getOrElse(
-          name,
-          throw new InputError(
-            s"command line: --preset '$name' is not a preset (${LoadParams.allPresets.keys.toSeq.sorted.mkString(", ")})"
-          )
-        )
-        ConfigFactory.parseString(Settings.render(preset, Nil))
-    }
-    val merged = Cli.robotDefaults(overrides).foldLeft(base: Config) { case (c, (key, value)) =>
-      val setting = Settings.byKey(key)
-      val text = setting match {
-        case _: reducerload.config.Setting.PerJoint if value.contains(",") && !value.trim.startsWith("[") =>
-          s"[$value]"
-        case _: reducerload.config.Setting.Choice[_] => "\"" + value.replace("\"", "") + "\""
-        case _: reducerload.config.Setting.Text =>
-          com.typesafe.config.ConfigValueFactory.fromAnyRef(value).render()
-        case _ => value
-      }
-      val one = Try(ConfigFactory.parseString(s"$key = $text")).getOrElse(
-        throw new InputError(s"command line: --$key: '$value' is not a valid value (${setting.typeName})")
-      )
-      setting.read(one, s"command line --$key")
-      one.withFallback(c)
-    }
-    merged.resolve()
-  }
+  /** Each override (with those `--robot` implies) parsed to its setting's type, in order. */
+  private def assignments: Seq[Assignment[_]] =
+    Cli.robotDefaults(overrides).map { case (key, value) => Cli.assign(Settings.byKey(key), value) }
 }
 
 object Cli {
@@ -113,8 +89,38 @@ object Cli {
     }
   }
 
-  private[app] val strictParse =
+  private val strictParse =
     com.typesafe.config.ConfigParseOptions.defaults().setAllowMissing(false)
+
+  /** A configuration file, parsed and resolved; its keys are checked by [[Settings.toParams]]. */
+  private def configFile(file: String): Config = {
+    val p = Paths.get(file)
+    if (!Files.isRegularFile(p)) throw new InputError(s"$file: no such configuration file")
+    try ConfigFactory.parseFile(p.toFile, strictParse).resolve()
+    catch {
+      case e: ConfigException =>
+        throw new InputError(s"$file: not a valid HOCON/JSON configuration: ${e.getMessage.split('\n').head}")
+    }
+  }
+
+  /**
+   * A flag's value as its setting's type: the text as the value of a one-key HOCON snippet (a bare list of
+   * numbers, a choice or a string quoted as a configuration file would have it), read by the setting itself.
+   */
+  private def assign[T](setting: Setting[T], value: String): Assignment[T] = {
+    val text = setting match {
+      case _: Setting.PerJoint if value.contains(",") && !value.trim.startsWith("[") => s"[$value]"
+      case _: Setting.Choice[_] => "\"" + value.replace("\"", "") + "\""
+      case _: Setting.Text      => ConfigValueFactory.fromAnyRef(value).render()
+      case _                    => value
+    }
+    val one = Try(ConfigFactory.parseString(s"${setting.key} = $text")).getOrElse(
+      throw new InputError(
+        s"command line: --${setting.key}: '$value' is not a valid value (${setting.typeName})"
+      )
+    )
+    Assignment(setting, setting.read(one, s"command line --${setting.key}"))
+  }
 
   /** Options every design-building command accepts. */
   val designOptions: Seq[Opt] = Seq(
@@ -131,7 +137,14 @@ object Cli {
     )
   )
 
-  /** Parse `args` for `command`, accepting its own options, the design options and the settings flags. */
+  /**
+   * Parse `args` for `command`, accepting its own options, the design options and the settings flags.
+   *
+   * Hand-written rather than scopt 4: with every option declared and `validate` hooks, scopt still words its
+   * own refusals ("Unknown option --x=1", "Unknown argument 'w'", "Missing value after --x") with no hook to
+   * replace them, so keeping our one-line `command line: ...` messages would mean matching its English text;
+   * and it also accepts `--key:value`. Splitting `--key=value` and `--key value` is all it would take over.
+   */
   def parse(
       command: String,
       args: Seq[String],

@@ -176,6 +176,9 @@ object Setting {
   }
 }
 
+/** A setting's value from the command line, parsed to the setting's type. */
+final case class Assignment[T](setting: Setting[T], value: T)
+
 /** Every key of a configuration, with units and defaults: the single source of --help and the docs table. */
 object Settings {
   import Setting._
@@ -633,8 +636,12 @@ object Settings {
     "datapath.cordic-units" -> "the scheduler shares CORDIC units now: schedule.cordic-units = 1 with schedule.clocks-per-sample = 3 is the old value 1"
   )
 
-  /** Build parameters from a complete, type-checked configuration. */
-  def toParams(c: Config, source: String): LoadParams = {
+  /**
+   * Build parameters from a configuration, complete once `overrides` (flag values, already typed) are laid
+   * over it: a key a flag gives need not be in the file, and its value there is not read.
+   */
+  def toParams(c: Config, source: String, overrides: Seq[Assignment[_]] = Nil): LoadParams = {
+    val flagged = overrides.map(_.setting.key).toSet
     val known = all.map(_.key).toSet
     val present = c.entrySet().asScala.map(_.getKey).toSeq.sorted
     present
@@ -649,11 +656,36 @@ object Settings {
         .getOrElse("")
       throw new InputError(s"$source: unknown key '$k'$hint")
     }
-    all
+    val read = all.filterNot(s => flagged(s.key))
+    read
       .find(s => !c.hasPath(s.key))
       .foreach(s => throw new InputError(s"$source: missing key '${s.key}' (${s.help})"))
-    def v[T](s: Setting[T]): T = s.read(c, source)
-    all.foreach(_.read(c, source)) // every type error before any bound, in declaration order
+    read.foreach(_.read(c, source)) // every type error before any bound, in declaration order
+    build(
+      new Values { def apply[T](s: Setting[T]): T = s.read(c, source) },
+      overrides,
+      source
+    )
+  }
+
+  /** `preset` with `overrides` laid over it; the bounds are checked on the result, not on each step. */
+  def withOverrides(preset: LoadParams, overrides: Seq[Assignment[_]], source: String): LoadParams =
+    build(new Values { def apply[T](s: Setting[T]): T = s.get(preset) }, overrides, source)
+
+  /** Each setting's value, typed: read from a file or taken from a preset. */
+  private trait Values { def apply[T](s: Setting[T]): T }
+
+  /**
+   * The parameters the settings' values describe, built in one step: the sub-configurations' bounds relate
+   * several keys (a URDF robot needs model rnea), so overrides cannot be applied to a checked value one by
+   * one.
+   */
+  private def build(base: Values, overrides: Seq[Assignment[_]], source: String): LoadParams = {
+    // The last assignment of a setting wins; `eq` on the setting makes its value's type the setting's.
+    def v[T](s: Setting[T]): T =
+      overrides.reverseIterator
+        .collectFirst { case a if a.setting eq s => a.value.asInstanceOf[T] }
+        .getOrElse(base(s))
     // planar3 has three joints: one number stands for all three.
     def ranges(s: Setting[Seq[Double]]) = (v(s), v(robotSource) == RobotParams.planar3) match {
       case (Seq(x), true) => Seq.fill(3)(x)
