@@ -1,8 +1,8 @@
 package reducerload.app
 
-import reducerload.arm.ArmSample
+import reducerload.arm.{ArmParams, ArmSample}
 import reducerload.compiler.Compiled
-import reducerload.monitor.{MonitorConfig, MonitorSummary}
+import reducerload.monitor.{MonitorConfig, MonitorParams, MonitorSummary, RatedReducer}
 import reducerload.sim.replay._
 import reducerload.sim.rtl.{CompiledHarness, VerilatorHarness}
 import reducerload.trace.TraceCsv
@@ -194,10 +194,22 @@ object Simulate {
       val parent = path.toAbsolutePath.normalize.getParent
       if (parent != null && !Files.isDirectory(parent))
         throw new InputError(s"$path: directory $parent does not exist")
-      (path, compiled)
+      // The monitor's settings resolved against the arm before anything is written: a refusal (a planar arm
+      // with no efforts for its limits, say) leaves no output file behind.
+      val resolved =
+        try
+          (
+            compiled.monitor.getOrElse(MonitorConfig(compiled.arm, compiled.config.monitor)),
+            MonitorConfig.rated(compiled.arm, compiled.config.monitor)
+          )
+        catch {
+          case e: IllegalArgumentException =>
+            throw new InputError(s"${cli.source}: ${e.getMessage.stripPrefix("requirement failed: ")}")
+        }
+      (path, resolved)
     }
     execute(request, elaborated)
-    monitor.foreach { case (path, c) => writeSummary(path, request, c) }
+    monitor.foreach { case (path, (mp, rated)) => writeSummary(path, request, compiled.arm, mp, rated) }
   }
 
   /**
@@ -208,17 +220,17 @@ object Simulate {
   private def writeSummary(
       path: Path,
       request: SimulateRequest[_, _],
-      c: Compiled
+      arm: ArmParams,
+      mp: MonitorParams,
+      rated: IndexedSeq[Option[RatedReducer]]
   ): Unit = {
-    val arm = c.arm
-    val mp = c.monitor.getOrElse(MonitorConfig(arm, c.config.monitor))
     val n = arm.chain.size
     val samples = (0 until request.rows.size).map { i =>
       val r = request.rows.row(i)
       ArmSample(r.slice(0, n), r.slice(n, 2 * n), r.slice(2 * n, 3 * n))
     }
     val summary =
-      MonitorSummary.fromTrajectory(arm, mp, samples, MonitorConfig.rated(arm, c.config.monitor))
+      MonitorSummary.fromTrajectory(arm, mp, samples, rated)
     writeAtomically(path)(_.write(summary.json))
     println(
       s"wrote $path: reducer monitor summary of ${samples.size} samples, ${n} joints (exponent ${mp.lifeExponents.distinct.mkString("/")})"

@@ -95,8 +95,8 @@ final case class ArmParams(
 
   /**
    * The schedule and, with memory storage, its banks. With memory storage and an automatic interval, the
-   * interval is the fewest from the multiplier budget's on at which the banks' read ports can also be
-   * served (a tight interval can leave no free port for a value read by many operations).
+   * interval is the fewest from the multiplier budget's on at which the banks' read ports can also be served
+   * (a tight interval can leave no free port for a value read by many operations).
    */
   private lazy val scheduled: (Schedule, Option[BankedSchedule]) = scheduleRequest.storage match {
     case Storage.Registers => (scheduleFor(scheduleRequest), None)

@@ -23,7 +23,8 @@ object CordicArchitecture {
 }
 
 /**
- * Parameters of the pipelined circular-rotation CORDIC (docs/equations.md, "The CORDIC unit"; paper section 1.2).
+ * Parameters of the pipelined circular-rotation CORDIC (docs/equations.md, "The CORDIC unit"; paper section
+ * 1.2).
  *
  * The angle enters as a binary angle: an unsigned `angleBits`-bit code, one full turn = 2^angleBits, so the
  * quadrant is the top two bits and angle sums wrap for free. Outputs are cos and sin in `outputFormat` =

@@ -6,9 +6,9 @@ import reducerload.graph.{AngleSum, TrigFn}
 import reducerload.robot.RobotParams
 
 /**
- * The planar arm's joint-3 load in closed form (tau3 of docs/equations.md, or the paper's equation (6) with weight 2 on
- * dd2), written once over [[Num]]: on doubles it is the reference ([[reducerload.arm.LoadReference]]), on
- * graph nodes the datapath ([[reducerload.arm.Dynamics.Joint3]]).
+ * The planar arm's joint-3 load in closed form (tau3 of docs/equations.md, or the paper's equation (6) with
+ * weight 2 on dd2), written once over [[Num]]: on doubles it is the reference
+ * ([[reducerload.arm.LoadReference]]), on graph nodes the datapath ([[reducerload.arm.Dynamics.Joint3]]).
  *
  * A dd1 c23 + B (dd1 + k dd2) c3 + A d1^2 s23 + B (d1+d2)^2 s3 + C (dd1+dd2+dd3) + D s123
  *

@@ -18,7 +18,9 @@ sealed abstract class LoadModel(val name: String, val description: String) {
 object LoadModel {
 
   /** tau3 of docs/equations.md, confirmed by Euler-Lagrange and Pinocchio's RNEA: (dd1 + dd2) cos t3. */
-  case object Exact extends LoadModel("exact", "exact inverse dynamics (tau3 of docs/equations.md)") { val dd2Weight = 1 }
+  case object Exact extends LoadModel("exact", "exact inverse dynamics (tau3 of docs/equations.md)") {
+    val dd2Weight = 1
+  }
 
   /** The paper's equation (6) as published: (dd1 + 2 dd2) cos t3, off by m3 l2 l3 dd2 cos t3. */
   case object PaperEq6 extends LoadModel("paper", "the paper's equation (6) as published") {

@@ -8,9 +8,9 @@ final case class MonitorSampleValues(
 )
 
 /**
- * The monitor's figures in double precision, straight from the definitions (docs/equations.md, "Reducer life and
- * limits"), with no table, code or integer: the independent check of [[MonitorModel]] and the RTL over one
- * period between clears. Only the limits, bin width, exponent and dt come from `p`.
+ * The monitor's figures in double precision, straight from the definitions (docs/equations.md, "Reducer life
+ * and limits"), with no table, code or integer: the independent check of [[MonitorModel]] and the RTL over
+ * one period between clears. Only the limits, bin width, exponent and dt come from `p`.
  */
 object MonitorReference {
 

@@ -1,9 +1,9 @@
 package reducerload.monitor
 
 /**
- * Catalogue rating of a reducer for the life formula (docs/equations.md, Harmonic Drive CSD-2A / HFUS-2SH): rated
- * output torque T_N, rated input speed n_N and rated life L_n (L_n 35,000 h, n_N 2,000 rpm for CSF/CSD/HFUC;
- * RV catalogues give their own K and N0, used the same way).
+ * Catalogue rating of a reducer for the life formula (docs/equations.md, Harmonic Drive CSD-2A / HFUS-2SH):
+ * rated output torque T_N, rated input speed n_N and rated life L_n (L_n 35,000 h, n_N 2,000 rpm for
+ * CSF/CSD/HFUC; RV catalogues give their own K and N0, used the same way).
  */
 final case class RatedReducer(torqueNm: Double, inputSpeedRpm: Double, lifeHours: Double) {
   require(
