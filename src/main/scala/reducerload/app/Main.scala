@@ -91,11 +91,6 @@ object Command {
     }
   }
 
-  case object SettingsTable
-      extends Command("settings-table", "print the README's settings table (markdown)", design = false) {
-    def run(cli: Cli, commandLine: String): Unit = println(Settings.markdownTable)
-  }
-
   case object ConfigurationDoc
       extends Command(
         "configuration-doc",
@@ -122,7 +117,6 @@ object Command {
     SweepDesigns,
     SoakRtl,
     PrintConfig,
-    SettingsTable,
     ConfigurationDoc,
     PresetsTable
   )

@@ -7,7 +7,8 @@ import reducerload.config.LoadParams
 /**
  * The README's preset table, made from the presets themselves: architecture, rate, latency, the derived error
  * bound and the max error measured on the golden traces (bit-accurate model, which the RTL tests prove equal
- * to the hardware). `./sbt --error "run presets-table"` prints it; ReadmeSpec checks the README carries it.
+ * to the hardware). `./sbt --error "run presets-table"` prints it; DocsFreshnessSpec checks the README
+ * carries it.
  */
 object PresetsTable {
 

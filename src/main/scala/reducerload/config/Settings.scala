@@ -758,7 +758,7 @@ object Settings {
     }
   }
 
-  /** The settings table of the README (tested to match). */
+  /** The settings table of docs/configuration.md (SettingsDocSpec checks the file carries it). */
   def markdownTable: String =
     ("| key | flag | type | unit | default | meaning |" +: "| --- | --- | --- | --- | --- | --- |" +: all
       .map { s =>
