@@ -6,7 +6,7 @@ import reducerload.arm.{ArmIO, ArmParams}
 import reducerload.monitor.MonitoredArmIO
 import reducerload.fixedpoint.FixedFormat
 import reducerload.monitor.{JointField, MonitorParams}
-import reducerload.sim.rtl.{ModulePort, ModulePorts, PortDirection}
+import reducerload.sim.rtl.ModulePorts
 
 import scala.jdk.CollectionConverters._
 
@@ -37,16 +37,12 @@ final case class ArmReport(
     outputOf(i).fold(none)(k => fmt(p.analysis.outputs(k).range.maxAbs, p.errorBounds(k)))
 
   private val io: ArmIO = monitor.fold(new ArmIO(p))(m => new MonitoredArmIO(p, m))
-  private val modulePorts = ModulePorts(io)
+  private val table = new PortTable(moduleName, ModulePorts(io))
 
-  /** (port, direction, format description), every port of the module once, named from its IO Bundle. */
-  val ports: Seq[(String, String, String)] = {
-    def line(port: ModulePort, text: String) =
-      (port.name, if (port.direction == PortDirection.In) "in" else "out", text)
-    def at(leaf: Data, text: String) = line(modulePorts(leaf), text)
-    val described = Seq(
-      line(modulePorts.clock, "1 bit"),
-      line(modulePorts.reset, "1 bit, synchronous, active high: clears every valid bit"),
+  /** Every port of the module once, named from its IO Bundle, with its format and meaning. */
+  val ports: Seq[PortRow] = {
+    def at(leaf: Data, text: String) = table(leaf, text)
+    val described = table.clockAndReset ++ Seq(
       at(io.in.valid, "1 bit: a sample this cycle"),
       at(
         io.in.ready,
@@ -111,14 +107,10 @@ final case class ArmReport(
           )
         case _ => Nil
       })
-    require(
-      described.map(_._1).sorted == modulePorts.all.map(_.name).sorted,
-      s"$moduleName: the report describes ports ${described.map(_._1).mkString(", ")}, the module has ${modulePorts.all.map(_.name).mkString(", ")}"
-    )
-    described
+    table.complete(described)
   }
 
-  def portLines: Seq[String] = "Ports:" +: ports.map { case (name, d, f) => f"  $name%-26s $d%-3s $f" }
+  def portLines: Seq[String] = table.lines(ports, 26)
 
   private def jointLines: Seq[String] = joints.zipWithIndex.map { case (j, i) =>
     val a = j.axis
@@ -180,7 +172,7 @@ final case class ArmReport(
     "",
     "| port | dir | format |",
     "| --- | --- | --- |"
-  ) ++ ports.map { case (name, d, f) => s"| `$name` | $d | $f |" } ++ Seq(
+  ) ++ table.markdown(ports) ++ Seq(
     "",
     "## Joints",
     "",

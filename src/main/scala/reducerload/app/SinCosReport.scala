@@ -4,7 +4,7 @@ import com.typesafe.config.{ConfigRenderOptions, ConfigValueFactory}
 import chisel3.Data
 import reducerload.cordic.{CordicParams, CordicSinCosIO}
 import reducerload.fixedpoint.FixedFormat
-import reducerload.sim.rtl.{ModulePort, ModulePorts, PortDirection}
+import reducerload.sim.rtl.ModulePorts
 
 import scala.jdk.CollectionConverters._
 
@@ -19,30 +19,22 @@ final case class SinCosReport(
   val throughput: String = "one angle per clock"
 
   private val io = new CordicSinCosIO(c)
-  private val modulePorts = ModulePorts(io)
+  private val table = new PortTable(moduleName, ModulePorts(io))
 
-  /** (port, direction, format description), every port of the module once, named from its IO Bundle. */
-  val ports: Seq[(String, String, String)] = {
-    def line(port: ModulePort, text: String) =
-      (port.name, if (port.direction == PortDirection.In) "in" else "out", text)
-    def at(leaf: Data, text: String) = line(modulePorts(leaf), text)
-    val described = Seq(
-      line(modulePorts.clock, "1 bit"),
-      line(modulePorts.reset, "1 bit, synchronous, active high: clears every valid bit"),
+  /** Every port of the module once, named from its IO Bundle, with its format. */
+  val ports: Seq[PortRow] = {
+    def at(leaf: Data, text: String) = table(leaf, text)
+    val described = table.clockAndReset ++ Seq(
       at(io.in.valid, "1 bit"),
       at(io.in.bits, s"unsigned ${c.angleBits} bits, binary angle"),
       at(io.out.valid, s"1 bit, ${c.latency} cycles after the angle"),
       at(io.out.bits.cos, c.outputFormat.describe),
       at(io.out.bits.sin, c.outputFormat.describe)
     )
-    require(
-      described.map(_._1).sorted == modulePorts.all.map(_.name).sorted,
-      s"$moduleName: a port is not described"
-    )
-    described
+    table.complete(described)
   }
 
-  def portLines: Seq[String] = "Ports:" +: ports.map { case (n, d, f) => f"  $n%-24s $d%-3s $f" }
+  def portLines: Seq[String] = table.lines(ports, 24)
 
   def summaryLines: Seq[String] = estimate.toSeq.flatMap(_.lines) ++ c.report.linesIterator.toSeq
 
@@ -57,7 +49,7 @@ final case class SinCosReport(
     "",
     "| port | dir | format |",
     "| --- | --- | --- |"
-  ) ++ ports.map { case (n, d, f) => s"| `$n` | $d | $f |" } ++ Seq(
+  ) ++ table.markdown(ports) ++ Seq(
     "",
     "## Details",
     "",
