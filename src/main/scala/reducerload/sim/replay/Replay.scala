@@ -35,6 +35,17 @@ object Replay {
 
   private val threads = java.lang.management.ManagementFactory.getThreadMXBean
 
+  /** The chunks' figures merged: the largest error per label, the sums, and the phases where measured. */
+  private def summary(samples: Long, labels: Int, chunks: Seq[ChunkResult], start: Long) = ReplaySummary(
+    samples,
+    (0 until labels).map(j => chunks.map(_.maxErrors(j)).maxOption.getOrElse(0.0)),
+    chunks.map(_.outOfRange).sum,
+    (System.nanoTime() - start) / 1e9,
+    chunks.map(_.cpuSeconds).sum,
+    chunks.flatMap(_.harness),
+    chunks.flatMap(_.phases).reduceOption(_ + _)
+  )
+
   /**
    * Outputs of `inputs` on the RTL's compiled `harness` (and the harness run's figures), or with None on the
    * bit-accurate model.
@@ -117,14 +128,7 @@ object Replay {
       ChunkResult(maxErrors, flagged.toLong, harnessStats, cpuSeconds)
     }
     progress.finish()
-    ReplaySummary(
-      rows.size.toLong,
-      (0 until labels).map(j => chunks.map(_.maxErrors(j)).maxOption.getOrElse(0.0)),
-      chunks.map(_.outOfRange).sum,
-      (System.nanoTime() - start) / 1e9,
-      chunks.map(_.cpuSeconds).sum,
-      chunks.flatMap(_.harness)
-    )
+    summary(rows.size.toLong, labels, chunks, start)
   }
 
   /** [[run]] on the design's [[ArrayReplay]]: the same lines, from codes and outputs in long arrays. */
@@ -197,15 +201,7 @@ object Replay {
       )
     }
     progress.finish()
-    ReplaySummary(
-      rows.size.toLong,
-      (0 until labels).map(j => chunks.map(_.maxErrors(j)).maxOption.getOrElse(0.0)),
-      chunks.map(_.outOfRange).sum,
-      (System.nanoTime() - start) / 1e9,
-      chunks.map(_.cpuSeconds).sum,
-      chunks.flatMap(_.harness),
-      chunks.flatMap(_.phases).reduceOption(_ + _)
-    )
+    summary(rows.size.toLong, labels, chunks, start)
   }
 }
 
