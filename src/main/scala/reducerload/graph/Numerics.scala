@@ -53,19 +53,7 @@ final case class Numerics(
     s"Numerics: ${velocityLimits.size} velocity limits but ${accelerationLimits.size} " +
       s"acceleration limits (one each per joint)"
   )
-  private def finite(x: Double) = !x.isNaN && !x.isInfinite
-  velocityLimits.zipWithIndex.foreach { case (v, j) =>
-    require(
-      finite(v) && v > 0 && v <= 1000,
-      s"max-velocity of joint ${j + 1} must be in (0, 1000] rad/s, got $v"
-    )
-  }
-  accelerationLimits.zipWithIndex.foreach { case (a, j) =>
-    require(
-      finite(a) && a > 0 && a <= 1e5,
-      s"max-acceleration of joint ${j + 1} must be in (0, 100000] rad/s^2, got $a"
-    )
-  }
+  reducerload.robot.RobotParams.checkRanges(velocityLimits, accelerationLimits)
   Numerics.checkFracBits(
     velocityFracBits,
     accelerationFracBits,

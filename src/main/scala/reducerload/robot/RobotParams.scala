@@ -33,11 +33,11 @@ final case class RobotParams(
 ) {
 
   private def finite(x: Double) = !x.isNaN && !x.isInfinite
-  require(finite(m3) && m3 > 0 && m3 <= 1e4, s"RobotParams.m3 must be a mass in (0, 10000] kg, got $m3")
+  require(finite(m3) && m3 > 0 && m3 <= 1e4, s"robot.m3 must be a mass in (0, 10000] kg, got $m3")
   Seq("l1" -> l1, "l2" -> l2, "l3" -> l3).foreach { case (name, l) =>
-    require(finite(l) && l > 0 && l <= 100, s"RobotParams.$name must be a length in (0, 100] m, got $l")
+    require(finite(l) && l > 0 && l <= 100, s"robot.$name must be a length in (0, 100] m, got $l")
   }
-  require(finite(g) && g >= 0 && g <= 100, s"RobotParams.g must be in [0, 100] m/s^2, got $g")
+  require(finite(g) && g >= 0 && g <= 100, s"robot.g must be in [0, 100] m/s^2, got $g")
   require(source.nonEmpty, "robot.source must be planar3 or the path of a URDF file")
   if (isPlanar3) {
     require(
@@ -54,18 +54,7 @@ final case class RobotParams(
       maxAcceleration.nonEmpty,
       s"robot.max-acceleration must be declared for $source (a URDF gives no acceleration limits)"
     )
-  maxVelocity.zipWithIndex.foreach { case (v, i) =>
-    require(
-      finite(v) && v > 0 && v <= 1000,
-      s"RobotParams.maxVelocity(${i + 1}) must be in (0, 1000] rad/s, got $v"
-    )
-  }
-  maxAcceleration.zipWithIndex.foreach { case (a, i) =>
-    require(
-      finite(a) && a > 0 && a <= 1e5,
-      s"RobotParams.maxAcceleration(${i + 1}) must be in (0, 100000] rad/s^2, got $a"
-    )
-  }
+  RobotParams.checkRanges(maxVelocity, maxAcceleration)
 
   def isPlanar3: Boolean = source == RobotParams.planar3
 
@@ -82,5 +71,25 @@ final case class RobotParams(
 }
 
 object RobotParams {
+
+  /**
+   * The declared ranges' own limits, one rule wherever ranges are given (here and in the graph's numerics):
+   * finite and positive, with the upper limits every format derivation assumes.
+   */
+  def checkRanges(maxVelocity: Seq[Double], maxAcceleration: Seq[Double]): Unit = {
+    def finite(x: Double) = !x.isNaN && !x.isInfinite
+    maxVelocity.zipWithIndex.foreach { case (v, j) =>
+      require(
+        finite(v) && v > 0 && v <= 1000,
+        s"robot.max-velocity of joint ${j + 1} must be in (0, 1000] rad/s, got $v"
+      )
+    }
+    maxAcceleration.zipWithIndex.foreach { case (a, j) =>
+      require(
+        finite(a) && a > 0 && a <= 1e5,
+        s"robot.max-acceleration of joint ${j + 1} must be in (0, 100000] rad/s^2, got $a"
+      )
+    }
+  }
   val planar3: String = "planar3"
 }

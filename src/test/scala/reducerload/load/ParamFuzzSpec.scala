@@ -20,7 +20,7 @@ import scala.util.{Failure, Random, Success, Try}
 class ParamFuzzSpec extends AnyFlatSpec {
   behavior of "LoadParams under fuzzed configurations"
 
-  private val parameterNames = Seq("CordicParams.", "RobotParams.", "datapath.", "declared ranges")
+  private val parameterNames = Seq("CordicParams.", "robot.", "datapath.", "declared ranges")
 
   it should "build and meet the bound, or refuse naming the parameter, for 300 random configurations" in {
     val rng = new Random(Seeds("param-fuzz", 61L))
