@@ -46,8 +46,15 @@ final case class Cli(
     }
   }
 
-  /** The design `params` describe, compiled once; a refusal names [[source]]. */
-  def compiled: Compiled = Compiler.compile(params, source)
+  /**
+   * The design `params` describe, compiled once; a refusal names [[source]]. Its warnings go to standard
+   * error, one line each.
+   */
+  lazy val compiled: Compiled = {
+    val c = Compiler.compile(params, source)
+    c.warnings.foreach(w => System.err.println(w))
+    c
+  }
 
   /** Where the configuration comes from, for error messages. */
   def source: String = {

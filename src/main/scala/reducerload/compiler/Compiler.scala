@@ -5,7 +5,7 @@ import reducerload.config.LoadParams
 import reducerload.graph.BankedSchedule
 import reducerload.monitor.{MonitorConfig, MonitorParams, RatedReducer}
 import reducerload.robot.SerialChain
-import reducerload.util.InputError
+import reducerload.util.{InputError, Warning}
 
 /**
  * A configuration compiled: the arm datapath's parameters with every derived fact forced once (chain, graph,
@@ -19,6 +19,9 @@ final case class Compiled(
     rated: IndexedSeq[Option[RatedReducer]]
 ) {
   def banked: Option[BankedSchedule] = arm.banked
+
+  /** What the user should know about this design, in the order found (robot first). */
+  def warnings: Seq[Warning] = arm.chain.warnings
 }
 
 /** The compiler pipeline: robot -> chain -> graph -> analysis / target-error fit -> schedule -> banks. */

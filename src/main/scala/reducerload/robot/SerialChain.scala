@@ -81,8 +81,16 @@ final case class ChainJoint(
 /**
  * A serial chain of moving joints from the base to the tip, numbered 1..n from the base, with gravity in base
  * coordinates (m/s^2; Pinocchio's default is (0, 0, -9.81)).
+ *
+ * @param warnings
+ *   what reading the robot's description accepted but a user should know (see [[reducerload.util.Warning]])
  */
-final case class SerialChain(name: String, joints: IndexedSeq[ChainJoint], gravity: Vec3) {
+final case class SerialChain(
+    name: String,
+    joints: IndexedSeq[ChainJoint],
+    gravity: Vec3,
+    warnings: Seq[reducerload.util.Warning] = Nil
+) {
   require(joints.nonEmpty, s"robot $name: the chain has no moving joint")
   require(joints.map(_.name).distinct.size == joints.size, s"robot $name: joint names repeat")
   joints.foreach { j =>
