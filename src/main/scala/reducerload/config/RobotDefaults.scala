@@ -20,7 +20,7 @@ object RobotDefaults {
   /** What `s` is for a URDF given by `--robot`, when that differs from the `default` preset's value. */
   def note(s: Setting[_]): Option[String] = {
     val withRobot =
-      if (s.key == required) Some("required (a URDF has no acceleration limits)")
+      if (s.key == required) Some("required")
       else if (s.key == Settings.robotSource.key) None
       else
         implied
