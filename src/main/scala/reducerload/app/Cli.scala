@@ -36,7 +36,12 @@ final case class Cli(
       throw new InputError("command line: --preset and --config are exclusive (a config file is complete)")
     get("config") match {
       case Some(file) =>
-        Settings.toParams(Cli.withUserRobotPath(Cli.configFile(file)), source, assignments)
+        val config = Cli.configFile(file)
+        // A robot on the command line replaces the file's, which is then not read.
+        val robot =
+          if (overrides.exists(_._1 == Settings.robotSource.key)) config
+          else Cli.withUserRobotPath(config, file)
+        Settings.toParams(robot, source, assignments)
       case None =>
         val name = presetName
         val preset = LoadParams.allPresets.getOrElse(
@@ -139,12 +144,14 @@ object Cli {
   }
 
   /** A configuration file's relative robot.source is the user's path too, as on the command line. */
-  private def withUserRobotPath(c: Config): Config =
+  private def withUserRobotPath(c: Config, file: String): Config =
     Try(c.getString(Settings.robotSource.key)).toOption
       .filter(_ != reducerload.robot.RobotParams.planar3)
-      .fold(c)(v =>
-        c.withValue(Settings.robotSource.key, ConfigValueFactory.fromAnyRef(userPath(v).toString))
-      )
+      .fold(c) { v =>
+        val p = userPath(v)
+        InputFile.check(p, s"$file: ${Settings.robotSource.key} = $v")
+        c.withValue(Settings.robotSource.key, ConfigValueFactory.fromAnyRef(p.toString))
+      }
 
   private val strictParse =
     com.typesafe.config.ConfigParseOptions.defaults().setAllowMissing(false)

@@ -261,6 +261,9 @@ class CliSpec extends AnyFlatSpec {
       assert(!e.getMessage.contains("\n"), e.getMessage)
     }
     refused(Seq("--config", dir.toString), dir.toString, "is a directory")
+    val conf = Scratch.file("robot-dir", ".conf")
+    Files.write(conf, s"robot.source = \"$dir\"\nrobot.max-acceleration = 5\n".getBytes("UTF-8"))
+    refused(Seq("--config", conf.toString), conf.toString, "robot.source", "is a directory")
     refused(Seq("--robot", dir.toString, "--max-acceleration", "5"), "--robot", "is a directory")
     refused(
       Seq("--robot", "no/such.urdf", "--max-acceleration", "5"),
