@@ -6,17 +6,17 @@ import java.nio.file.{Files, Path}
 object InputFile {
 
   /**
-   * Why `p` cannot be read as an input file (a directory, nothing there, a device), naming the absolute path
-   * where it was looked for; None when it is a regular file.
+   * Refuse `p` unless it is a regular file (a directory, nothing there, a device), naming it by `source` and,
+   * when `source` does not already say it, by the absolute path where it was looked for.
    */
-  def problem(p: Path): Option[String] = {
-    val where = p.toAbsolutePath.normalize
-    if (Files.isDirectory(p)) Some(s"is a directory ($where), not a file")
-    else if (!Files.exists(p)) Some(s"no such file (looked for $where)")
-    else if (!Files.isRegularFile(p)) Some(s"not a regular file ($where)")
-    else None
+  def check(p: Path, source: String): Unit = {
+    val where = p.toAbsolutePath.normalize.toString
+    def at(what: String, how: String) = if (source.contains(where)) what else s"$what ($how $where)"
+    val problem =
+      if (Files.isDirectory(p)) Some(at("is a directory, not a file", "at"))
+      else if (!Files.exists(p)) Some(at("no such file", "looked for"))
+      else if (!Files.isRegularFile(p)) Some(at("not a regular file", "at"))
+      else None
+    problem.foreach(why => throw new InputError(s"$source: $why"))
   }
-
-  /** Refuse `p` unless it is a regular file; `source` names it in the message. */
-  def check(p: Path, source: String): Unit = problem(p).foreach(why => throw new InputError(s"$source: $why"))
 }

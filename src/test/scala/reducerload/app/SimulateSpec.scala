@@ -54,7 +54,7 @@ class SimulateSpec extends AnyFlatSpec {
     refused(text(s"$header,t1\n$good,1\n"), "appears twice")
     refused(file(Array[Byte](0x7f, 'E', 'L', 'F', 0, 0, 1, 2, -1, -2)), "not a text file")
     refused(Scratch.dir("not-a-file"), "is a directory")
-    refused(Scratch.dir("gone").resolve("t.csv"), "no such file (looked for /")
+    refused(java.nio.file.Paths.get("no/such/t.csv"), "no such file (looked for /")
   }
 
   it should "refuse a bad --engine or --jobs, a missing output directory, and bad arm rows, with one line and no output" in {
