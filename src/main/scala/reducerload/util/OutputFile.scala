@@ -17,19 +17,26 @@ import scala.util.Random
  *     rule would otherwise differ between a developer's machine and CI. Where the file system has no POSIX
  *     bits, `Files.isWritable` decides;
  *   - the mode is the user's umask's, for a new file and a replaced one alike (the temporary is created like
- *     any new file, never with `Files.createTempFile`'s 0600; a replaced file does not keep its old mode).
+ *     any new file, never with `Files.createTempFile`'s 0600; a replaced file does not keep its old mode);
+ *   - a symbolic link to an existing file is followed: the file it points to is replaced, the link stays.
  */
 object OutputFile {
 
   /** Refuse, before anything is written, a target that cannot be replaced; see the object's rules. */
   def check(path: Path): Unit = {
-    val abs = path.toAbsolutePath.normalize
+    val abs = target(path)
     if (Files.isDirectory(abs)) throw new InputError(s"$path: is a directory (an output file was expected)")
     val parent = abs.getParent
     if (parent != null && !Files.isDirectory(parent))
       throw new InputError(s"$path: directory $parent does not exist")
     if (Files.exists(abs) && readOnly(abs))
       throw new InputError(s"$path: exists and is read-only; not replaced (make it writable or remove it)")
+  }
+
+  /** The file `path` names: the absolute path, or where a symbolic link to an existing file points. */
+  private def target(path: Path): Path = {
+    val abs = path.toAbsolutePath.normalize
+    if (Files.isSymbolicLink(abs) && Files.exists(abs)) abs.toRealPath() else abs
   }
 
   /** The owner-write bit is clear (or, without POSIX bits, the file is not writable). */
@@ -40,7 +47,7 @@ object OutputFile {
   /** Write `path` through `body`, all or nothing; returns what `body` returns. */
   def write[T](path: Path)(body: OutputStream => T): T = {
     check(path)
-    val abs = path.toAbsolutePath.normalize
+    val abs = target(path)
     val tmp = temporaryBeside(abs)
     try {
       val out = new BufferedOutputStream(Files.newOutputStream(tmp, StandardOpenOption.WRITE), 1 << 20)
@@ -73,7 +80,7 @@ object OutputFile {
     val abs = dir.toAbsolutePath.normalize
     if (Files.exists(abs) && !Files.isDirectory(abs))
       throw new InputError(s"$dir: exists and is not a directory")
-    val targets = files.map { case (name, _) => abs.resolve(name) }
+    val targets = files.map { case (name, _) => target(abs.resolve(name)) }
     if (Files.isDirectory(abs)) targets.foreach(check)
     else
       try Files.createDirectories(abs)

@@ -69,6 +69,16 @@ class OutputFileSpec extends AnyFlatSpec {
     assert(written.forall(p => mode(p) == umaskMode(dir)))
   }
 
+  it should "replace the file a symbolic link points to, keeping the link" in {
+    val dir = Scratch.dir("out-link-")
+    val real = dir.resolve("real.csv")
+    OutputFile.writeString(real, "old\n")
+    val link = Files.createSymbolicLink(dir.resolve("link.csv"), real.getFileName)
+    OutputFile.writeString(link, "new\n")
+    assert(Files.isSymbolicLink(link) && read(real) == "new\n")
+    assert(listing(dir) == Seq("link.csv", "real.csv"))
+  }
+
   it should "keep the old file and leave no temporary when writing fails midway" in {
     val dir = Scratch.dir("out-fail-")
     val f = dir.resolve("t.csv")
