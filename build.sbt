@@ -43,6 +43,8 @@ lazy val root = (project in file("."))
     // Verilator's makefiles build the evaluation code at -Os, which takes minutes for a 6-axis arm's
     // datapath; the tests run a few thousand cycles, and -O1 builds it about ten times faster.
     Test / envVars += "MAKEFLAGS" -> "OPT_FAST=-O1",
+    // Tests name repository files by relative paths: the caller's directory (./sbt exports it) is not theirs.
+    Test / envVars += "REDUCERLOAD_CWD" -> baseDirectory.value.getAbsolutePath,
     run / fork := true,
     run / connectInput := true,
     run / javaOptions ++= Seq("-Xss8m", "-Xmx4g"),

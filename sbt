@@ -5,6 +5,25 @@
 # Arguments are passed through as sbt commands, e.g. ./sbt test, ./sbt "run --help".
 set -euo pipefail
 
+# `./sbt run --help` would run `run` with no arguments (emitting into generated/) before sbt refuses
+# `--help`: the application's arguments belong inside the quotes with `run`. Checked first, with bash
+# builtins only, so nothing else has run.
+previous=""
+for arg in "$@"; do
+  case "$previous" in
+    run | runMain)
+      if [ "${arg#-}" != "$arg" ]; then
+        echo "sbt: '$arg' after '$previous' is an sbt option, not the application's: quote them together, e.g. ./sbt \"$previous $arg\"" >&2
+        exit 2
+      fi ;;
+  esac
+  previous="$arg"
+done
+
+# Relative paths on the command line are the caller's: the application resolves them against this
+# directory (reducerload.app.Cli.userPath), since sbt runs in the repository.
+export REDUCERLOAD_CWD="$PWD"
+
 SBT_LAUNCH_VERSION="1.11.7"
 SBT_LAUNCH_SHA256="f92a2095ac75008764fe3b2b793ffe624c4fbef5bfd9b0022e4bc2daf668c651"
 

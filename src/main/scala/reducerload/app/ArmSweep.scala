@@ -3,9 +3,9 @@ package reducerload.app
 import circt.stage.ChiselStage
 import reducerload.arm.{ArmDatapath, ArmGolden, ArmModel, ArmParams}
 import reducerload.graph.{ScheduleRequest, Storage}
+import reducerload.util.OutputFile
 
-import java.nio.charset.StandardCharsets
-import java.nio.file.{Files, Path}
+import java.nio.file.Path
 import scala.concurrent.duration.Duration
 import scala.concurrent.{Await, ExecutionContext, Future}
 import scala.sys.process._
@@ -176,11 +176,9 @@ object ArmSweep {
         val first = designs.headOption.map(measure).toSeq
         first ++ Await.result(Future.sequence(designs.drop(1).map(d => Future(measure(d)))), Duration.Inf)
       } finally pool.shutdown()
-    Files.createDirectories(out)
     val cells = header +: rows.map(_.cells)
-    Files.write(out.resolve("arms.csv"), Sweep.csv(cells).getBytes(StandardCharsets.UTF_8))
     val md = markdown(cells, fmax, command)
-    Files.write(out.resolve("arms.md"), md.getBytes(StandardCharsets.UTF_8))
+    OutputFile.writeAll(out, Seq("arms.csv" -> Sweep.csv(cells), "arms.md" -> md))
     println(md)
     val plot = Seq("python3", "tools/sweep/plot_arms.py", out.resolve("arms.csv").toString, out.toString)
     val status = plot.!

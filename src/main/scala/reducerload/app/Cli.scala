@@ -2,10 +2,10 @@ package reducerload.app
 
 import com.typesafe.config.{Config, ConfigException, ConfigFactory, ConfigValueFactory}
 import reducerload.compiler.{Compiled, Compiler}
-import reducerload.config.{Assignment, LoadParams, Setting, Settings}
-import reducerload.util.InputError
+import reducerload.config.{Assignment, LoadParams, RobotDefaults, Setting, Settings}
+import reducerload.util.{InputError, InputFile}
 
-import java.nio.file.{Files, Path, Paths}
+import java.nio.file.{Path, Paths}
 import scala.util.Try
 
 /** A command-line option of a command (settings flags are added to every command that builds a design). */
@@ -21,7 +21,11 @@ final case class Cli(
   def get(name: String): Option[String] = options.get(name)
   def has(name: String): Boolean = options.contains(name)
 
-  def path(name: String): Option[Path] = options.get(name).map(Paths.get(_))
+  /** The file or directory option `name` names, as [[Cli.userPath]] resolves it. */
+  def path(name: String): Option[Path] = options.get(name).map(Cli.userPath(_))
+
+  /** [[path]], or `default` (resolved the same way) when the option is not given. */
+  def pathOr(name: String, default: String): Path = path(name).getOrElse(Cli.userPath(default))
 
   /**
    * The design parameters: a preset or a complete config file, then flag overrides. Only the settings are
@@ -32,8 +36,12 @@ final case class Cli(
       throw new InputError("command line: --preset and --config are exclusive (a config file is complete)")
     get("config") match {
       case Some(file) =>
-        val c = Cli.configFile(file)
-        Settings.toParams(c, source, assignments)
+        val config = Cli.configFile(file)
+        // A robot on the command line replaces the file's, which is then not read.
+        val robot =
+          if (overrides.exists(_._1 == Settings.robotSource.key)) config
+          else Cli.withUserRobotPath(config, file)
+        Settings.toParams(robot, source, assignments)
       case None =>
         val name = presetName
         val preset = LoadParams.allPresets.getOrElse(
@@ -64,14 +72,55 @@ final case class Cli(
 
   // Every joint of a robot starts from the arm preset, unless told otherwise.
   private def presetName: String =
-    get("preset").getOrElse(if (overrides.exists(_._1 == "robot.source")) "arm" else "default")
+    get("preset").getOrElse(if (overrides.exists(_._1 == "robot.source")) RobotDefaults.preset else "default")
 
   /** Each override (with those `--robot` implies) parsed to its setting's type, in order. */
   private def assignments: Seq[Assignment[_]] =
-    Cli.robotDefaults(overrides).map { case (key, value) => Cli.assign(Settings.byKey(key), value) }
+    Cli.robotDefaults(overrides).map {
+      case (key @ "robot.source", value) if value != reducerload.robot.RobotParams.planar3 =>
+        Cli.assign(Settings.byKey(key), Cli.inputFile(userPath = value, what = s"--robot $value").toString)
+      case (key, value) => Cli.assign(Settings.byKey(key), value)
+    }
 }
 
 object Cli {
+
+  /**
+   * The directory the user ran `./sbt` from: the script exports it before changing to the repository (sbt
+   * runs there), so that relative paths on the command line are the user's.
+   */
+  val workingDirectoryVariable = "REDUCERLOAD_CWD"
+
+  /**
+   * A path from the command line: a relative one is relative to the user's directory `cwd` (by default
+   * [[workingDirectoryVariable]]'s). When that is the process's own directory, or unknown, the path is kept
+   * as written, so files and reports name it as the user typed it.
+   */
+  def userPath(text: String, cwd: Option[String] = sys.env.get(workingDirectoryVariable)): Path = {
+    val p =
+      try Paths.get(text)
+      catch {
+        case e: java.nio.file.InvalidPathException =>
+          throw new InputError(
+            s"command line: '${text.filterNot(_.isControl)}' is not a valid path (${e.getReason})"
+          )
+      }
+    val here = Paths.get("").toAbsolutePath.normalize
+    cwd.filter(_.nonEmpty).map(d => Paths.get(d).toAbsolutePath.normalize) match {
+      case Some(dir) if !p.isAbsolute && dir != here => dir.resolve(p).normalize
+      case _                                         => p
+    }
+  }
+
+  /**
+   * An input file named on the command line, resolved by [[userPath]]: refused unless it is a regular file,
+   * with the absolute path where it was looked for. `what` names it in the message (a flag, say).
+   */
+  def inputFile(userPath: String, what: String): Path = {
+    val p = Cli.userPath(userPath)
+    InputFile.check(p, s"command line: $what")
+    p
+  }
 
   /**
    * `--robot X` on the command line means every joint of X: model rnea (unless --model is given), the URDF's
@@ -84,25 +133,33 @@ object Cli {
       case None => overrides
       case Some(robot) =>
         val planar = robot == reducerload.robot.RobotParams.planar3
-        if (!planar && !keys("robot.max-acceleration"))
+        if (!planar && !keys(RobotDefaults.required))
           throw new InputError(
             s"command line: --robot $robot: declare --max-acceleration A or [a1, ..., aN] in rad/s^2 (a URDF has no acceleration limits)"
           )
-        val implied = Seq("model" -> "rnea") ++
-          (if (planar) Nil else Seq("robot.max-velocity" -> "urdf", "robot.tip" -> "")).filterNot(kv =>
-            keys(kv._1)
-          )
+        // planar3 has no URDF: only the model is implied.
+        val implied = RobotDefaults.implied.filter(kv => (kv._1 == "model" || !planar) && !keys(kv._1))
         implied ++ overrides
     }
   }
+
+  /** A configuration file's relative robot.source is the user's path too, as on the command line. */
+  private def withUserRobotPath(c: Config, file: String): Config =
+    Try(c.getString(Settings.robotSource.key)).toOption
+      .filter(_ != reducerload.robot.RobotParams.planar3)
+      .fold(c) { v =>
+        val p = userPath(v)
+        InputFile.check(p, s"$file: ${Settings.robotSource.key} = $v")
+        c.withValue(Settings.robotSource.key, ConfigValueFactory.fromAnyRef(p.toString))
+      }
 
   private val strictParse =
     com.typesafe.config.ConfigParseOptions.defaults().setAllowMissing(false)
 
   /** A configuration file, parsed and resolved; its keys are checked by [[Settings.toParams]]. */
   private def configFile(file: String): Config = {
-    val p = Paths.get(file)
-    if (!Files.isRegularFile(p)) throw new InputError(s"$file: no such configuration file")
+    val p = userPath(file)
+    InputFile.check(p, s"command line: --config $file")
     try ConfigFactory.parseFile(p.toFile, strictParse).resolve()
     catch {
       case e: ConfigException =>

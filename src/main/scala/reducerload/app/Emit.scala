@@ -7,10 +7,9 @@ import reducerload.config.Settings
 import reducerload.cordic.CordicSinCos
 import reducerload.compiler.Compiled
 import reducerload.monitor.MonitoredArm
-import reducerload.util.InputError
+import reducerload.util.{InputError, OutputFile}
 
-import java.nio.charset.StandardCharsets
-import java.nio.file.{Files, Path, StandardCopyOption}
+import java.nio.file.Path
 
 /** Which module to emit. */
 sealed abstract class Top(val name: String)
@@ -123,41 +122,22 @@ object Emit {
     Emission(r.moduleName, header + body, r.markdown, r.json, config)
   }
 
-  /** Write all files or none: stage them in a sibling temp dir, then move them in. */
-  def write(e: Emission, dir: Path): Seq[Path] = {
-    val abs = dir.toAbsolutePath.normalize
-    if (Files.exists(abs) && !Files.isDirectory(abs))
-      throw new InputError(s"$dir: exists and is not a directory")
-    Files.createDirectories(abs)
-    val stage = Files.createTempDirectory(abs, ".emit-")
-    try {
-      val files = Seq(
+  /** Write all files or none ([[OutputFile.writeAll]]). */
+  def write(e: Emission, dir: Path): Seq[Path] =
+    OutputFile.writeAll(
+      dir,
+      Seq(
         s"${e.topModule}.sv" -> e.verilog,
         "report.md" -> e.reportMd,
         "report.json" -> e.reportJson,
         "config.conf" -> e.config
       )
-      files.foreach { case (name, text) =>
-        Files.write(stage.resolve(name), text.getBytes(StandardCharsets.UTF_8))
-      }
-      files.map { case (name, _) =>
-        Files.move(
-          stage.resolve(name),
-          abs.resolve(name),
-          StandardCopyOption.REPLACE_EXISTING,
-          StandardCopyOption.ATOMIC_MOVE
-        )
-      }
-    } finally {
-      Files.list(stage).forEach(f => Files.deleteIfExists(f))
-      Files.deleteIfExists(stage)
-    }
-  }
+    )
 
   def run(cli: Cli, commandLine: String): Unit = {
     val c = cli.compiled
     val t = top(cli)
-    val dir = cli.path("target-dir").getOrElse(java.nio.file.Paths.get("generated"))
+    val dir = cli.pathOr("target-dir", "generated")
     val e = emit(c, t, commandLine, cli.has("estimate"), cli.has("fmax"))
     val written = write(e, dir)
     written.foreach(f => println(s"wrote $f"))

@@ -1,7 +1,6 @@
 package reducerload.app
 
-import reducerload.config.Settings
-import reducerload.config.LoadParams
+import reducerload.config.{LoadParams, RobotDefaults, Settings}
 import reducerload.util.InputError
 
 /**
@@ -134,7 +133,8 @@ object Main {
     val settings = Settings.all.map { s =>
       val flags = (s.key +: s.aliases.filterNot(_ == s.key)).map("--" + _).mkString(", ")
       val unit = if (s.unit.nonEmpty) s" [${s.unit}]" else ""
-      f"  $flags%-42s ${s.typeName}: ${s.help}$unit (default ${s.render(LoadParams.default)})"
+      val robot = RobotDefaults.note(s).fold("")(v => s"; with --robot FILE: $v")
+      f"  $flags%-42s ${s.typeName}: ${s.help}$unit (default ${s.render(LoadParams.default)}$robot)"
     }
     (Seq(
       "reducer-load generator: a real-time robot reducer-load calculator (CORDIC + load datapath) for FPGAs",

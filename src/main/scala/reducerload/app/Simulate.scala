@@ -6,11 +6,9 @@ import reducerload.monitor.{MonitorConfig, MonitorParams, MonitorSummary, RatedR
 import reducerload.sim.replay._
 import reducerload.sim.rtl.{CompiledHarness, VerilatorHarness}
 import reducerload.trace.TraceCsv
-import reducerload.util.InputError
+import reducerload.util.{InputError, OutputFile}
 
-import java.io.{BufferedOutputStream, BufferedWriter, OutputStream, OutputStreamWriter, Writer}
-import java.nio.charset.StandardCharsets
-import java.nio.file.{Files, Path, StandardCopyOption}
+import java.nio.file.Path
 import scala.concurrent.duration.Duration
 import scala.concurrent.{Await, ExecutionContext, Future}
 import scala.sys.process._
@@ -101,11 +99,10 @@ object Simulate {
     val output = required(cli, "output")
     val engineChoice = engine(cli)
     val jobCount = jobs(cli)
-    val parent = output.toAbsolutePath.normalize.getParent
-    if (parent != null && !Files.isDirectory(parent))
-      throw new InputError(s"$output: directory $parent does not exist")
+    OutputFile.check(output)
     val d = design(compiled)
     val table = TraceCsv.read(input, d.columns)
+    TraceCsv.checkJointColumns(table, d.columns)
     // The values as they are when the header is exactly the columns (the usual case): no copy.
     // Otherwise the design's columns picked out, still flat (no object per row).
     val width = d.columns.size
@@ -191,9 +188,7 @@ object Simulate {
         throw new InputError(
           "command line: --summary needs model rnea (the monitor watches every joint of an arm; use --robot)"
         )
-      val parent = path.toAbsolutePath.normalize.getParent
-      if (parent != null && !Files.isDirectory(parent))
-        throw new InputError(s"$path: directory $parent does not exist")
+      OutputFile.check(path)
       // The monitor's settings resolved against the arm before anything is written: a refusal (a planar arm
       // with no efforts for its limits, say) leaves no output file behind.
       val resolved =
@@ -231,7 +226,7 @@ object Simulate {
     }
     val summary =
       MonitorSummary.fromTrajectory(arm, mp, samples, rated)
-    writeAtomically(path)(_.write(summary.json))
+    OutputFile.writeString(path, summary.json)
     println(
       s"wrote $path: reducer monitor summary of ${samples.size} samples, ${n} joints (exponent ${mp.lifeExponents.distinct.mkString("/")})"
     )
@@ -249,7 +244,7 @@ object Simulate {
       case ReplayEngine.Model => None
     }
     val progress = ProgressLine.onTerminal(request.rows.size.toLong, s"simulate (${request.engine.name})")
-    val summary = writeBytesAtomically(request.output)(out =>
+    val summary = OutputFile.write(request.output)(out =>
       Replay.run(d, compiled, request.rows, request.jobs, out, progress)
     )
     println(
@@ -286,30 +281,5 @@ object Simulate {
       throw new IllegalStateException(s"${d.errorLabels(j)}: max error $e exceeds the derived bound $b")
     }
     summary
-  }
-
-  /** Write through `body` to a temporary file beside `path`, then move it in: all or nothing. */
-  def writeAtomically[T](path: Path)(body: Writer => T): T = writeBytesAtomically(path) { out =>
-    val writer = new BufferedWriter(new OutputStreamWriter(out, StandardCharsets.UTF_8), 1 << 16)
-    val result = body(writer)
-    writer.flush()
-    result
-  }
-
-  /** [[writeAtomically]] of bytes. */
-  def writeBytesAtomically[T](path: Path)(body: OutputStream => T): T = {
-    val abs = path.toAbsolutePath.normalize
-    val parent = abs.getParent
-    if (parent != null && !Files.isDirectory(parent))
-      throw new InputError(s"$path: directory $parent does not exist")
-    val tmp = Files.createTempFile(parent, ".partial-", ".csv")
-    try {
-      val out = new BufferedOutputStream(Files.newOutputStream(tmp), 1 << 20)
-      val result =
-        try body(out)
-        finally out.close()
-      Files.move(tmp, abs, StandardCopyOption.REPLACE_EXISTING, StandardCopyOption.ATOMIC_MOVE)
-      result
-    } finally Files.deleteIfExists(tmp)
   }
 }

@@ -7,9 +7,8 @@ import reducerload.compiler.{Compiled, Compiler}
 import reducerload.config.{DatapathParams, LoadParams}
 import reducerload.load._
 import reducerload.trace.TraceCsv
-import reducerload.util.InputError
+import reducerload.util.{InputError, OutputFile}
 
-import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path, Paths}
 import scala.concurrent.duration.Duration
 import scala.concurrent.{Await, ExecutionContext, Future}
@@ -174,7 +173,7 @@ object Sweep {
     ) ++ table(cells)).mkString("", "\n", "\n")
 
   def run(cli: Cli): Unit = {
-    val out = cli.path("out").getOrElse(Paths.get("sweep"))
+    val out = cli.pathOr("out", "sweep")
     val fmax = cli.has("fmax")
     val jobs = cli
       .get("jobs")
@@ -232,11 +231,9 @@ object Sweep {
       println(row.cells.mkString("sweep: ", ", ", ""))
       row
     }
-    Files.createDirectories(out)
     val cells = header +: rows.map(_.cells)
-    Files.write(out.resolve("sweep.csv"), csv(cells).getBytes(StandardCharsets.UTF_8))
     val md = markdown(cells, fmax, cli.path("out").map(_.toString))
-    Files.write(out.resolve("sweep.md"), md.getBytes(StandardCharsets.UTF_8))
+    OutputFile.writeAll(out, Seq("sweep.csv" -> csv(cells), "sweep.md" -> md))
     println(md)
     val plot = Seq("python3", "tools/sweep/plot.py", out.resolve("sweep.csv").toString, out.toString)
     val status = plot.!

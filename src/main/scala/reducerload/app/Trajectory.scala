@@ -1,6 +1,6 @@
 package reducerload.app
 
-import reducerload.util.InputError
+import reducerload.util.{InputError, OutputFile}
 
 import java.nio.file.Path
 import scala.util.{Random, Try}
@@ -42,7 +42,7 @@ object Trajectory {
     val design = Simulate.design(cli.compiled)
     val limit = Array.tabulate(design.columns.size)(c => design.limits.collectFirst { case (`c`, l) => l })
     val rng = new Random(seed)
-    Simulate.writeAtomically(output) { out =>
+    OutputFile.writeText(output) { out =>
       out.write(design.columns.mkString(","))
       out.write('\n')
       val line = new java.lang.StringBuilder(256)

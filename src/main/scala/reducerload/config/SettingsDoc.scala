@@ -25,7 +25,7 @@ object SettingsDoc {
       flags,
       s.typeName.replace("|", " \\| "),
       s.unit,
-      s"`${s.render(LoadParams.default)}`",
+      s"`${s.render(LoadParams.default)}`" + RobotDefaults.note(s).fold("")(v => s"; with `--robot`: `$v`"),
       s.help.replace("|", "\\|").replace("<", "&lt;")
     )
     cells.mkString("| ", " | ", " |")
@@ -46,7 +46,9 @@ object SettingsDoc {
       "schedule, monitor) checks the rest, with the same kind of line.",
       "",
       "Per-joint values take one number for every joint or a list `[v1, ..., vN]` (on the command line",
-      "also `v1,...,vN`). Defaults are those of the `default` preset.",
+      "also `v1,...,vN`). Defaults are those of the `default` preset; with `--robot FILE` (a URDF) a design",
+      s"starts from the `${RobotDefaults.preset}` preset instead, and the defaults that then differ are shown after",
+      "\"with `--robot`\" (`urdf`: taken from the URDF).",
       ""
     )
     val tables = sections.flatMap { case (name, about) =>

@@ -13,13 +13,37 @@ object CsvRecord {
 }
 
 /**
+ * The longest record (a line, or the lines of a record with quoted line breaks) a [[CsvRecordReader]]
+ * accepts, and what the limit is derived from, for the refusal. Bounded so that a file of one enormous line
+ * is refused as soon as the reader has scanned past the limit, before any cell of it becomes a string.
+ */
+final case class RecordLimit(chars: Int, basis: String)
+object RecordLimit {
+  val none: RecordLimit = RecordLimit(Int.MaxValue, "no limit")
+
+  /** The header (and comment lines before it): a megabyte holds thousands of long column names. */
+  val header: RecordLimit = RecordLimit(1 << 20, "the limit for a header line")
+
+  /**
+   * A data row of `columns` cells: 1,024 characters per cell (a double takes at most 25; blanks, quotes and a
+   * comment line of text fit too) plus 4,096.
+   */
+  def rows(columns: Int): RecordLimit =
+    RecordLimit(
+      4096 + 1024 * columns,
+      s"the limit for a row of $columns columns: 1,024 characters per column and 4,096"
+    )
+}
+
+/**
  * Splits CSV text into records as spreadsheets and controllers write it (RFC 4180): fields separated by
  * commas, optionally in double quotes (a doubled quote inside stands for one quote; a quoted field may hold
  * commas and line breaks), lines ending in LF, CRLF or a lone CR. Blank lines are skipped; a line whose first
  * non-blank character is `#` is a comment. Cells are trimmed.
  *
  * Pull-based, so the caller can name the columns in errors once it has read the header. Reads `text` from
- * `from` to `until` (the whole text by default), whose first line is number `firstLine`.
+ * `from` to `until` (the whole text by default), whose first line is number `firstLine`. A record longer than
+ * `limit` is refused with the file and its line.
  *
  * Kept over commons-csv, which builds a String per cell: one thread reads a million-row trajectory's rows in
  * 1.2 s here, 4.1 s with commons-csv 1.12.0 and the same cell parser (trace/DecimalBenchmark).
@@ -29,7 +53,8 @@ final class CsvRecordReader(
     text: String,
     from: Int = 0,
     until: Int = -1,
-    firstLine: Int = 1
+    firstLine: Int = 1,
+    limit: RecordLimit = RecordLimit.none
 ) {
   private val end = if (until < 0) text.length else until
   require(
@@ -44,6 +69,12 @@ final class CsvRecordReader(
   def lineNumber: Int = line
 
   private def atEnd: Boolean = pos >= end
+
+  /** Where a record starting at `from` must end by (without overflowing). */
+  private def stopFor(from: Int): Int = if (limit.chars >= end - from) end else from + limit.chars
+
+  private def tooLong(recordLine: Int): Nothing =
+    throw new InputError(s"$source:$recordLine: line longer than ${limit.chars} characters (${limit.basis})")
   private def isBreak(c: Char): Boolean = c == '\n' || c == '\r'
 
   /** Consume a line break at `pos` (CRLF counts once) and count it. */
@@ -52,9 +83,9 @@ final class CsvRecordReader(
     line += 1
   }
 
-  private def endOfPhysicalLine(from: Int): Int = {
+  private def endOfPhysicalLine(from: Int, stop: Int = end): Int = {
     var i = from
-    while (i < end && !isBreak(text.charAt(i))) i += 1
+    while (i < stop && !isBreak(text.charAt(i))) i += 1
     i
   }
 
@@ -67,7 +98,9 @@ final class CsvRecordReader(
    */
   def next(fieldName: Int => String): Option[CsvRecord] = {
     while (!atEnd) {
-      val eol = endOfPhysicalLine(pos)
+      val stop = stopFor(pos)
+      val eol = endOfPhysicalLine(pos, stop)
+      if (eol == stop && stop < end && !isBreak(text.charAt(stop))) tooLong(line)
       val physical = text.substring(pos, eol).trim
       if (physical.isEmpty || physical.startsWith("#")) {
         val record = if (physical.isEmpty) None else Some(CsvRecord.Comment(line, text.substring(pos, eol)))
@@ -88,10 +121,11 @@ final class CsvRecordReader(
    */
   def nextNumbers(into: Array[Double], at: Int, count: Int): Int = {
     var i = pos
+    val stop = stopFor(pos) // a longer line is left to next(), which refuses it
     var k = 0
     while (k < count) {
       val from = i
-      while (i < end && { val c = text.charAt(i); c != ',' && c != '"' && !isBreak(c) }) i += 1
+      while (i < stop && { val c = text.charAt(i); c != ',' && c != '"' && !isBreak(c) }) i += 1
       if (i < end && text.charAt(i) == '"') return -1
       val v = DecimalCell.parse(text, from, i)
       if (v.isNaN) return -1
@@ -110,13 +144,14 @@ final class CsvRecordReader(
 
   private def readCells(fieldName: Int => String): CsvRecord = {
     val start = line
+    val stop = stopFor(pos) // next() has checked the first line; quoted line breaks may extend the record
     val cells = IndexedSeq.newBuilder[String]
     var field = 0
     var more = true
     while (more) {
       skipBlanks()
       val cell =
-        if (!atEnd && text.charAt(pos) == '"') readQuoted(fieldName(field))
+        if (!atEnd && text.charAt(pos) == '"') readQuoted(fieldName(field), start, stop)
         else {
           val from = pos
           while (!atEnd && text.charAt(pos) != ',' && !isBreak(text.charAt(pos))) pos += 1
@@ -134,12 +169,13 @@ final class CsvRecordReader(
   }
 
   /** A quoted field from its opening quote; leaves `pos` at the comma or line break after it. */
-  private def readQuoted(name: String): String = {
+  private def readQuoted(name: String, recordLine: Int, stop: Int): String = {
     val openedOn = line
     val sb = new StringBuilder
     pos += 1
     var closed = false
     while (!closed) {
+      if (pos >= stop && stop < end) tooLong(recordLine)
       if (atEnd)
         throw new InputError(
           s"$source:$openedOn: $name: unterminated quoted field (the '\"' opened on line $openedOn is never closed)"
@@ -158,7 +194,7 @@ final class CsvRecordReader(
     if (!atEnd && text.charAt(pos) != ',' && !isBreak(text.charAt(pos)))
       throw new InputError(
         s"$source:$line: $name: unexpected text after a closing quote " +
-          s"('${TraceCsv.printable(text.substring(pos, endOfPhysicalLine(pos)))}'; a quote inside a quoted field is written twice)"
+          s"('${TraceCsv.printable(text.substring(pos, endOfPhysicalLine(pos, math.min(end, pos + 100))))}'; a quote inside a quoted field is written twice)"
       )
     sb.result()
   }

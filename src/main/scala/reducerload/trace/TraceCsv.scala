@@ -6,7 +6,7 @@ import java.nio.file.{Files, Path}
 import java.util.zip.GZIPInputStream
 import scala.collection.immutable.ArraySeq
 import reducerload.util.ChunkedRun
-import reducerload.util.InputError
+import reducerload.util.{InputError, InputFile}
 
 import scala.util.Try
 
@@ -23,6 +23,7 @@ final class TraceTable(
     val source: String,
     val comments: Seq[String],
     val header: IndexedSeq[String],
+    val headerLine: Int,
     val lines: Array[Int],
     val values: Array[Double]
 ) {
@@ -43,7 +44,10 @@ final class TraceTable(
 
   def column(name: String): IndexedSeq[Double] = {
     val i = header.indexOf(name)
-    if (i < 0) throw new InputError(s"$source: no column '$name' (header: ${header.mkString(",")})")
+    if (i < 0)
+      throw new InputError(
+        s"$source: no column '$name' (header: ${TraceCsv.printable(header.mkString(","))})"
+      )
     ArraySeq.unsafeWrapArray(Array.tabulate(size)(r => values(r * width + i)))
   }
 
@@ -93,8 +97,13 @@ object TraceCsv {
   def parseNumber(cell: String): Option[Double] =
     if (decimal.matches(cell)) Some(cell.toDouble).filter(v => !v.isInfinite) else None
 
-  /** At most 40 characters, control characters shown as '?': keeps error messages on one line. */
-  private[trace] def printable(s: String): String = oneLine(s.take(40))
+  /**
+   * A value quoted in an error message: its first 40 characters, then its length when it is longer (a header
+   * of 100 MB must not become a 100 MB message); control characters shown as '?', so the message stays one
+   * line.
+   */
+  private[trace] def printable(s: String): String =
+    if (s.length <= 40) oneLine(s) else s"${oneLine(s.take(40))}... (${s.length} characters)"
 
   /** Control characters (a line break inside a quoted header cell, say) shown as '?'. */
   private def oneLine(s: String): String = s.map(c => if (c.isControl) '?' else c)
@@ -103,6 +112,30 @@ object TraceCsv {
    * Excel's "CSV UTF-8" starts the file with a byte-order mark; it is not part of the first column's name.
    */
   private val byteOrderMark = '\uFEFF'
+
+  private val numbered = "(\\D*)([0-9]+)".r
+
+  /**
+   * Refuse a column that looks like a joint column of `columns` (one of their names' prefixes and a number:
+   * q4, qd4, qdd4 beside q1..q3) but is none of them: a different robot's recording must not pass with its
+   * extra joints ignored. `columns`' highest number is the robot's joint count.
+   */
+  def checkJointColumns(table: TraceTable, columns: Seq[String]): Unit = {
+    val joints = columns.collect { case numbered(prefix, k) => prefix -> k.toInt }
+    val prefixes = joints.map(_._1).distinct
+    val n = if (joints.isEmpty) 0 else joints.map(_._2).max
+    table.header
+      .filterNot(columns.contains)
+      .collectFirst {
+        case h @ numbered(prefix, k) if prefixes.contains(prefix) => (h, k.toInt)
+      }
+      .foreach { case (h, k) =>
+        throw new InputError(
+          s"${table.source}:${table.headerLine}: column '${printable(h)}' is for joint $k, but the robot has $n joints " +
+            s"(columns ${prefixes.map(p => s"${p}1..$p$n").mkString(", ")}); a trajectory of another robot?"
+        )
+      }
+  }
 
   /** A file whose name ends in `.gz` is gzip-compressed (e.g. `traj.csv.gz`), decompressed in memory. */
   def isGzip(path: Path): Boolean = path.getFileName.toString.toLowerCase.endsWith(".gz")
@@ -122,7 +155,7 @@ object TraceCsv {
 
   def read(path: Path, required: Seq[String]): TraceTable = {
     val source = path.toString
-    if (!Files.isRegularFile(path)) throw new InputError(s"$source: no such file")
+    InputFile.check(path, source)
     val raw = Files.readAllBytes(path)
     val bytes = if (isGzip(path)) gunzip(source, raw) else raw
     val text =
@@ -154,17 +187,19 @@ object TraceCsv {
 
   /**
    * [[parse]], the data after the header split into segments of about `segmentChars` characters, read in
-   * parallel.
+   * parallel; the header line at most `headerLimit` long, a data line at most `rowLimit(columns)`.
    */
   private[trace] def parse(
       source: String,
       text: String,
       required: Seq[String],
-      segmentChars: Int
+      segmentChars: Int,
+      headerLimit: RecordLimit = RecordLimit.header,
+      rowLimit: Int => RecordLimit = RecordLimit.rows
   ): TraceTable = {
     require(segmentChars >= 1, s"segmentChars must be >= 1, got $segmentChars")
     val body = text.stripPrefix(byteOrderMark.toString)
-    val reader = new CsvRecordReader(source, body)
+    val reader = new CsvRecordReader(source, body, limit = headerLimit)
     val comments = Vector.newBuilder[String]
     val (headerLine, header) = nextCells(reader, comments, i => s"header field ${i + 1}") match {
       case Some(CsvRecord.Cells(line, cells)) => (line, cells)
@@ -176,12 +211,12 @@ object TraceCsv {
         s"$source:$headerLine: the first row must be a header (${required.mkString(",")}), got numbers"
       )
     header.groupBy(identity).collectFirst { case (h, hs) if hs.size > 1 => h }.foreach { dup =>
-      throw new InputError(s"$source:$headerLine: column '${oneLine(dup)}' appears twice in the header")
+      throw new InputError(s"$source:$headerLine: column '${printable(dup)}' appears twice in the header")
     }
     val missing = required.filterNot(header.contains)
     if (missing.nonEmpty)
       throw new InputError(
-        s"$source:$headerLine: missing column(s) ${missing.map("'" + _ + "'").mkString(", ")} (header: ${oneLine(header.mkString(","))})"
+        s"$source:$headerLine: missing column(s) ${missing.map("'" + _ + "'").mkString(", ")} (header: ${printable(header.mkString(","))})"
       )
     // Without quotes after the header every LF ends a record: the data splits into segments after
     // LFs, each read on its own (line numbers counted first); the earliest segment's error wins.
@@ -213,7 +248,7 @@ object TraceCsv {
       val buffer = new RowBuffer(header.size, firstLines(r.head + 1) - firstLines(r.head) + 1)
       readRows(
         source,
-        new CsvRecordReader(source, body, from, until, firstLines(r.head)),
+        new CsvRecordReader(source, body, from, until, firstLines(r.head), rowLimit(header.size)),
         header,
         segmentComments,
         buffer
@@ -231,7 +266,7 @@ object TraceCsv {
       System.arraycopy(b.values, 0, values, at * header.size, b.size * header.size)
       at += b.size
     }
-    new TraceTable(source, comments.result(), header, lines, values)
+    new TraceTable(source, comments.result(), header, headerLine, lines, values)
   }
 
   /** The next row of cells; comment lines on the way go to `comments`. */
@@ -258,7 +293,8 @@ object TraceCsv {
       comments: collection.mutable.Growable[String],
       into: RowBuffer
   ): Unit = {
-    val columnName = (i: Int) => if (i < header.size) s"column '${oneLine(header(i))}'" else s"field ${i + 1}"
+    val columnName = (i: Int) =>
+      if (i < header.size) s"column '${printable(header(i))}'" else s"field ${i + 1}"
     def numbers(lineNo: Int, cells: IndexedSeq[String]): Array[Double] = {
       if (cells.size != header.size)
         throw new InputError(s"$source:$lineNo: ${cells.size} values, the header has ${header.size} columns")
@@ -269,7 +305,7 @@ object TraceCsv {
             val what =
               if (cell.toLowerCase.matches("[+-]?(nan|inf|infinity)")) "is not a finite number"
               else "is not a number"
-            throw new InputError(s"$source:$lineNo: column '${oneLine(col)}': '${printable(cell)}' $what")
+            throw new InputError(s"$source:$lineNo: column '${printable(col)}': '${printable(cell)}' $what")
           }
         }
         .toArray

@@ -221,9 +221,84 @@ class CliSpec extends AnyFlatSpec {
     val h = Main.help
     reducerload.config.Settings.all.foreach { s =>
       assert(h.contains("--" + s.key), s"--help lacks ${s.key}")
-      assert(h.contains(s"(default ${s.render(LoadParams.default)})"))
+      assert(h.contains(s"(default ${s.render(LoadParams.default)}"))
     }
     Seq("--robot", "--tip", "rnea", "arm").foreach(w => assert(h.contains(w), s"--help lacks $w"))
+  }
+
+  it should "say in --help where a URDF robot's defaults come from, not show planar3's as theirs" in {
+    val velocity = Main.help.linesIterator.find(_.contains("--robot.max-velocity")).get
+    assert(velocity.contains("(default [3.0, 3.0, 3.0]; with --robot FILE: urdf)"), velocity)
+    val acceleration = Main.help.linesIterator.find(_.contains("--robot.max-acceleration")).get
+    assert(acceleration.contains("with --robot FILE: required"), acceleration)
+    val model = Main.help.linesIterator.find(_.startsWith("  --model")).get
+    assert(model.contains("with --robot FILE: rnea"), model)
+  }
+
+  it should "resolve relative paths against the caller's directory (REDUCERLOAD_CWD), keeping them as typed there" in {
+    val here = java.nio.file.Paths.get("").toAbsolutePath.toString
+    val user = Scratch.dir("user-cwd-")
+    assert(Cli.userPath("t.csv", Some(user.toString)) == user.resolve("t.csv"))
+    assert(Cli.userPath("../x/t.csv", Some(user.toString)) == user.getParent.resolve("x").resolve("t.csv"))
+    assert(Cli.userPath("/abs/t.csv", Some(user.toString)).toString == "/abs/t.csv")
+    assert(Cli.userPath("golden/a.csv", Some(here)).toString == "golden/a.csv")
+    assert(Cli.userPath("golden/a.csv", None).toString == "golden/a.csv")
+    // The options go through it, and a missing file's error says where it looked.
+    val cli = Cli.parse("simulate", Seq("--input", "t.csv"), Simulate.options)
+    assert(cli.path("input").get.toString == Cli.userPath("t.csv").toString)
+    val e = intercept[InputError](params("--config", "no/such.conf"))
+    assert(
+      e.getMessage.contains(s"looked for ${java.nio.file.Paths.get("no/such.conf").toAbsolutePath}"),
+      e.getMessage
+    )
+  }
+
+  it should "say a directory given as --config or --robot is a directory, and where a missing robot was looked for" in {
+    val dir = Scratch.dir("a-dir-")
+    def refused(args: Seq[String], words: String*): Unit = {
+      val e = intercept[InputError](compiled(args: _*))
+      words.foreach(w => assert(e.getMessage.contains(w), e.getMessage))
+      assert(!e.getMessage.contains("\n"), e.getMessage)
+    }
+    refused(Seq("--config", dir.toString), dir.toString, "is a directory")
+    val conf = Scratch.file("robot-dir", ".conf")
+    Files.write(conf, s"robot.source = \"$dir\"\nrobot.max-acceleration = 5\n".getBytes("UTF-8"))
+    refused(Seq("--config", conf.toString), conf.toString, "robot.source", "is a directory")
+    refused(Seq("--robot", dir.toString, "--max-acceleration", "5"), "--robot", "is a directory")
+    refused(
+      Seq("--robot", "no/such.urdf", "--max-acceleration", "5"),
+      "no such file",
+      java.nio.file.Paths.get("no/such.urdf").toAbsolutePath.toString
+    )
+  }
+
+  it should "name settings by their keys, never by internal fields, in a refusal" in {
+    Seq(
+      Seq("--robot", "planar3", "--max-acceleration", "[10, -1, 10]"),
+      Seq("--robot", "planar3", "--max-velocity", "[3, 0, 3]"),
+      Seq("--robot", "planar3", "--max-acceleration", "[10, 10]")
+    ).foreach { args =>
+      val e = intercept[InputError](compiled(args: _*))
+      assert(e.getMessage.contains("max-"), e.getMessage)
+      assert("[a-z][A-Z]|Params".r.findFirstIn(e.getMessage).isEmpty, s"an internal name in: ${e.getMessage}")
+    }
+  }
+
+  it should "make ./sbt refuse an unquoted option after run (./sbt run --help) before anything starts" in {
+    // No PATH: were the check missing, the script would fail at its first external command instead.
+    val err = new StringBuilder
+    val status = scala.sys.process
+      .Process(Seq("/bin/bash", "./sbt", "run", "--help"), None, "PATH" -> "/nonexistent")
+      .!(scala.sys.process.ProcessLogger(_ => (), l => err.append(l).append('\n')))
+    assert(status == 2, err.toString)
+    assert(
+      err.toString.contains("./sbt \"run --help\"") && err.toString.linesIterator.size == 1,
+      err.toString
+    )
+    val runMain = scala.sys.process
+      .Process(Seq("/bin/bash", "./sbt", "--error", "runMain", "-x"), None, "PATH" -> "/nonexistent")
+      .!(scala.sys.process.ProcessLogger(_ => (), _ => ()))
+    assert(runMain == 2)
   }
 
   it should "keep the shipped presets of every kind loadable" in {

@@ -53,7 +53,8 @@ class SimulateSpec extends AnyFlatSpec {
     refused(text(s"$header\n0.1,0.2,0.3,1,-1,0.5,2,3,-11\n"), "'dd3'", "beyond the declared range")
     refused(text(s"$header,t1\n$good,1\n"), "appears twice")
     refused(file(Array[Byte](0x7f, 'E', 'L', 'F', 0, 0, 1, 2, -1, -2)), "not a text file")
-    refused(Scratch.dir("not-a-file"), "no such file")
+    refused(Scratch.dir("not-a-file"), "is a directory")
+    refused(java.nio.file.Paths.get("no/such/t.csv"), "no such file (looked for /")
   }
 
   it should "refuse a bad --engine or --jobs, a missing output directory, and bad arm rows, with one line and no output" in {
@@ -74,6 +75,34 @@ class SimulateSpec extends AnyFlatSpec {
       Main.run(Seq("simulate", "--input", ok.toString, "--output", "/nonexistent-dir/x/loads.csv"))
     )
     assert(e.getMessage.contains("does not exist") && !e.getMessage.contains("\n"), e.getMessage)
+  }
+
+  it should "refuse a trajectory with joint columns the robot does not have (q4 for planar3's 3 joints)" in {
+    val arm =
+      text("q1,q2,q3,qd1,qd2,qd3,qdd1,qdd2,qdd3,q4,qd4,qdd4\n" + Seq.fill(12)("0").mkString(",") + "\n")
+    refusedWith(arm, Seq("--robot", "planar3", "--engine", "model"), arm.toString + ":1:", "'q4'", "3 joints")
+  }
+
+  it should "write its output with the umask's mode and refuse to replace a read-only one, writing nothing" in {
+    import java.nio.file.attribute.PosixFilePermissions
+    val dir = Scratch.dir("sim-modes-")
+    val plain = Files.createFile(dir.resolve("plain"))
+    val expected = Files.getPosixFilePermissions(plain)
+    val input = text(s"$header\n$good\n")
+    val out = dir.resolve("loads.csv")
+    Main.run(Seq("simulate", "--input", input.toString, "--output", out.toString, "--engine", "model"))
+    assert(Files.getPosixFilePermissions(out) == expected, "simulate's output mode is not the umask's")
+    val first = Files.readAllBytes(out)
+    Files.setPosixFilePermissions(out, PosixFilePermissions.fromString("r--r--r--"))
+    val e = intercept[InputError](
+      Main.run(Seq("simulate", "--input", input.toString, "--output", out.toString, "--engine", "model"))
+    )
+    assert(e.getMessage.contains("read-only") && e.getMessage.contains(out.toString), e.getMessage)
+    assert(java.util.Arrays.equals(Files.readAllBytes(out), first))
+    // emit writes with the same mode.
+    val emitted =
+      Emit.write(Emission("Top", "module Top; endmodule\n", "# r\n", "{}", "x = 1\n"), dir.resolve("gen"))
+    assert(emitted.forall(f => Files.getPosixFilePermissions(f) == expected))
   }
 
   it should "survive seeded random corruptions of a valid file with a one-line error" in {

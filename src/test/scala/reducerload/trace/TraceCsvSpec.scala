@@ -172,6 +172,59 @@ class TraceCsvSpec extends AnyFlatSpec {
     refused("m.csv", "empty")(TraceCsv.parse("m.csv", "\uFEFF# only a comment\n", columns))
   }
 
+  it should "refuse columns of joints the robot does not have (q3 beside a 2-joint arm's q1..qdd2), naming file and column" in {
+    val arm = Seq("q1", "q2", "qd1", "qd2", "qdd1", "qdd2")
+    val row = Seq.fill(7)("0").mkString(",")
+    Seq("q3", "qd4", "qdd3", "q0").foreach { extra =>
+      val t = TraceCsv.parse("two.csv", s"# c\n${arm.mkString(",")},$extra\n$row\n", arm)
+      refused("two.csv:2:", s"column '$extra'", "the robot has 2 joints", "q1..q2, qd1..qd2, qdd1..qdd2")(
+        TraceCsv.checkJointColumns(t, arm)
+      )
+    }
+    // Other columns (a time stamp, recorded torques) are still ignored.
+    val t = TraceCsv.parse("two.csv", s"time,${arm.mkString(",")},tau1\n$row,0\n", arm)
+    TraceCsv.checkJointColumns(t, arm)
+    // The joint-3 closed form reads three joints: t4 is not one of them.
+    refused("j3.csv:1:", "column 't4'", "3 joints")(
+      TraceCsv.checkJointColumns(
+        TraceCsv.parse("j3.csv", s"$header,t4\n${rowA.mkString(",")},0\n", columns),
+        columns
+      )
+    )
+  }
+
+  it should "quote a huge header in an error by a short prefix and its length" in {
+    val names = Iterator.from(1).map(i => s"column_number_$i").take(20000).mkString(",") // about 340 kB
+    refused("big.csv:1:", "missing column(s) 't1'", "... (", "characters)") {
+      val e = intercept[InputError](TraceCsv.parse("big.csv", s"$names\n1\n", columns))
+      assert(e.getMessage.length < 400, s"${e.getMessage.length} characters")
+      throw e
+    }
+  }
+
+  it should "refuse a line longer than its limit (from the column count) with file and line, before reading it" in {
+    val limit = RecordLimit.rows(columns.size)
+    assert(limit.chars == 4096 + 1024 * columns.size)
+    val long = "1" * (limit.chars + 1)
+    // A data line of one enormous number, one of many cells, and one quoted cell spanning lines.
+    Seq(long, Seq.fill(columns.size)("1" * 1500).mkString(","), "\"" + "1\n" * limit.chars + "\"").foreach {
+      row =>
+        refused("long.csv:3:", "line longer than 13312 characters", "9 columns")(
+          TraceCsv.parse("long.csv", s"$header\n${rowA.mkString(",")}\n$row\n", columns)
+        )
+    }
+    // A line at the limit is read (blanks around numbers are allowed).
+    val padded = rowA.map(_ + " " * 1000).mkString(",")
+    assert(TraceCsv.parse("ok.csv", s"$header\n$padded\n", columns).size == 1)
+    // The header line has its own limit; a small one (as the file's would be for a huge header) shows it.
+    refused("h.csv:2:", "line longer than 20 characters", "header limit")(
+      TraceCsv.parse("h.csv", s"# c\n$header\n", columns, 1 << 22, RecordLimit(20, "the header limit"))
+    )
+    // The reader stops at the limit: a line ten times the limit is refused as soon as the limit is passed.
+    val reader = new CsvRecordReader("r.csv", "x" * 1000 + "\n", limit = RecordLimit(100, "test"))
+    refused("r.csv:1:", "longer than 100")(reader.next(i => s"field $i"))
+  }
+
   /** Cells as files hold them: every rendering of doubles, integers, and near misses of the grammar. */
   private def fuzzCell(rng: Random): String = {
     def digits(n: Int) = Seq.fill(n)(rng.nextInt(10)).mkString
