@@ -1,129 +1,119 @@
 package reducerload.app
 
-import chiseltest.RawTester
-import chiseltest.simulator.VerilatorBackendAnnotation
-import reducerload.arm.{ArmDatapath, ArmModel, ArmOutputCodes, ArmParams, ArmSample}
-import reducerload.graph.SampleCodes
-import reducerload.sim.rtl.{ArmDriver, Cycle, StreamChecker}
+import reducerload.compiler.Compiled
+import reducerload.sim.replay.ArmReplay
+import reducerload.sim.rtl.{CompiledHarness, HarnessStats, Observed, VerilatorHarness}
 import reducerload.util.InputError
 
-import java.nio.file.{Files, Paths}
-import scala.sys.process._
-import scala.util.{Random, Try}
+import scala.util.Try
 
 /**
- * `run soak`: a long seeded stream through the configured datapath on Verilator, with random bubbles, a few
- * resets, and inputs beyond the declared ranges; every output checked against the bit-accurate model.
+ * `run soak`: a long seeded stream through the emitted design (`ArmDatapath`, or `MonitoredArm` with
+ * `monitor.enabled`) on the compiled Verilator harness of `run simulate` (same Verilog, same cache): bubbles,
+ * every sample held valid until taken, resets, samples beyond the declared ranges and, with a monitor,
+ * snapshots, clears and reads at random clocks ([[SoakPlan]]); every output, every take and every word read
+ * checked against the bit-accurate models ([[SoakCheck]]). The plan and the check are plain Scala; only
+ * [[simulate]] talks to a simulator.
  */
 object Soak {
   val options: Seq[Opt] = Seq(
     Opt("samples", "N", "samples to stream", "1000000"),
     Opt("seed", "S", "random seed (printed; rerun with it)", "1"),
-    Opt("resets", "N", "resets at random points of the stream", "5")
+    Opt("resets", "N", "resets at random points of the stream", "100")
   )
 
   final case class Result(
-      samples: Long,
-      cycles: Long,
-      checked: Long,
+      plan: SoakPlan,
+      taken: Long,
+      outputs: Long,
+      flagged: Long,
+      reads: Long,
+      snapshots: Long,
       mismatches: Long,
       examples: Seq[String],
+      harness: HarnessStats,
       seconds: Double
   )
 
   /**
-   * Random samples: 1 in 16 with one velocity or acceleration beyond its declared range; bubbles 1 in 8
-   * cycles; `resets` resets.
+   * The compiled harness of `c`'s design, from exactly the Verilog `run simulate` compiles (shared cache).
    */
-  def stimulus(p: ArmParams, samples: Long, resets: Int, rng: Random): Iterator[Cycle[SampleCodes]] = {
-    val model = new ArmModel(p)
-    val n = p.numerics
-    val joints = p.chain.size
-    val resetAt = Seq.fill(resets)((rng.nextDouble() * samples).toLong).toSet
-    def within(m: Double) = (2 * rng.nextDouble() - 1) * m
-    def sample(): ArmSample = {
-      val q = IndexedSeq.fill(joints)(rng.nextDouble() * 8 - 4)
-      val qd = Array.tabulate(joints)(j => within(n.velocityLimits(j)))
-      val qdd = Array.tabulate(joints)(j => within(n.accelerationLimits(j)))
-      if (rng.nextInt(16) == 0) {
-        val j = rng.nextInt(joints)
-        if (rng.nextBoolean()) qd(j) = 1.5 * n.velocityLimits(j) * qd(j).sign
-        else qdd(j) = 1.5 * n.accelerationLimits(j) * qdd(j).sign
-      }
-      ArmSample(q, qd.toIndexedSeq, qdd.toIndexedSeq)
-    }
-    Iterator.range(0L, samples).flatMap { i =>
-      val bubble = if (rng.nextInt(8) == 0) Iterator(Cycle.Bubble) else Iterator.empty
-      val reset = if (resetAt(i)) Iterator(Cycle.Reset, Cycle.Bubble, Cycle.Bubble) else Iterator.empty
-      reset ++ bubble ++ Iterator(Cycle.Sample(model.encode(sample())))
-    }
+  def harness(c: Compiled): CompiledHarness = {
+    val emission = Emit.emit(c, Top.Load, Simulate.emitCommand)
+    VerilatorHarness.compile(emission.verilog, emission.topModule, new ArmReplay(c.arm, c.monitor).ports)
   }
 
-  def run(p: ArmParams, samples: Long, seed: Long, resets: Int): Result = {
-    val model = new ArmModel(p)
-    val checker = new StreamChecker[SampleCodes, ArmOutputCodes](p.latency, model.evaluate)
-    val rng = new Random(seed)
-    val scratch = Paths.get("target", "soak")
-    Files.createDirectories(scratch)
-    val dir =
-      Paths.get("").toAbsolutePath.relativize(Files.createTempDirectory(scratch.toAbsolutePath, "run-"))
-    var result: Option[Result] = None // set once, inside the simulator callback
-    try
-      RawTester.test(
-        new ArmDatapath(p),
-        Seq(VerilatorBackendAnnotation, firrtl2.options.TargetDirAnnotation(dir.toString))
-      ) { dut =>
-        // Samples wait while the datapath is busy (ready low between its one-in-II input clocks).
-        val stim = stimulus(p, samples, resets, rng) ++ Iterator.fill(p.latency + 2)(Cycle.Bubble)
-        val start = System.nanoTime()
-        val cycles = ArmDriver.run(
-          dut,
-          stim,
-          (cycle, out) => checker.observe(cycle, out),
-          (cycle, c) => checker.drive(cycle, c),
-          holdUntilReady = true
-        )
-        result = Some(
-          Result(
-            samples,
-            cycles,
-            checker.checked,
-            checker.mismatches,
-            checker.examples,
-            (System.nanoTime() - start) / 1e9
-          )
-        )
-      }
-    finally Try(Seq("rm", "-rf", dir.toString).!)
-    result.get
+  /** Run `plan` on `harness`; what the design did goes to `onObserved`, in clock order. */
+  def simulate(harness: CompiledHarness, plan: SoakPlan)(onObserved: Observed => Unit): HarnessStats =
+    harness.drive(plan.inputs, plan.events, plan.cycles)(onObserved)
+
+  /** Simulate `plan` and check every observation (each also given to `seen`, for tests). */
+  def run(harness: CompiledHarness, plan: SoakPlan, seen: Observed => Unit = _ => ()): Result = {
+    val start = System.nanoTime()
+    val check = new SoakCheck(plan, plan.expected)
+    val stats = simulate(harness, plan) { o => seen(o); check.observe(o) }
+    check.finish()
+    Result(
+      plan,
+      check.samplesTaken.toLong,
+      check.outputs,
+      check.flagged,
+      check.readsChecked,
+      check.snapshotsSeen,
+      check.mismatches,
+      check.examples,
+      stats,
+      (System.nanoTime() - start) / 1e9
+    )
+  }
+
+  /** The lines `run soak` prints for `r`. */
+  def report(r: Result): Seq[String] = {
+    val p = r.plan
+    Seq(
+      f"soak: seed ${p.seed}: ${p.samples} samples in ${r.harness.cycles} clocks (${p.p.schedule.clocksPerSample} per sample, " +
+        f"latency ${p.p.latency}), ${p.resets} resets" + p.monitor.fold("")(_ =>
+          s", ${p.snapshots} snapshots, ${p.clears} clears, ${p.reads} reads"
+        ),
+      f"soak: ${r.taken} samples taken, ${r.outputs} outputs (${r.flagged} flagged out of range)" +
+        p.monitor.fold("")(_ => s", ${r.snapshots} snapshots done, ${r.reads} words read") +
+        s": ${r.mismatches} mismatches with the bit-accurate model",
+      f"soak: ${r.seconds}%.1f s (simulator ${r.harness.seconds}%.1f s, ${r.harness.cyclesPerCpuSecond}%.0f clocks per CPU second), " +
+        f"${p.samples / r.seconds}%.0f samples/s"
+    ) ++ r.examples.map("soak: mismatch: " + _)
   }
 
   def main(cli: Cli): Unit = {
-    def number(name: String, default: Long): Long = cli
+    def number(name: String, default: Long, max: Long): Long = cli
       .get(name)
       .map { v =>
         Try(v.toLong)
-          .filter(_ >= 0)
-          .getOrElse(throw new InputError(s"command line: --$name must be a non-negative integer, got '$v'"))
+          .filter(x => x >= 0 && x <= max)
+          .getOrElse(
+            throw new InputError(s"command line: --$name must be an integer from 0 to $max, got '$v'")
+          )
       }
       .getOrElse(default)
-    val samples = number("samples", 1000000L)
-    val seed = number("seed", 1L)
-    val resets = number("resets", 5L).toInt
-    if (!reducerload.sim.rtl.VerilatorHarness.available)
+    val samples = number("samples", 1000000L, Int.MaxValue / 64).toInt
+    val seed = number("seed", 1L, Long.MaxValue)
+    val resets = number("resets", 100L, samples.toLong).toInt
+    if (samples < 1) throw new InputError("command line: --samples must be at least 1")
+    if (!VerilatorHarness.available)
       throw new InputError("soak needs Verilator on the PATH (Debian: apt-get install verilator)")
     val c = cli.compiled
+    val planStart = System.nanoTime()
+    val plan = SoakPlan(c.arm, c.monitor, SoakRates(samples, resets), seed)
     println(
-      s"soak: $samples samples, seed $seed, $resets resets, bubbles 1 in 8, 1 in 16 samples beyond the declared ranges"
+      f"soak: seed $seed, ${if (c.monitor.nonEmpty) "monitored arm" else "arm datapath"}, $samples samples planned " +
+        f"in ${(System.nanoTime() - planStart) / 1e9}%.1f s"
     )
-    val r = run(c.arm, samples, seed, resets)
-    println(
-      f"soak: ${r.checked} outputs checked bit-exact against the model over ${r.cycles} cycles, ${r.mismatches} mismatches, " +
-        f"${r.samples / r.seconds}%.0f samples/s (Verilator)"
-    )
+    val h = harness(c)
+    println(s"soak: harness ${h.directory}${if (h.fromCache) " (cached)" else ""}")
+    val r = run(h, plan)
+    report(r).foreach(println)
     if (r.mismatches > 0)
       throw new IllegalStateException(
-        r.examples.mkString(s"soak: ${r.mismatches} mismatches, first ones:\n", "\n", "")
+        s"soak: ${r.mismatches} mismatches with the bit-accurate model (seed $seed)"
       )
   }
 }

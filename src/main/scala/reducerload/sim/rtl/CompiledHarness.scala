@@ -116,6 +116,122 @@ final class CompiledHarness(val executable: Path, val ports: HarnessPorts, val f
   }
 
   /**
+   * A stimulus run: `cycles` clocks after reset, each as `stimulus` says (records in increasing cycles, each
+   * before `cycles`; clocks without one are quiet), drawing a sample from `samples` (values in the order of
+   * `ports.inputs`) for every offer. What the design did goes to `onObserved` in clock order, so memory stays
+   * constant however long the run. Host actions need a design with a host port (`ports.host`).
+   */
+  def drive(samples: Iterator[Seq[BigInt]], stimulus: Iterator[ClockStimulus], cycles: Long)(
+      onObserved: Observed => Unit
+  ): HarnessStats = {
+    require(cycles >= 0, s"harness: cycles must be >= 0, got $cycles")
+    val dir = Files.createTempDirectory("reducer-load-harness-run-")
+    try {
+      val (in, stim, observed) =
+        (dir.resolve("inputs.bin"), dir.resolve("stimulus.bin"), dir.resolve("observed.bin"))
+      val written = writeInputs(in, samples)
+      val offers = writeStimulus(stim, stimulus, cycles)
+      require(offers <= written, s"harness: the stimulus offers $offers samples, $written were given")
+      val (log, seconds) =
+        launch(Seq("--stimulus", in.toString, stim.toString, observed.toString, cycles.toString))
+      readObserved(observed, onObserved)
+      stats(log, seconds)
+    } finally VerilatorHarness.deleteTree(dir)
+  }
+
+  /** Returns the number of offers. */
+  private def writeStimulus(path: Path, stimulus: Iterator[ClockStimulus], cycles: Long): Long = {
+    val channel = FileChannel.open(path, StandardOpenOption.CREATE_NEW, StandardOpenOption.WRITE)
+    val address = ports.host.map(_.readAddress)
+    try {
+      val buffer = ByteBuffer.allocate(16 * 8192).order(ByteOrder.LITTLE_ENDIAN)
+      var last = -1L
+      var offers = 0L
+      stimulus.foreach { c =>
+        require(c.cycle > last && c.cycle < cycles, s"stimulus: cycle ${c.cycle} after $last, of $cycles")
+        require(
+          ports.host.nonEmpty || !c.hostAction,
+          s"stimulus: cycle ${c.cycle}: the design has no host port"
+        )
+        c.read.foreach { a =>
+          require(address.exists(_.maxValue >= a), s"stimulus: cycle ${c.cycle}: read address $a too wide")
+        }
+        if (buffer.remaining < 16) {
+          buffer.flip(); while (buffer.hasRemaining) channel.write(buffer); buffer.clear()
+        }
+        buffer.putLong(c.cycle).putLong(c.word)
+        last = c.cycle
+        if (c.offer) offers += 1
+      }
+      buffer.flip()
+      while (buffer.hasRemaining) channel.write(buffer)
+      offers
+    } finally channel.close()
+  }
+
+  /** The stimulus run's records, decoded in file order. */
+  private def readObserved(path: Path, each: Observed => Unit): Unit = {
+    val channel = FileChannel.open(path, StandardOpenOption.READ)
+    try {
+      val buffer = ByteBuffer.allocate(8 * 65536).order(ByteOrder.LITTLE_ENDIAN)
+      buffer.limit(0)
+      def word(): Long = {
+        if (buffer.remaining < 8) {
+          buffer.compact()
+          while (buffer.position() < 8 && channel.read(buffer) >= 0) ()
+          buffer.flip()
+          if (buffer.remaining < 8) throw new IllegalStateException(s"$path ends inside a record")
+        }
+        buffer.getLong()
+      }
+      def more: Boolean = buffer.hasRemaining || {
+        buffer.clear(); val n = channel.read(buffer); buffer.flip(); n > 0
+      }
+      while (more) {
+        val cycle = word()
+        word() match {
+          case Observed.takenTag => each(Observed.Taken(cycle))
+          case Observed.outputTag =>
+            val values = new Array[BigInt](outputPorts.length)
+            var i = 0
+            while (i < values.length) { values(i) = decode(outputPorts(i), word()); i += 1 }
+            each(Observed.Output(cycle, ArraySeq.unsafeWrapArray(values)))
+          case Observed.doneTag => each(Observed.SnapshotDone(cycle))
+          case Observed.readTag => each(Observed.ReadData(cycle, word()))
+          case other            => throw new IllegalStateException(s"$path: unknown record tag $other")
+        }
+      }
+    } finally channel.close()
+  }
+
+  /** Run the executable with `args`; its printed figures and wall seconds. */
+  private def launch(args: Seq[String]): (String, Double) = {
+    val log = new StringBuilder
+    val start = System.nanoTime()
+    val status = (executable.toString +: args).!(
+      ProcessLogger(l => log.append(l).append('\n'), l => log.append(l).append('\n'))
+    )
+    val seconds = (System.nanoTime() - start) / 1e9
+    if (status != 0)
+      throw new IllegalStateException(s"harness $executable failed (exit $status): ${log.toString.trim}")
+    (log.toString, seconds)
+  }
+
+  private def stats(log: String, seconds: Double): HarnessStats = {
+    def printed(pattern: String, what: String) = pattern.r
+      .findFirstMatchIn(log)
+      .map(_.group(1))
+      .getOrElse(throw new IllegalStateException(s"harness $executable printed no $what: ${log.trim}"))
+    HarnessStats(
+      printed("samples=(\\d+)", "sample count").toLong,
+      printed("outputs=(\\d+)", "output count").toLong,
+      printed("cycles=(\\d+)", "cycle count").toLong,
+      seconds,
+      printed("cpu_seconds=([0-9.]+)", "CPU time").toDouble
+    )
+  }
+
+  /**
    * Write the inputs with `write` (returns the sample count), run the harness, read its files with `read`
    * (outputs, accepted).
    */
@@ -127,34 +243,23 @@ final class CompiledHarness(val executable: Path, val ports: HarnessPorts, val f
       val (in, out, accepted) =
         (dir.resolve("inputs.bin"), dir.resolve("outputs.bin"), dir.resolve("accepted.bin"))
       val written = write(in)
-      val log = new StringBuilder
-      val start = System.nanoTime()
-      val status = Seq(
-        executable.toString,
-        in.toString,
-        out.toString,
-        accepted.toString,
-        samplePeriod.toString,
-        drainCycles.toString,
-        maxStallCycles.toString
-      ).!(ProcessLogger(l => log.append(l).append('\n'), l => log.append(l).append('\n')))
-      val seconds = (System.nanoTime() - start) / 1e9
-      if (status != 0)
-        throw new IllegalStateException(s"harness $executable failed (exit $status): ${log.toString.trim}")
-      def printed(pattern: String, what: String) = pattern.r
-        .findFirstMatchIn(log)
-        .map(_.group(1))
-        .getOrElse(
-          throw new IllegalStateException(s"harness $executable printed no $what: ${log.toString.trim}")
+      val (log, seconds) = launch(
+        Seq(
+          in.toString,
+          out.toString,
+          accepted.toString,
+          samplePeriod.toString,
+          drainCycles.toString,
+          maxStallCycles.toString
         )
-      val cycles = printed("cycles=(\\d+)", "cycle count").toLong
-      val cpuSeconds = printed("cpu_seconds=([0-9.]+)", "CPU time").toDouble
+      )
+      val printed = stats(log, seconds)
       val (outputs, taken) = read(out, accepted)
       if (taken != written)
         throw new IllegalStateException(
           s"harness took $taken of $written samples (drain or stall limit reached?)"
         )
-      HarnessStats(taken, outputs, cycles, seconds, cpuSeconds)
+      printed.copy(samples = taken, outputs = outputs)
     } finally VerilatorHarness.deleteTree(dir)
   }
 

@@ -4,6 +4,7 @@ import chisel3.{Data, Record, SInt}
 import chisel3.util.{DecoupledIO, Valid}
 import reducerload.arm.{ArmIO, ArmOutputCodes, ArmParams}
 import reducerload.graph.SampleCodes
+import reducerload.monitor.MonitoredArmIO
 
 /**
  * One data port of a design as the Verilog names it (firtool: `io_in_bits_t1`, `io_in_bits_q_0` for a Vec).
@@ -20,10 +21,32 @@ final case class HarnessPort(name: String, width: Int, signed: Boolean) {
 }
 
 /**
+ * A monitor's host port ([[reducerload.monitor.MonitorHostPort]]): one-clock `snapshot` and `clear` pulses, a
+ * word `readAddress` whose `readData` comes one clock later, and `snapshotDone`. Its inputs are also among
+ * [[HarnessPorts.held]]: `run simulate` holds them at 0; a stimulus run ([[CompiledHarness.drive]]) drives
+ * them.
+ */
+final case class HostPorts(
+    snapshot: String,
+    clear: String,
+    readAddress: HarnessPort,
+    readData: HarnessPort,
+    snapshotDone: String
+) {
+  Seq(snapshot, clear, snapshotDone).foreach { n =>
+    require(HarnessPorts.identifier.matches(n), s"harness port '$n' is not a Verilog/C++ identifier")
+  }
+  require(
+    !readData.signed && readData.width <= 63,
+    "harness: the host's read data must be unsigned, < 64 bits"
+  )
+}
+
+/**
  * How the harness talks to a design: ready/valid input of `inputs` (driven in this order from each sample), a
  * valid output of `outputs` (recorded in this order). `inReady = None` means the design is always ready.
- * `held` inputs (a monitor's host port) are held at 0. [[HarnessPorts.stream]] derives it from the module's
- * IO Bundle.
+ * `held` inputs (a monitor's host port) are held at 0 by `run simulate`; `host` names a monitor's host port
+ * for stimulus runs. [[HarnessPorts.stream]] derives it from the module's IO Bundle.
  */
 final case class HarnessPorts(
     inputs: Seq[HarnessPort],
@@ -33,8 +56,14 @@ final case class HarnessPorts(
     outputs: Seq[HarnessPort],
     clock: String = "clock",
     reset: String = "reset",
-    held: Seq[HarnessPort] = Nil
+    held: Seq[HarnessPort] = Nil,
+    host: Option[HostPorts] = None
 ) {
+  host.foreach { h =>
+    Seq(h.snapshot, h.clear, h.readAddress.name).foreach { n =>
+      require(held.exists(_.name == n), s"harness ports: host input '$n' is not among the held inputs")
+    }
+  }
   require(inputs.nonEmpty, "harness ports: at least one input data port is needed")
   require(outputs.nonEmpty, "harness ports: at least one output data port is needed")
   (Seq(inValid, outValid, clock, reset) ++ inReady).foreach { n =>
@@ -166,8 +195,29 @@ object ModulePorts {
  */
 object ArmHarnessPorts {
 
-  /** `io`'s ports ([[ArmIO]], or [[MonitoredArmIO]] with its host inputs held at 0) for the harness. */
-  def apply(io: ArmIO): HarnessPorts = HarnessPorts.stream(ModulePorts(io), io.in, io.out)
+  /**
+   * `io`'s ports ([[ArmIO]], or [[MonitoredArmIO]] with its host inputs held at 0 by `run simulate` and
+   * driven by a stimulus run) for the harness.
+   */
+  def apply(io: ArmIO): HarnessPorts = {
+    val ports = ModulePorts(io)
+    val stream = HarnessPorts.stream(ports, io.in, io.out)
+    io match {
+      case m: MonitoredArmIO =>
+        stream.copy(host =
+          Some(
+            HostPorts(
+              snapshot = ports(m.host.snapshot).name,
+              clear = ports(m.host.clear).name,
+              readAddress = ports(m.host.readAddress).harness,
+              readData = ports(m.host.readData).harness,
+              snapshotDone = ports(m.host.snapshotDone).name
+            )
+          )
+        )
+      case _ => stream
+    }
+  }
 
   /** [[ArmDatapath]]'s ports. */
   def apply(p: ArmParams): HarnessPorts = apply(new ArmIO(p))

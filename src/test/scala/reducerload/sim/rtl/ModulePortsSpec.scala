@@ -47,6 +47,20 @@ class ModulePortsSpec extends AnyFlatSpec {
     val harness = ArmHarnessPorts(io)
     assert(harness.held.map(_.name) == Seq("io_host_snapshot", "io_host_clear", "io_host_readAddress"))
     assert(harness.inReady.contains("io_in_ready") && harness.outValid == "io_out_valid")
+    // A stimulus run drives the host port the harness otherwise holds at 0, and reads it back.
+    assert(
+      harness.host.map(h => Seq(h.snapshot, h.clear, h.readAddress.name, h.readData.name, h.snapshotDone)) ==
+        Some(
+          Seq(
+            "io_host_snapshot",
+            "io_host_clear",
+            "io_host_readAddress",
+            "io_host_readData",
+            "io_host_snapshotDone"
+          )
+        )
+    )
+    assert(ArmHarnessPorts(new reducerload.arm.ArmIO(monitored.arm)).host.isEmpty)
 
     val lone = params()
     assert(
