@@ -243,7 +243,11 @@ private final class UrdfParser(source: String) {
       .filter(_.nonEmpty)
       .getOrElse(fail(element, s"missing <$tag link=...>"))
     val rawAxis = vector(single(node, element, "axis"), element, "axis", "xyz", Vec3(1, 0, 0))
-    if (motion.isDefined && rawAxis.norm == 0) fail(element, "zero <axis xyz>")
+    // Scaled by its largest component first: the norm of (0, 0, 1.7e308) overflows, that of 1e-320s underflows.
+    val largest = rawAxis.toSeq.map(math.abs).max
+    if (motion.isDefined && largest == 0) fail(element, "zero <axis xyz>")
+    val scaled =
+      if (largest == 0) rawAxis else Vec3(rawAxis.x / largest, rawAxis.y / largest, rawAxis.z / largest)
     val limit = single(node, element, "limit")
     def nonNegativeLimit(key: String) = limit.flatMap(optionalNumber(_, element, "limit", key)).map { v =>
       if (v < 0) fail(element, s"negative <limit $key> $v") else v
@@ -254,7 +258,7 @@ private final class UrdfParser(source: String) {
       linkOf("parent"),
       linkOf("child"),
       origin(node, element),
-      if (motion.isEmpty) rawAxis else rawAxis * (1 / rawAxis.norm), // a fixed joint's axis means nothing
+      if (motion.isEmpty) rawAxis else scaled * (1 / scaled.norm), // a fixed joint's axis means nothing
       nonNegativeLimit("velocity"),
       nonNegativeLimit("effort"),
       single(node, element, "mimic").isDefined

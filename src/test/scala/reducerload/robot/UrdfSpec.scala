@@ -286,6 +286,16 @@ class UrdfSpec extends AnyFlatSpec {
         .replace("""<mass value="1"/>""", s"""<mass value="${"9" * 400}"/>"""),
       "is not a finite number"
     )
+    // An axis whose norm overflows or underflows a double is still a direction.
+    val huge = Urdf.parse(
+      "ok.urdf",
+      minimal.replace("<parent ", """<axis xyz="0 0 1.7976931348623157e308"/><parent """),
+      None
+    )
+    assert(huge.joints.head.axis == Vec3(0, 0, 1))
+    val tiny =
+      Urdf.parse("ok.urdf", minimal.replace("<parent ", """<axis xyz="0 -1e-320 0"/><parent """), None)
+    assert(tiny.joints.head.axis == Vec3(0, -1, 0))
     val n = 100000
     val tail = (0 until n).map(k =>
       s"""<link name="x${k + 1}"/>""" + joint(s"x$k", if (k == 0) "b" else s"x$k", s"x${k + 1}", "fixed")
