@@ -211,7 +211,8 @@ final class Schedule(
 
   /**
    * CORDIC units at interval `ii`: asked, or the fewest that keep it; none for a robot whose torques need no
-   * sin/cos (prismatic joints, axes along gravity, massless links), so no unit is built with nothing to do.
+   * sin/cos (a joint turning about the gravity axis with massless links after it), so no unit is built with
+   * nothing to do.
    */
   private def cordicUnitsAt(ii: Int): Int =
     if (angles.isEmpty) 0 else request.cordicUnits.getOrElse(math.max(1, ceilDiv(angles.size, ii)))

@@ -40,6 +40,20 @@ class UrdfFuzzSpec extends AnyFlatSpec {
     assert(Files.list(out).toArray.map(_.toString).exists(_.endsWith(".sv")))
   }
 
+  it should "name the URDF file when its velocity limits are missing or beyond the declared ranges' rule" in {
+    val text = new String(Files.readAllBytes(resource("massless_link.urdf")), "UTF-8")
+    Seq(
+      "velocity=\"5000\"" -> "<limit velocity> taken for robot.max-velocity of joint 1",
+      "" -> "joint 'j1' has no <limit velocity>: declare robot.max-velocity"
+    ).foreach { case (limit, words) =>
+      val dir = Scratch.dir("limits")
+      val file =
+        Files.write(dir.resolve("arm.urdf"), text.replaceFirst("velocity=\"2\"", limit).getBytes("UTF-8"))
+      val line = UrdfFuzz.refusedCleanly(file, "tool", dir.resolve("out"))
+      assert(line.exists(_.contains(s"$file: $words")), line)
+    }
+  }
+
   it should "run the seeded short form: valid chains checked, mutations refused cleanly, nothing crashes" in {
     val seed = Seeds("urdf-fuzz", 30L)
     val start = System.nanoTime()
