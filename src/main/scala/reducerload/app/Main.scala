@@ -177,16 +177,22 @@ object Main {
       }
   }
 
+  /**
+   * Run a command line and return its exit status, a refusal printed on `err` as its one line; no
+   * System.exit, so that tests run the real command line in-process.
+   */
+  def execute(args: Seq[String], err: java.io.PrintStream = System.err): Int =
+    try { run(args); 0 }
+    catch {
+      case e: InputError => err.println(s"error: ${e.getMessage}"); 2
+      case e: IllegalArgumentException =>
+        err.println(s"error: ${e.getMessage.stripPrefix("requirement failed: ")}"); 2
+      // A derived bound that a result exceeds: not the user's mistake, but one line and a distinct status.
+      case e: IllegalStateException => err.println(s"failed check: ${e.getMessage}"); 1
+    }
+
   def main(args: Array[String]): Unit = {
-    val status =
-      try { run(args.toSeq); 0 }
-      catch {
-        case e: InputError => System.err.println(s"error: ${e.getMessage}"); 2
-        case e: IllegalArgumentException =>
-          System.err.println(s"error: ${e.getMessage.stripPrefix("requirement failed: ")}"); 2
-        // A derived bound that a result exceeds: not the user's mistake, but one line and a distinct status.
-        case e: IllegalStateException => System.err.println(s"failed check: ${e.getMessage}"); 1
-      }
+    val status = execute(args.toSeq)
     System.out.flush()
     if (status != 0) sys.exit(status)
   }

@@ -204,7 +204,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     val values: Vector[Map[Int, SInt]] = graph.ids.foldLeft(Vector.empty[Map[Int, SInt]]) { (done, id) =>
       val f = analysis(id).format
       def tap(x: NodeId, cycle: Int): SInt = graph(x) match {
-        case Const(_) => analysis(x).raw.get.S(analysis(x).format.width.W)
+        case Const(_) => constant(x)
         case _        => done(x.index)(cycle)
       }
 
@@ -251,7 +251,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
         val Mul(a, b) = graph(id): @unchecked
         val r = schedule.slot(id).get.issue
         def tap(x: NodeId) = graph(x) match {
-          case Const(_) => analysis(x).raw.get.S(analysis(x).format.width.W)
+          case Const(_) => constant(x)
           case _        => values(x.index)(r)
         }
         val (wide, narrow) =
@@ -264,8 +264,17 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       val product = PipelinedMultiplier(select(_._1), select(_._2))
       products(u) := FixedHw.delay(product, p.multiplierLatency - 1)
     }
-    graph.outputs.map(o => values(o.node.index)(outAt))
+    // An output may be a constant (a joint whose torque folds to zero: nothing it moves has mass).
+    graph.outputs.map(o =>
+      graph(o.node) match {
+        case Const(_) => constant(o.node)
+        case _        => values(o.node.index)(outAt)
+      }
+    )
   }
+
+  /** A constant node's code: a literal, no register. */
+  private def constant(x: NodeId): SInt = analysis(x).raw.get.S(analysis(x).format.width.W)
 
   // Output stage: each torque rounded half up to the output format and saturated, the saturation
   // decided on the unrounded value beside the rounding adder (FixedHw.roundSaturateDecision); then

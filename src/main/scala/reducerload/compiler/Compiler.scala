@@ -4,7 +4,7 @@ import reducerload.arm.{ArmParams, Dynamics}
 import reducerload.config.LoadParams
 import reducerload.graph.BankedSchedule
 import reducerload.monitor.{MonitorConfig, MonitorParams, RatedReducer}
-import reducerload.robot.SerialChain
+import reducerload.robot.{RobotParams, SerialChain}
 import reducerload.util.{InputError, Warning}
 
 /**
@@ -66,13 +66,22 @@ object Compiler {
       case 0 =>
         val limits =
           fromUrdf.getOrElse(throw new IllegalArgumentException(s"$key must be declared for ${chain.name}"))
-        chain.joints.zip(limits).map { case (j, l) =>
+        val taken = chain.joints.zip(limits).map { case (j, l) =>
           l.getOrElse(
             throw new IllegalArgumentException(
-              s"joint ${j.name} has no <limit velocity> in the URDF: declare $key"
+              s"${chain.label}: joint '${j.name}' has no <limit velocity>: declare $key"
             )
           )
         }
+        // The file's limits meet the declared ranges' rule; a refusal points at the file.
+        try RobotParams.checkRanges(taken, Nil)
+        catch {
+          case e: IllegalArgumentException =>
+            throw new IllegalArgumentException(
+              s"${chain.label}: <limit velocity> taken for ${e.getMessage.stripPrefix("requirement failed: ")}; declare $key"
+            )
+        }
+        taken
       case 1                    => Seq.fill(chain.size)(values.head)
       case n if n == chain.size => values
       case n =>

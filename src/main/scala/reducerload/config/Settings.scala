@@ -199,6 +199,16 @@ object Settings {
     _.robot.tip
   )
 
+  val robotAllowMassless = new Switch(
+    "robot.allow-massless",
+    "",
+    "accept a URDF whose last joints move no mass (every link from the joint's to the tip without <inertial> " +
+      "or with zero mass: a torque identically zero), with a warning; false refuses it. A moving link without " +
+      "<inertial> is taken as massless with a warning either way; links fixed to another link (tool0, flange) are frames",
+    Nil,
+    _.robot.allowMassless
+  )
+
   val robotM3 = new Real("robot.m3", "kg", "planar3: point mass at the end of link 3", Seq("m3"), _.robot.m3)
 
   val robotL1 = new Real("robot.l1", "m", "planar3: length of link 1", Seq("l1"), _.robot.l1)
@@ -568,6 +578,7 @@ object Settings {
   val all: Seq[Setting[_]] = Seq(
     robotSource,
     robotTip,
+    robotAllowMassless,
     robotM3,
     robotL1,
     robotL2,
@@ -702,7 +713,8 @@ object Settings {
           maxVelocity = ranges(robotMaxVelocity),
           maxAcceleration = ranges(robotMaxAcceleration),
           source = v(robotSource),
-          tip = v(robotTip)
+          tip = v(robotTip),
+          allowMassless = v(robotAllowMassless)
         ),
         model = v(model),
         cordic = CordicParams(

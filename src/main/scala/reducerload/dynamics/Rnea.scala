@@ -25,7 +25,7 @@ object Rnea {
     chain.joints.foreach { j =>
       require(
         j.kind != JointKind.Prismatic,
-        s"robot ${chain.name}: joint ${j.name}: prismatic joints are not " +
+        s"${chain.label}: joint '${j.name}': prismatic joints are not " +
           s"supported by the dynamics compiler yet"
       )
     }

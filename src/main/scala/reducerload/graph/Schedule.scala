@@ -207,11 +207,15 @@ final class Schedule(
     .map { case (_, ops) => MulClass(ops.map(shapeOf).reduce(_ max _), ops) }
 
   /** Shortest interval the CORDIC units allow. */
-  private def cordicBound(units: Int): Int = ceilDiv(angles.size, units)
+  private def cordicBound(units: Int): Int = if (angles.isEmpty) 1 else ceilDiv(angles.size, units)
 
-  /** CORDIC units at interval `ii`: asked, or the fewest that keep it. */
+  /**
+   * CORDIC units at interval `ii`: asked, or the fewest that keep it; none for a robot whose torques need no
+   * sin/cos (a joint turning about the gravity axis with massless links after it), so no unit is built with
+   * nothing to do.
+   */
   private def cordicUnitsAt(ii: Int): Int =
-    request.cordicUnits.getOrElse(math.max(1, ceilDiv(angles.size, ii)))
+    if (angles.isEmpty) 0 else request.cordicUnits.getOrElse(math.max(1, ceilDiv(angles.size, ii)))
 
   /**
    * Operations a shared unit takes per sample at interval `ii`: every slot with registers; with memory

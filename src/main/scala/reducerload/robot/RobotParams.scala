@@ -19,6 +19,9 @@ package reducerload.robot
  *   `planar3` (the built-in planar arm above) or the path of a URDF file
  * @param tip
  *   the URDF link that ends the chain (empty: the only leaf)
+ * @param allowMassless
+ *   accept a URDF whose last joints move no mass (their torque identically zero), with a warning; refused
+ *   otherwise (see [[Urdf]])
  */
 final case class RobotParams(
     m3: Double = 10.0,
@@ -29,7 +32,8 @@ final case class RobotParams(
     maxVelocity: Seq[Double] = Seq(3.0, 3.0, 3.0),
     maxAcceleration: Seq[Double] = Seq(10.0, 10.0, 10.0),
     source: String = RobotParams.planar3,
-    tip: String = ""
+    tip: String = "",
+    allowMassless: Boolean = false
 ) {
 
   private def finite(x: Double) = !x.isNaN && !x.isInfinite
@@ -61,7 +65,7 @@ final case class RobotParams(
   /** The serial chain: the built-in planar arm, or the URDF file's chain to its tip (read on each call). */
   def chain: SerialChain =
     if (isPlanar3) Planar3.chain(this)
-    else Urdf.read(java.nio.file.Paths.get(source), Option(tip).filter(_.nonEmpty))
+    else Urdf.read(java.nio.file.Paths.get(source), Option(tip).filter(_.nonEmpty), allowMassless)
 
   /** Products of robot constants, folded at elaboration (the joint-3 closed form's coefficients). */
   val a: Double = m3 * l1 * l3 // multiplies dd1 cos(t2+t3) and d1^2 sin(t2+t3)

@@ -84,12 +84,15 @@ final case class ChainJoint(
  *
  * @param warnings
  *   what reading the robot's description accepted but a user should know (see [[reducerload.util.Warning]])
+ * @param source
+ *   the file it was read from (empty: built in)
  */
 final case class SerialChain(
     name: String,
     joints: IndexedSeq[ChainJoint],
     gravity: Vec3,
-    warnings: Seq[reducerload.util.Warning] = Nil
+    warnings: Seq[reducerload.util.Warning] = Nil,
+    source: String = ""
 ) {
   require(joints.nonEmpty, s"robot $name: the chain has no moving joint")
   require(joints.map(_.name).distinct.size == joints.size, s"robot $name: joint names repeat")
@@ -104,4 +107,7 @@ final case class SerialChain(
     )
   }
   def size: Int = joints.size
+
+  /** Where a refusal about the robot points: its file, or its name when built in. */
+  def label: String = if (source.nonEmpty) source else s"robot $name"
 }

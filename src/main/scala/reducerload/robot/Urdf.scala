@@ -1,12 +1,13 @@
 package reducerload.robot
 
 import reducerload.trace.TraceCsv
-import reducerload.util.InputError
+import reducerload.util.{InputError, InputFile, Warning}
 
 import java.nio.ByteBuffer
 import java.nio.charset.{CharacterCodingException, CodingErrorAction, StandardCharsets}
 import java.nio.file.{Files, Path}
 import javax.xml.parsers.SAXParserFactory
+import scala.collection.mutable
 import scala.xml.{Node, SAXParseException, XML}
 
 /**
@@ -15,11 +16,18 @@ import scala.xml.{Node, SAXParseException, XML}
  * fixed joints fold into the next moving joint's origin, and everything off the chain (side branches,
  * children of the tip) is locked at q = 0 and its mass merged into the chain link it hangs off. Every problem
  * in the file is an [[InputError]] of one line "<file>: <element>: <problem>".
+ *
+ * Missing mass: a link that a joint moves (the child of a revolute, continuous or prismatic joint, on the
+ * chain or locked off it) with no `<inertial>` is taken as massless with a [[Warning]] naming it and where
+ * its joint's mass comes from. Links fixed to another link with no `<inertial>` are frames (tool0, flange,
+ * ee_link) and stay quiet. Joints that move no mass at all (every link from theirs to the tip massless: the
+ * torque is identically zero) are refused unless `allowMassless` (the setting `robot.allow-massless`), then
+ * warned about.
  */
 object Urdf {
-  def read(path: Path, tip: Option[String]): SerialChain = {
+  def read(path: Path, tip: Option[String], allowMassless: Boolean = false): SerialChain = {
     val source = path.toString
-    if (!Files.isRegularFile(path)) throw new InputError(s"$source: no such file")
+    InputFile.check(path, source)
     val text =
       try
         StandardCharsets.UTF_8
@@ -30,11 +38,30 @@ object Urdf {
       catch {
         case _: CharacterCodingException => throw new InputError(s"$source: not a text file (invalid UTF-8)")
       }
-    parse(source, text, tip)
+    parse(source, text, tip, allowMassless)
   }
 
-  def parse(source: String, xmlText: String, tip: Option[String]): SerialChain =
-    new UrdfChainBuilder(source, new UrdfParser(source).robot(xmlText)).chain(tip)
+  def parse(
+      source: String,
+      xmlText: String,
+      tip: Option[String],
+      allowMassless: Boolean = false
+  ): SerialChain =
+    new UrdfChainBuilder(source, new UrdfParser(source).robot(xmlText)).chain(tip, allowMassless)
+
+  /**
+   * Largest mass (kg) and coordinate (m) a link may have: beyond any arm (a 10 t link, a 100 m reach), and
+   * within what the derived formats can hold; an inertia entry is at most their mass times length squared.
+   */
+  val maxMass: Double = 1e4
+  val maxLength: Double = 100.0
+  val maxInertia: Double = maxMass * maxLength * maxLength
+
+  /** Characters of the longest number a URDF attribute may hold (every double fits in far fewer). */
+  val longestNumber: Int = 100
+
+  /** The setting that accepts joints moving no mass, as the refusal names it. */
+  val allowMasslessSetting: String = "robot.allow-massless"
 
   /**
    * Tolerance of the inertia plausibility checks: relative to the largest principal moment, plus an absolute
@@ -43,9 +70,17 @@ object Urdf {
   val inertiaRelativeTolerance: Double = 1e-6
   val inertiaAbsoluteTolerance: Double = 1e-12
 
-  /** "<file>: <element>: <problem>" on one line, whatever the names in the file contain. */
-  private[robot] def error(source: String, element: String, problem: String): InputError =
-    new InputError(s"$source: $element: $problem".replaceAll("\\s+", " ").trim)
+  /**
+   * "<file>: <element>: <problem>" on one line, whatever the names in the file contain, and cut short: a name
+   * may be thousands of characters long.
+   */
+  private[robot] def error(source: String, element: String, problem: String): InputError = {
+    val line = s"$source: $element: $problem".replaceAll("\\s+", " ").trim
+    new InputError(if (line.length > maxMessage) line.take(maxMessage) + " [...]" else line)
+  }
+
+  /** Characters of an error line beyond which it is cut. */
+  val maxMessage: Int = 600
 }
 
 /** One URDF link: its mass properties in the link frame, if it has an `<inertial>`. */
@@ -120,7 +155,8 @@ private final class UrdfParser(source: String) {
 
   private def numbers(text: String, element: String, what: String, count: Int): Seq[Double] = {
     val cells = text.trim.split("\\s+").toSeq.filter(_.nonEmpty)
-    val values = cells.flatMap(TraceCsv.parseNumber)
+    // No number is this long; a long cell is not handed to the number pattern, whose time grows with it.
+    val values = cells.filter(_.length <= Urdf.longestNumber).flatMap(TraceCsv.parseNumber)
     if (cells.size != count || values.size != count) {
       val expected = if (count == 1) "a finite number" else s"$count finite numbers"
       fail(element, s"$what '${text.trim.take(60)}' is not $expected")
@@ -142,6 +178,11 @@ private final class UrdfParser(source: String) {
   private def vector(node: Option[Node], element: String, tag: String, key: String, default: Vec3): Vec3 =
     node.flatMap(attribute(_, key)).map(t => Vec3(numbers(t, element, s"<$tag $key>", 3))).getOrElse(default)
 
+  private def atMost(value: Double, limit: Double, element: String, what: String, unit: String): Double =
+    if (math.abs(value) > limit)
+      fail(element, s"$what $value $unit is beyond $limit $unit: not a robot arm's")
+    else value
+
   /**
    * `<origin xyz rpy>` (zeros when absent): the child frame in the parent frame, R = Rz(yaw) Ry(pitch)
    * Rx(roll).
@@ -149,7 +190,9 @@ private final class UrdfParser(source: String) {
   private def origin(node: Node, element: String): Transform = {
     val o = single(node, element, "origin")
     val rpy = vector(o, element, "origin", "rpy", Vec3.zero)
-    Transform(Mat3.rpy(rpy.x, rpy.y, rpy.z), vector(o, element, "origin", "xyz", Vec3.zero))
+    val xyz = vector(o, element, "origin", "xyz", Vec3.zero)
+    xyz.toSeq.foreach(atMost(_, Urdf.maxLength, element, "<origin xyz>", "m"))
+    Transform(Mat3.rpy(rpy.x, rpy.y, rpy.z), xyz)
   }
 
   private def link(node: Node, index: Int): UrdfLink = {
@@ -159,14 +202,21 @@ private final class UrdfParser(source: String) {
       name,
       single(node, element, "inertial").map { inertial =>
         val frame = origin(inertial, element)
-        val mass = number(
-          single(inertial, element, "mass").getOrElse(fail(element, "<inertial> has no <mass>")),
+        val mass = atMost(
+          number(
+            single(inertial, element, "mass").getOrElse(fail(element, "<inertial> has no <mass>")),
+            element,
+            "mass",
+            "value"
+          ),
+          Urdf.maxMass,
           element,
-          "mass",
-          "value"
+          "<mass value>",
+          "kg"
         )
         val i = single(inertial, element, "inertia").getOrElse(fail(element, "<inertial> has no <inertia>"))
-        def entry(key: String) = number(i, element, "inertia", key)
+        def entry(key: String) =
+          atMost(number(i, element, "inertia", key), Urdf.maxInertia, element, s"<inertia $key>", "kg m^2")
         val tensor =
           Mat3.symmetric(entry("ixx"), entry("ixy"), entry("ixz"), entry("iyy"), entry("iyz"), entry("izz"))
         // About the centre of mass in the inertial frame; into the link frame: com = xyz, I' = R I R^T.
@@ -193,7 +243,11 @@ private final class UrdfParser(source: String) {
       .filter(_.nonEmpty)
       .getOrElse(fail(element, s"missing <$tag link=...>"))
     val rawAxis = vector(single(node, element, "axis"), element, "axis", "xyz", Vec3(1, 0, 0))
-    if (motion.isDefined && rawAxis.norm == 0) fail(element, "zero <axis xyz>")
+    // Scaled by its largest component first: the norm of (0, 0, 1.7e308) overflows, that of 1e-320s underflows.
+    val largest = rawAxis.toSeq.map(math.abs).max
+    if (motion.isDefined && largest == 0) fail(element, "zero <axis xyz>")
+    val scaled =
+      if (largest == 0) rawAxis else Vec3(rawAxis.x / largest, rawAxis.y / largest, rawAxis.z / largest)
     val limit = single(node, element, "limit")
     def nonNegativeLimit(key: String) = limit.flatMap(optionalNumber(_, element, "limit", key)).map { v =>
       if (v < 0) fail(element, s"negative <limit $key> $v") else v
@@ -204,7 +258,7 @@ private final class UrdfParser(source: String) {
       linkOf("parent"),
       linkOf("child"),
       origin(node, element),
-      if (motion.isEmpty) rawAxis else rawAxis * (1 / rawAxis.norm), // a fixed joint's axis means nothing
+      if (motion.isEmpty) rawAxis else scaled * (1 / scaled.norm), // a fixed joint's axis means nothing
       nonNegativeLimit("velocity"),
       nonNegativeLimit("effort"),
       single(node, element, "mimic").isDefined
@@ -260,14 +314,21 @@ private final case class Placement(carrier: Option[Int], pose: Transform)
 /** Links and joints to the serial chain from the root link to the tip link. */
 private final class UrdfChainBuilder(source: String, robot: UrdfRobot) {
   private def fail(element: String, problem: String): Nothing = throw Urdf.error(source, element, problem)
-  private def quoted(names: Seq[String]): String = names.map(n => s"'$n'").mkString(", ")
+
+  /** Names for a message: the first few, so that a file of thousands of links still gives one short line. */
+  private def few(names: Seq[String], show: String => String): String = {
+    val shown = names.take(8).map(n => show(n.take(60))).mkString(", ")
+    if (names.size > 8) s"$shown and ${names.size - 8} more" else shown
+  }
+  private def quoted(names: Seq[String]): String = few(names, n => s"'$n'")
 
   private val linkNames = robot.links.map(_.name)
   duplicate(linkNames).foreach(n => fail(s"link '$n'", "defined twice"))
   duplicate(robot.joints.map(_.name)).foreach(n => fail(s"joint '$n'", "defined twice"))
+  private val linkSet = linkNames.toSet
   robot.joints.foreach { j =>
     Seq("parent" -> j.parent, "child" -> j.child).foreach { case (role, link) =>
-      if (!linkNames.contains(link)) fail(j.label, s"unknown $role link '$link'")
+      if (!linkSet.contains(link)) fail(j.label, s"unknown $role link '$link'")
     }
   }
   private val parentJoint: Map[String, UrdfJoint] = robot.joints.groupBy(_.child).map {
@@ -281,10 +342,14 @@ private final class UrdfChainBuilder(source: String, robot: UrdfRobot) {
     case roots  => fail(robot.label, s"several root links ${quoted(roots)}: the links must form one tree")
   }
 
-  // Every link must hang off the root; only then do the walks below (pathTo, place) end.
-  private def descendants(link: String): Seq[String] =
-    link +: childJoints(link).flatMap(j => descendants(j.child))
-  private val connected = descendants(root).toSet
+  // Every link must hang off the root; only then do the walks below (pathTo, place) end. The walks loop
+  // rather than recurse: a file may chain many thousands of links, deeper than the stack.
+  private val connected: Set[String] = {
+    val seen = mutable.HashSet(root)
+    val todo = mutable.Stack(root)
+    while (todo.nonEmpty) childJoints(todo.pop()).map(_.child).filter(seen.add).foreach(todo.push)
+    seen.toSet
+  }
   linkNames
     .find(!connected.contains(_))
     .foreach(l => fail(s"link '$l'", "is not connected to the root link: the joints form a loop"))
@@ -293,28 +358,35 @@ private final class UrdfChainBuilder(source: String, robot: UrdfRobot) {
 
   /** The joints from the root to `link`, root first. */
   private def pathTo(link: String): List[UrdfJoint] =
-    parentJoint.get(link).map(j => pathTo(j.parent) :+ j).getOrElse(Nil)
+    List.unfold(link)(l => parentJoint.get(l).map(j => (j, j.parent))).reverse
 
   /**
    * Every link reachable from the root, placed top-down; joints off the chain are locked at q = 0 (pose =
    * origin).
    */
-  private def place(link: String, at: Placement, chainIndex: Map[String, Int]): Seq[(String, Placement)] =
-    (link -> at) +: childJoints(link).flatMap { j =>
-      val childAt = chainIndex.get(j.name) match {
-        case Some(k) => Placement(Some(k), Transform.identity)
-        case None    => Placement(at.carrier, at.pose.compose(j.origin))
+  private def place(link: String, at: Placement, chainIndex: Map[String, Int]): Map[String, Placement] = {
+    val placed = mutable.HashMap(link -> at)
+    val todo = mutable.Stack(link)
+    while (todo.nonEmpty) {
+      val parent = todo.pop()
+      childJoints(parent).foreach { j =>
+        placed(j.child) = chainIndex.get(j.name) match {
+          case Some(k) => Placement(Some(k), Transform.identity)
+          case None    => Placement(placed(parent).carrier, placed(parent).pose.compose(j.origin))
+        }
+        todo.push(j.child)
       }
-      place(j.child, childAt, chainIndex)
     }
+    placed.toMap
+  }
 
-  def chain(tip: Option[String]): SerialChain = {
+  def chain(tip: Option[String], allowMassless: Boolean): SerialChain = {
     val leaves = linkNames.filter(childJoints(_).isEmpty)
     val tipLink = tip match {
       case Some(t) if linkNames.contains(t) => t
       case Some(t) => fail(robot.label, s"unknown tip link '$t' (links: ${quoted(linkNames)})")
       case None if leaves.size == 1 => leaves.head
-      case None => fail(robot.label, s"--tip is needed: leaves are ${leaves.mkString(", ")}")
+      case None => fail(robot.label, s"--tip is needed: leaves are ${few(leaves, identity)}")
     }
     val moving = pathTo(tipLink).flatMap(j => j.motion.map(kind => (j, kind))).toIndexedSeq
     if (moving.isEmpty)
@@ -324,7 +396,7 @@ private final class UrdfChainBuilder(source: String, robot: UrdfRobot) {
     }
 
     val placements =
-      place(root, Placement(None, Transform.identity), moving.map(_._1.name).zipWithIndex.toMap).toMap
+      place(root, Placement(None, Transform.identity), moving.map(_._1.name).zipWithIndex.toMap)
     val bodies = robot.links
       .flatMap { link =>
         val at = placements(link.name)
@@ -335,6 +407,55 @@ private final class UrdfChainBuilder(source: String, robot: UrdfRobot) {
         }
       }
       .groupBy(_._1)
+
+    val names = moving.map(_._1.name)
+    // Links each chain joint carries, in file order; a link fixed to the base has no carrier.
+    val carried: Map[Int, Seq[UrdfLink]] =
+      robot.links.flatMap(l => placements(l.name).carrier.map(_ -> l)).groupMap(_._1)(_._2)
+    def massive(l: UrdfLink) = l.inertial.exists(b => !isEmpty(b))
+    // The first joint from which every carried link to the tip is massless: its torque and every later
+    // joint's are identically zero (no mass, no inertia moves).
+    val firstMassless =
+      moving.indices.find(k => (k until moving.size).forall(m => !carried.getOrElse(m, Nil).exists(massive)))
+    val masslessWarnings = firstMassless.toSeq.flatMap { k =>
+      val joints = names.drop(k)
+      val element = if (joints.size == 1) s"joint '${joints.head}'" else s"joints ${quoted(joints)}"
+      val (bare, empty) =
+        (k until moving.size).flatMap(carried.getOrElse(_, Nil)).partition(_.inertial.isEmpty)
+      def links(ls: Seq[UrdfLink], problem: String) =
+        if (ls.isEmpty) Nil
+        else Seq(s"${if (ls.size == 1) "link" else "links"} ${quoted(ls.map(_.name))} $problem")
+      val what =
+        s"${if (joints.size == 1) "moves" else "move"} no mass (" +
+          (links(bare, "without <inertial>") ++ links(empty, "with zero mass")).mkString(", ") + "): " +
+          s"${if (joints.size == 1) "its torque is" else "their torques are"} identically zero"
+      if (!allowMassless)
+        fail(
+          element,
+          s"$what; give the links their <inertial>, or set ${Urdf.allowMasslessSetting} = true to accept it"
+        )
+      Seq(Warning(s"$source: $element", s"$what (accepted: ${Urdf.allowMasslessSetting} = true)"))
+    }
+    // A link a joint moves (not a frame fixed to another link) with no <inertial> is most likely a forgotten
+    // one; joints already named above are not repeated link by link.
+    val linkWarnings = robot.links.flatMap { l =>
+      for {
+        k <- placements(l.name).carrier.toSeq
+        if l.inertial.isEmpty && !firstMassless.exists(k >= _)
+        j <- parentJoint.get(l.name).toSeq if j.motion.isDefined
+      } yield {
+        val sources = carried(k).filter(massive).map(_.name)
+        Warning(
+          s"$source: link '${l.name}'",
+          s"has no <inertial>, taken as massless: joint '${names(k)}' gets its own mass from " +
+            (sources match {
+              case Seq()  => "no link (only the links after it load it)"
+              case Seq(x) => s"link '$x' only"
+              case xs     => s"links ${quoted(xs)} only"
+            })
+        )
+      }
+    }
 
     SerialChain(
       robot.name,
@@ -352,7 +473,9 @@ private final class UrdfChainBuilder(source: String, robot: UrdfRobot) {
           effortLimit = j.effortLimit
         )
       },
-      gravity = Vec3(0, 0, -9.81)
+      gravity = Vec3(0, 0, -9.81),
+      warnings = masslessWarnings ++ linkWarnings,
+      source = source
     )
   }
 

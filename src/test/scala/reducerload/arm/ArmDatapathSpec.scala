@@ -64,6 +64,40 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     )
   }
 
+  it should "build a joint whose torque is identically zero (a constant output, issue 30 item 1), " +
+    "bit-exact with the model" in {
+      val file = java.nio.file.Paths.get(getClass.getResource("/urdf/massless_last.urdf").toURI).toString
+      val robot = reducerload.robot.RobotParams(
+        source = file,
+        maxVelocity = Nil,
+        maxAcceleration = Seq(10.0),
+        allowMassless = true
+      )
+      val p = Compiler.arm(reducerload.config.LoadParams.arm.copy(robot = robot))
+      assert(p.graph.outputs.exists(o => p.graph(o.node).isInstanceOf[reducerload.graph.Op.Const]))
+      val rng = new Random(Seeds("arm-massless-last", 57L))
+      def samples(k: Int) = IndexedSeq.fill(k) {
+        val (q, qd, qdd) =
+          RandomChains.sample(rng, p.maxVelocity.map(_ * 1.1), p.maxAcceleration.map(_ * 1.1))
+        ArmSample(q, qd, qdd)
+      }
+      val golden = IndexedSeq.fill(20) {
+        val (q, qd, qdd) = RandomChains.sample(rng, p.maxVelocity, p.maxAcceleration)
+        ArmSample(q, qd, qdd)
+      }
+      ArmChecks.run(
+        this,
+        "massless last joint",
+        p,
+        golden,
+        samples(SimBackend.scale(200)),
+        rng,
+        Nil,
+        ArmChecks.target,
+        s => Rnea.reference(p.chain, s.q, s.qd, s.qdd)
+      )
+    }
+
   it should "compute every torque of the planar arm within 1e-3 N·m of " +
     "Pinocchio, bit-exact with the model" in {
       runRobot("planar3", 41L)

@@ -1,11 +1,13 @@
 package reducerload.dynamics
 
-import reducerload.robot.{JointKind, Mat3, SerialChain, Transform, Vec3}
+import reducerload.robot.{JointKind, Mat3, RigidBody, SerialChain, Transform, Vec3}
 
 /**
  * An independent formulation of inverse dynamics, for tests: Euler-Lagrange with the mass matrix from
  * geometric Jacobians, tau = M(q) qdd + dM/dt qd - 1/2 d(qd' M qd)/dq - sum m_j g . dp_j/dq, dM/dq by central
- * differences. Shares nothing with [[Rnea]] but the robot description.
+ * differences. Shares nothing with [[Rnea]] but the robot description. Each joint may move several bodies
+ * (`bodies`, in its frame), each summed on its own: the URDF tests give every link separately, so that the
+ * reader's merging of the links fixed to a joint is checked too.
  */
 object LagrangeReference {
   private final case class Frames(
@@ -18,8 +20,10 @@ object LagrangeReference {
     val poses = chain.joints.indices
       .scanLeft(Transform.identity) { (parent, j) =>
         val joint = chain.joints(j)
-        require(joint.kind != JointKind.Prismatic, "LagrangeReference: revolute joints only")
-        parent.compose(joint.origin).compose(Transform(Mat3.axisAngle(joint.axis, q(j)), Vec3.zero))
+        val motion =
+          if (joint.kind == JointKind.Prismatic) Transform(Mat3.identity, joint.axis * q(j))
+          else Transform(Mat3.axisAngle(joint.axis, q(j)), Vec3.zero)
+        parent.compose(joint.origin).compose(motion)
       }
       .tail
     Frames(
@@ -29,23 +33,38 @@ object LagrangeReference {
     )
   }
 
-  /** Jacobian columns (linear at the body's centre of mass, angular) of body j. */
-  private def jacobian(f: Frames, chain: SerialChain, j: Int): (IndexedSeq[Vec3], IndexedSeq[Vec3]) = {
-    val c = f.poses(j)(chain.joints(j).body.com)
+  /** Jacobian columns (linear at the body's centre of mass, angular) of `body`, moved by joint j. */
+  private def jacobian(
+      f: Frames,
+      chain: SerialChain,
+      j: Int,
+      body: RigidBody
+  ): (IndexedSeq[Vec3], IndexedSeq[Vec3]) = {
+    val c = f.poses(j)(body.com)
     chain.joints.indices.map { k =>
-      if (k > j) (Vec3.zero, Vec3.zero) else (f.axes(k).cross(c - f.origins(k)), f.axes(k))
+      if (k > j) (Vec3.zero, Vec3.zero)
+      else if (chain.joints(k).kind == JointKind.Prismatic) (f.axes(k), Vec3.zero)
+      else (f.axes(k).cross(c - f.origins(k)), f.axes(k))
     }.unzip
   }
 
-  def massMatrix(chain: SerialChain, q: Seq[Double]): IndexedSeq[IndexedSeq[Double]] = {
+  private def ownBodies(chain: SerialChain): IndexedSeq[Seq[RigidBody]] = chain.joints.map(j => Seq(j.body))
+
+  def massMatrix(chain: SerialChain, q: Seq[Double]): IndexedSeq[IndexedSeq[Double]] =
+    massMatrix(chain, ownBodies(chain), q)
+
+  private def massMatrix(
+      chain: SerialChain,
+      bodies: IndexedSeq[Seq[RigidBody]],
+      q: Seq[Double]
+  ): IndexedSeq[IndexedSeq[Double]] = {
     val f = kinematics(chain, q)
     val n = chain.size
-    val parts = chain.joints.indices.map { j =>
-      val (jv, jw) = jacobian(f, chain, j)
+    val parts = chain.joints.indices.flatMap(j => bodies(j).map(j -> _)).map { case (j, body) =>
+      val (jv, jw) = jacobian(f, chain, j, body)
       val r = f.poses(j).rotation
-      val inertia = r * chain.joints(j).body.inertia * r.transpose
-      val m = chain.joints(j).body.mass
-      IndexedSeq.tabulate(n, n)((a, b) => m * jv(a).dot(jv(b)) + jw(a).dot(inertia * jw(b)))
+      val inertia = r * body.inertia * r.transpose
+      IndexedSeq.tabulate(n, n)((a, b) => body.mass * jv(a).dot(jv(b)) + jw(a).dot(inertia * jw(b)))
     }
     IndexedSeq.tabulate(n, n)((a, b) => parts.map(_(a)(b)).sum)
   }
@@ -56,19 +75,32 @@ object LagrangeReference {
       qd: Seq[Double],
       qdd: Seq[Double],
       h: Double = 1e-6
+  ): IndexedSeq[Double] = torques(chain, ownBodies(chain), q, qd, qdd, h)
+
+  /** As above, joint j moving every body of `bodies(j)` (the chain's own bodies are not used). */
+  def torques(
+      chain: SerialChain,
+      bodies: IndexedSeq[Seq[RigidBody]],
+      q: Seq[Double],
+      qd: Seq[Double],
+      qdd: Seq[Double],
+      h: Double
   ): IndexedSeq[Double] = {
     val n = chain.size
-    val m = massMatrix(chain, q)
+    val m = massMatrix(chain, bodies, q)
     val dM = (0 until n).map { k => // dM/dq_k
-      val plus = massMatrix(chain, q.updated(k, q(k) + h))
-      val minus = massMatrix(chain, q.updated(k, q(k) - h))
+      val plus = massMatrix(chain, bodies, q.updated(k, q(k) + h))
+      val minus = massMatrix(chain, bodies, q.updated(k, q(k) - h))
       IndexedSeq.tabulate(n, n)((a, b) => (plus(a)(b) - minus(a)(b)) / (2 * h))
     }
     val f = kinematics(chain, q)
     val gravity = (0 until n).map { i =>
-      chain.joints.indices.map { j =>
-        chain.joints(j).body.mass * chain.gravity.dot(jacobian(f, chain, j)._1(i))
-      }.sum
+      chain.joints.indices
+        .flatMap(j => bodies(j).map(j -> _))
+        .map { case (j, body) =>
+          body.mass * chain.gravity.dot(jacobian(f, chain, j, body)._1(i))
+        }
+        .sum
     }
     (0 until n).map { i =>
       val inertial = (0 until n).map(k => m(i)(k) * qdd(k)).sum

@@ -181,13 +181,137 @@ class UrdfSpec extends AnyFlatSpec {
   private def robot(body: String*) = s"""<?xml version="1.0"?><robot name="r">${body.mkString}</robot>"""
   private val minimal = robot("""<link name="a"/>""", massive("b"), joint("j", "a", "b"))
 
-  it should "accept the minimal robot, a missing axis (x) and a massless moving body" in {
+  it should "accept the minimal robot and a missing axis (x); a body moving no mass only when allowed" in {
     val j = Urdf.parse("ok.urdf", minimal, None).joints.head
     assert(j.axis == Vec3(1, 0, 0) && j.origin == Transform.identity && j.body.mass == 1.0)
     assert(j.velocityLimit.isEmpty && j.effortLimit.isEmpty)
-    val massless =
-      Urdf.parse("ok.urdf", robot("""<link name="a"/><link name="b"/>""", joint("j", "a", "b")), None)
+    val bare = robot("""<link name="a"/><link name="b"/>""", joint("j", "a", "b"))
+    val e = intercept[InputError](Urdf.parse("ok.urdf", bare, None))
+    assert(
+      e.getMessage == "ok.urdf: joint 'j': moves no mass (link 'b' without <inertial>): its torque is " +
+        "identically zero; give the links their <inertial>, or set robot.allow-massless = true to accept it"
+    )
+    val massless = Urdf.parse("ok.urdf", bare, None, allowMassless = true)
     assert(massless.joints.head.body == RigidBody.massless)
+    assert(massless.warnings.map(_.where) == Seq("ok.urdf: joint 'j'"))
+    assert(Urdf.parse("ok.urdf", minimal, None).warnings.isEmpty)
+  }
+
+  it should "refuse a URDF whose last moving link and tool have no <inertial> (issue 30, item 1) unless allowed" in {
+    val file = resource("massless_last.urdf")
+    val e = intercept[InputError](Urdf.read(file, None))
+    assert(
+      e.getMessage == s"$file: joint 'j2': moves no mass (links 'link2', 'tool' without <inertial>): its " +
+        "torque is identically zero; give the links their <inertial>, or set robot.allow-massless = true to accept it"
+    )
+    val chain = Urdf.read(file, None, allowMassless = true)
+    assert(chain.joints(1).body == RigidBody.massless && chain.joints(0).body.mass == 2.0)
+    assert(
+      chain.warnings.map(_.toString) == Seq(
+        s"warning: $file: joint 'j2': moves no mass (links 'link2', 'tool' without <inertial>): its torque is " +
+          "identically zero (accepted: robot.allow-massless = true)"
+      )
+    )
+    // Several joints at the end: named together, from the first.
+    val two = robot(
+      """<link name="a"/>""",
+      massive("b"),
+      """<link name="c"/><link name="d"/>""",
+      joint("j", "a", "b"),
+      joint("k", "b", "c"),
+      joint("l", "c", "d")
+    )
+    val both = intercept[InputError](Urdf.parse("two.urdf", two, None))
+    assert(both.getMessage.startsWith("two.urdf: joints 'k', 'l': move no mass (links 'c', 'd' without"))
+    // A link with an explicit zero mass counts as none.
+    val zero = robot(
+      """<link name="a"/>""",
+      """<link name="b"><inertial><mass value="0"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial></link>""",
+      joint("j", "a", "b")
+    )
+    assert(
+      intercept[InputError](Urdf.parse("zero.urdf", zero, None)).getMessage
+        .contains("moves no mass (link 'b' with zero mass)")
+    )
+  }
+
+  it should "warn about a moving link without <inertial> whose tool has one (issue 30, item 2), not about frames" in {
+    val file = resource("massless_link.urdf")
+    val chain = Urdf.read(file, None)
+    assert(chain.joints(1).body.mass == 0.5)
+    assert(
+      chain.warnings.map(_.toString) == Seq(
+        s"warning: $file: link 'link2': has no <inertial>, taken as massless: joint 'j2' gets its own mass " +
+          "from link 'tool' only"
+      )
+    )
+    // A link fixed to another (bracket, tcp) is a frame: quiet; so are the golden robots.
+    assert(Urdf.read(arm, Some("l3")).warnings.isEmpty)
+    assert(Urdf.read(Paths.get("golden/robots/ur5_robot.urdf"), Some("tool0")).warnings.isEmpty)
+    assert(Urdf.read(Paths.get("golden/robots/panda.urdf"), Some("panda_hand")).warnings.isEmpty)
+    // A massless middle link: its joint is loaded by the links after it.
+    val middle = robot(
+      """<link name="a"/><link name="b"/>""",
+      massive("c"),
+      joint("j", "a", "b"),
+      joint("k", "b", "c")
+    )
+    assert(
+      Urdf.parse("m.urdf", middle, None).warnings.map(_.toString) == Seq(
+        "warning: m.urdf: link 'b': has no <inertial>, taken as massless: joint 'j' gets its own mass from no " +
+          "link (only the links after it load it)"
+      )
+    )
+  }
+
+  it should "refuse numbers beyond an arm's and read a chain of many thousand links without a stack overflow" in {
+    def refused(xml: String, words: String*): Unit = {
+      val message = intercept[InputError](Urdf.parse("big.urdf", xml, None)).getMessage
+      words.foreach(w => assert(message.contains(w), message))
+    }
+    refused(
+      minimal.replace("""<mass value="1"/>""", """<mass value="1e308"/>"""),
+      "link 'b'",
+      "<mass value> 1.0E308 kg"
+    )
+    refused(minimal.replace("""ixx="1"""", """ixx="1e9""""), "link 'b'", "<inertia ixx>")
+    refused(
+      minimal.replace("<parent ", """<origin xyz="0 1e3 0"/><parent """),
+      "joint 'j'",
+      "<origin xyz> 1000.0 m is beyond 100.0 m"
+    )
+    refused(
+      minimal
+        .replace("1\"/><inertia", "1\"/><inertia")
+        .replace("""<mass value="1"/>""", s"""<mass value="${"9" * 400}"/>"""),
+      "is not a finite number"
+    )
+    // An axis whose norm overflows or underflows a double is still a direction.
+    val huge = Urdf.parse(
+      "ok.urdf",
+      minimal.replace("<parent ", """<axis xyz="0 0 1.7976931348623157e308"/><parent """),
+      None
+    )
+    assert(huge.joints.head.axis == Vec3(0, 0, 1))
+    val tiny =
+      Urdf.parse("ok.urdf", minimal.replace("<parent ", """<axis xyz="0 -1e-320 0"/><parent """), None)
+    assert(tiny.joints.head.axis == Vec3(0, -1, 0))
+    val n = 100000
+    val tail = (0 until n).map(k =>
+      s"""<link name="x${k + 1}"/>""" + joint(s"x$k", if (k == 0) "b" else s"x$k", s"x${k + 1}", "fixed")
+    )
+    val long = robot(("""<link name="a"/>""" +: massive("b") +: joint("j", "a", "b") +: tail): _*)
+    assert(Urdf.parse("long.urdf", long, None).joints.head.body.mass == 1.0)
+    val many = robot(
+      ("""<link name="a"/>""" +: massive("b") +: joint("j", "a", "b") +: (0 until 20).map(k =>
+        s"""<link name="y$k"/>""" + joint(s"y$k", "a", s"y$k", "fixed")
+      )): _*
+    )
+    val e = intercept[InputError](Urdf.parse("many.urdf", many, None))
+    assert(
+      e.getMessage.endsWith("--tip is needed: leaves are b, y0, y1, y2, y3, y4, y5, y6 and 13 more"),
+      e.getMessage
+    )
   }
 
   it should "check the inertia of every link the chain carries, and only those" in {
@@ -357,6 +481,11 @@ class UrdfSpec extends AnyFlatSpec {
     val e = intercept[InputError](Urdf.parse("bad.urdf", minimal, Some("hand")))
     assert(e.getMessage == "bad.urdf: robot 'r': unknown tip link 'hand' (links: 'a', 'b')")
     val missing = intercept[InputError](Urdf.read(Paths.get("no/such/robot.urdf"), None))
-    assert(missing.getMessage == "no/such/robot.urdf: no such file")
+    assert(
+      missing.getMessage ==
+        s"no/such/robot.urdf: no such file (looked for ${Paths.get("no/such/robot.urdf").toAbsolutePath})"
+    )
+    val directory = intercept[InputError](Urdf.read(Paths.get("golden/robots"), None))
+    assert(directory.getMessage.startsWith("golden/robots: is a directory, not a file"))
   }
 }
