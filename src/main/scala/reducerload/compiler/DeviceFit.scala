@@ -209,7 +209,7 @@ object DeviceFit {
   private def needs(t: DeviceTarget, c: Candidate): String =
     Resource.all
       .map { r =>
-        s"${r.used(c.resources)} ${r.unit(t.part)} of ${r.capacity(t.part)}"
+        s"${grouped(r.used(c.resources))}/${grouped(r.capacity(t.part))} ${r.unit(t.part)}"
       }
       .mkString(", ")
 
