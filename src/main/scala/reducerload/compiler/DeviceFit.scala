@@ -72,6 +72,8 @@ object DeviceFit {
   def apply(p: LoadParams, base: ArmParams): Fitted = {
     val request = p.schedule
     val target = p.device
+    // The graph and its analysis first: their refusals are the user's, not a resource's.
+    base.analysis
     val family = target.part.family
     val monitorCost: Option[Resources] =
       if (!p.monitor.enabled) None
@@ -92,7 +94,11 @@ object DeviceFit {
     }
     request.clocksPerSample match {
       case Some(ii) =>
-        val usable = storages.filter(s => ii >= 2 || s == Storage.Registers)
+        // Memory needs 2 clocks or more; asked for at 1, its schedule refuses it with the numbers.
+        val usable = storages.filter(s => ii >= 2 || s == Storage.Registers) match {
+          case Seq() => storages
+          case some  => some
+        }
         val first = candidate(request.copy(storage = Some(usable.head)))
         // Another storage only when the first does not fit and it does (it may not schedule at all).
         val chosen =
@@ -105,20 +111,21 @@ object DeviceFit {
         Fitted(target, design, chosen.isDefined, chosen.map(_ => first), over(target, design))
       case None =>
         def at(s: Storage)(ii: Int) = candidate(request.copy(clocksPerSample = Some(ii), storage = Some(s)))
+        def leastSchedule(s: Storage): Int = new Schedule(
+          base.analysis,
+          request.copy(clocksPerSample = None, storage = Some(s), maxMultipliers = Some(math.max(1, budget))),
+          base.cordic,
+          base.multiplierLatency,
+          reducerload.arm.ArmDatapath.inputCycle
+        ).clocksPerSample
         // The fewest clocks the blocks allow, per storage (memory leaves each unit an eighth of its slots).
-        def least(s: Storage): Option[Int] = scala.util
-          .Try(
-            new Schedule(
-              base.analysis,
-              request
-                .copy(clocksPerSample = None, storage = Some(s), maxMultipliers = Some(math.max(1, budget))),
-              base.cordic,
-              base.multiplierLatency,
-              reducerload.arm.ArmDatapath.inputCycle
-            ).clocksPerSample
-          )
-          .toOption
-          .map(ii => if (s == Storage.Memory) math.max(ii, 2) else ii)
+        def least(s: Storage): Option[Int] =
+          scala.util
+            .Try(leastSchedule(s))
+            .toOption
+            .map(ii => if (s == Storage.Memory) math.max(ii, 2) else ii)
+        // An explicit budget below what any interval needs: the schedule's own refusal, with its numbers.
+        if (request.maxMultipliers.isDefined) leastSchedule(storages.head)
         // Registers first (cheap to schedule); block RAM only below the interval registers need.
         val registers =
           if (!storages.contains(Storage.Registers)) None

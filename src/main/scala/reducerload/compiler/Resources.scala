@@ -299,10 +299,12 @@ object ResourceModel {
     math.round(fixedLogic + features(p).toSeq.zip(coefficients).map { case (f, k) => f * k }.sum).toInt
 
   /**
-   * Predicted logic cells of a monitor: its live and shadow registers (two per word bit of the register map)
-   * and its update logic, about as many again. Not calibrated (no committed estimate of a monitored arm).
+   * Predicted logic cells of a monitor: its live and shadow state (each value's bits twice; the update logic
+   * packs with the live registers) and the read-out multiplexer over the 32-bit words (about a third of an LE
+   * per input bit). Not calibrated: no monitored design has a committed estimate.
    */
-  def monitorLogicElements(m: MonitorParams): Int = 4 * 32 * m.registerMap.words
+  def monitorLogicElements(m: MonitorParams): Int =
+    2 * m.registerMap.entries.map(_.width).sum + 11 * m.registerMap.words
 
   /** The arm datapath's resources on `family`. */
   def of(p: ArmParams, family: DeviceFamily): Resources =

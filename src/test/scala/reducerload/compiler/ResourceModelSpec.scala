@@ -24,7 +24,7 @@ class ResourceModelSpec extends AnyFlatSpec with Matchers {
     armPoints.foreach { pt =>
       val est = pt.estM9k.get
       val tol =
-        if (pt.p.banked.isEmpty) (if (pt.p.schedule.clocksPerSample == 1) est / 20 else 0)
+        if (pt.p.banked.isEmpty) (if (pt.p.schedule.clocksPerSample == 1) est / 10 else 1)
         else if (pt.name.contains("-a5-")) est / 3
         else 1
       withClue(pt.name)(math.abs(pt.m9k - est) should be <= tol)
