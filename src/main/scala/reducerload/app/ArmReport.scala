@@ -3,6 +3,7 @@ package reducerload.app
 import com.typesafe.config.{ConfigRenderOptions, ConfigValueFactory}
 import chisel3.Data
 import reducerload.arm.{ArmIO, ArmParams}
+import reducerload.compiler.{DeviceFit, Fitted, Resource}
 import reducerload.monitor.MonitoredArmIO
 import reducerload.fixedpoint.FixedFormat
 import reducerload.monitor.{JointField, MonitorParams}
@@ -20,7 +21,8 @@ final case class ArmReport(
     moduleName: String,
     command: String,
     estimate: Option[Estimate] = None,
-    monitor: Option[MonitorParams] = None
+    monitor: Option[MonitorParams] = None,
+    fit: Option[Fitted] = None
 ) extends EmissionReport {
   def latency: Int = p.latency
   private val n = p.numerics
@@ -161,6 +163,42 @@ final case class ArmReport(
       )
   }
 
+  /** Each resource against the device: name, used, capacity, percent. */
+  private def deviceRows(f: Fitted): Seq[(String, Int, Int, Double)] = Resource.all.map { r =>
+    val cap = r.capacity(f.target.part)
+    val used = r.used(f.design.resources)
+    (
+      r.unit(f.target.part) + (if (r == Resource.LogicElements) " (predicted)" else ""),
+      used,
+      cap,
+      100.0 * used / cap
+    )
+  }
+
+  /** The report's device section: use against the device and the design's warnings. */
+  private def deviceMarkdown: Seq[String] = fit.toSeq.flatMap { f =>
+    val d = f.target.part
+    Seq(
+      "",
+      "## Device",
+      "",
+      s"${f.line}.",
+      "",
+      s"Target ${d.name} (${d.family}); logic headroom ${math.round(f.target.maxLogicFraction * 100)}% " +
+        "(device.max-logic-fraction). Memory blocks counted from the memories the generator builds, logic " +
+        s"predicted within about ${math.round(reducerload.compiler.ResourceModel.logicTolerance * 100)}% " +
+        "of the open-tool estimate (docs/device.md).",
+      "",
+      "| resource | used | device | use |",
+      "| --- | --- | --- | --- |"
+    ) ++ deviceRows(f).map { case (name, used, cap, pct) =>
+      f"| $name | ${DeviceFit.grouped(used)} | ${DeviceFit.grouped(cap)} | $pct%.1f%% |"
+    } ++ {
+      val all = p.chain.warnings ++ f.warnings
+      if (all.isEmpty) Nil else "" +: "Warnings:" +: "" +: all.map(w => s"- $w")
+    }
+  }
+
   def markdown: String = (Seq(
     s"# $moduleName",
     "",
@@ -172,7 +210,7 @@ final case class ArmReport(
     "",
     "| port | dir | format |",
     "| --- | --- | --- |"
-  ) ++ table.markdown(ports) ++ Seq(
+  ) ++ table.markdown(ports) ++ deviceMarkdown ++ Seq(
     "",
     "## Joints",
     "",
@@ -218,7 +256,7 @@ final case class ArmReport(
         "multiplier_blocks" -> schedule.multiplierBlocks,
         "max_multipliers" -> schedule.request.maxMultipliers.map(Int.box).orNull,
         "cordic_units" -> schedule.cordicUnits,
-        "storage" -> schedule.request.storage.name,
+        "storage" -> schedule.request.stored.name,
         "held_register_bits" -> p.banked.fold(schedule.heldBits)(_ => 0L),
         "adder_units" -> p.banked.fold(counts.additions + counts.negations)(_.adderUnits),
         "bank_memory_bits" -> p.banked.fold(0L)(_.memoryBits)
@@ -284,7 +322,19 @@ final case class ArmReport(
         "error_bound" -> p.cordic.errorBound
       ).asJava,
       "estimate" -> estimate.map(_.toMap.asJava).orNull
-    ) ++ monitor.map(m => "monitor" -> ArmReport.monitorJson(m).asJava)
+    ) ++ monitor.map(m => "monitor" -> ArmReport.monitorJson(m).asJava) ++ fit.map { f =>
+      "device" -> Map[String, Any](
+        "name" -> f.target.part.name,
+        "family" -> f.target.part.family.name,
+        "max_logic_fraction" -> f.target.maxLogicFraction,
+        "chosen_by_fit" -> f.chosen,
+        "summary" -> f.line,
+        "resources" -> deviceRows(f).map { case (name, used, cap, pct) =>
+          Map[String, Any]("resource" -> name, "used" -> used, "capacity" -> cap, "percent" -> pct).asJava
+        }.asJava,
+        "warnings" -> (p.chain.warnings ++ f.warnings).map(_.toString).asJava
+      ).asJava
+    }
     ConfigValueFactory
       .fromMap(m.asJava)
       .render(ConfigRenderOptions.concise().setJson(true).setFormatted(true)) + "\n"

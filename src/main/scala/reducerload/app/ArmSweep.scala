@@ -39,11 +39,15 @@ object ArmSweep {
       ("ii64-t1e-3", ScheduleRequest(clocksPerSample = Some(64)), Seq(1e-3))
     ) ++
       Seq(32, 64, 88, 114, 128, 512).map(c =>
-        (s"mem-ii$c-t1e-3", ScheduleRequest(clocksPerSample = Some(c), storage = Storage.Memory), Seq(1e-3))
+        (
+          s"mem-ii$c-t1e-3",
+          ScheduleRequest(clocksPerSample = Some(c), storage = Some(Storage.Memory)),
+          Seq(1e-3)
+        )
       ) :+
       (
         "mem-ii114-a5-t1e-3",
-        ScheduleRequest(clocksPerSample = Some(114), storage = Storage.Memory, adderUnits = Some(5)),
+        ScheduleRequest(clocksPerSample = Some(114), storage = Some(Storage.Memory), adderUnits = Some(5)),
         Seq(1e-3)
       )
 
@@ -62,7 +66,7 @@ object ArmSweep {
       point,
       p.chain.size.toString,
       p.internalFracBits.toString,
-      s.request.storage.name,
+      s.request.stored.name,
       s.clocksPerSample.toString,
       p.latency.toString,
       f"${p.latency * 1000 / fmax.getOrElse(nominalMhz)}%.0f",

@@ -97,10 +97,10 @@ object Emit {
       case (Top.Load, Some(monitor)) =>
         val name = s"MonitoredArm_${arm.tag}"
         val body = verilog(new MonitoredArm(arm, monitor))
-        (body, ArmReport(arm, name, command, est(body, name), Some(monitor)))
+        (body, ArmReport(arm, name, command, est(body, name), Some(monitor), Some(c.fit)))
       case (Top.Load, None) =>
         val body = verilog(new ArmDatapath(arm))
-        (body, ArmReport(arm, arm.moduleName, command, est(body, arm.moduleName)))
+        (body, ArmReport(arm, arm.moduleName, command, est(body, arm.moduleName), fit = Some(c.fit)))
       case (Top.SinCos, _) =>
         val name = s"CordicSinCos_${c.config.cordic.tag}"
         val body = verilog(new CordicSinCos(c.config.cordic))
@@ -141,6 +141,7 @@ object Emit {
     val e = emit(c, t, commandLine, cli.has("estimate"), cli.has("fmax"))
     val written = write(e, dir)
     written.foreach(f => println(s"wrote $f"))
+    if (t == Top.Load) println(c.fit.line)
     // The report's summary: title, latency, throughput, bound, regeneration command.
     println(e.reportMd.linesIterator.takeWhile(!_.startsWith("## ")).filter(_.nonEmpty).mkString("\n"))
   }

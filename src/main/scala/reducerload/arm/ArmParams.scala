@@ -98,7 +98,7 @@ final case class ArmParams(
    * interval is the fewest from the multiplier budget's on at which the banks' read ports can also be served
    * (a tight interval can leave no free port for a value read by many operations).
    */
-  private lazy val scheduled: (Schedule, Option[BankedSchedule]) = scheduleRequest.storage match {
+  private lazy val scheduled: (Schedule, Option[BankedSchedule]) = scheduleRequest.stored match {
     case Storage.Registers => (scheduleFor(scheduleRequest), None)
     case Storage.Memory =>
       val first = scheduleFor(scheduleRequest)

@@ -9,22 +9,31 @@ import reducerload.util.{InputError, Warning}
 
 /**
  * A configuration compiled: the arm datapath's parameters with every derived fact forced once (chain, graph,
- * analysis and target-error fit, schedule, banked schedule) and, with `monitor.enabled`, the monitor resolved
- * against the arm. Emit, simulate, sweep and soak consume this; none compiles again.
+ * analysis and target-error fit, device fit, schedule, banked schedule) and, with `monitor.enabled`, the
+ * monitor resolved against the arm. Emit, simulate, sweep and soak consume this; none compiles again.
+ *
+ * @param config
+ *   the configuration as given (`auto` kept: the fit's choices are in `arm.scheduleRequest`)
+ * @param fit
+ *   the design's use of the target device and, when the fit chose it, why
  */
 final case class Compiled(
     config: LoadParams,
     arm: ArmParams,
     monitor: Option[MonitorParams],
-    rated: IndexedSeq[Option[RatedReducer]]
+    rated: IndexedSeq[Option[RatedReducer]],
+    fit: Fitted
 ) {
   def banked: Option[BankedSchedule] = arm.banked
 
-  /** What the user should know about this design, in the order found (robot first). */
-  def warnings: Seq[Warning] = arm.chain.warnings
+  /** What the user should know about this design, in the order found (robot first, then the device). */
+  def warnings: Seq[Warning] = arm.chain.warnings ++ fit.warnings
 }
 
-/** The compiler pipeline: robot -> chain -> graph -> analysis / target-error fit -> schedule -> banks. */
+/**
+ * The compiler pipeline: robot -> chain -> graph -> analysis / target-error fit -> device fit -> schedule ->
+ * banks.
+ */
 object Compiler {
 
   /**
@@ -33,13 +42,14 @@ object Compiler {
    */
   def compile(p: LoadParams, source: String): Compiled =
     try {
-      val a = arm(p)
+      val fit = DeviceFit(p, arm(p))
+      val a = fit.design.arm
       a.schedule
       a.banked
       val monitor = if (p.monitor.enabled) Some(MonitorConfig(a, p.monitor)) else None
       val rated =
         if (p.monitor.enabled) MonitorConfig.rated(a, p.monitor) else IndexedSeq.fill(a.chain.size)(None)
-      Compiled(p, a, monitor, rated)
+      Compiled(p, a, monitor, rated, fit)
     } catch {
       case e: IllegalArgumentException =>
         throw new InputError(s"$source: ${e.getMessage.stripPrefix("requirement failed: ")}")

@@ -20,7 +20,9 @@ import reducerload.robot.RobotParams
  *   meet it (see [[reducerload.compiler.TargetFit]])
  * @param schedule
  *   clocks per sample, multiplier budget, CORDIC units (`schedule.*` keys; see
- *   [[reducerload.graph.Schedule]])
+ *   [[reducerload.graph.Schedule]]; `auto` values are chosen by the device fit)
+ * @param device
+ *   the target device and its logic headroom (`device.*` keys; see [[reducerload.compiler.DeviceFit]])
  */
 final case class LoadParams(
     robot: RobotParams = RobotParams(),
@@ -29,7 +31,8 @@ final case class LoadParams(
     datapath: DatapathParams = DatapathParams(),
     monitor: MonitorSettings = MonitorSettings(),
     schedule: reducerload.graph.ScheduleRequest = reducerload.graph.ScheduleRequest(),
-    targetError: Seq[Double] = Nil
+    targetError: Seq[Double] = Nil,
+    device: DeviceTarget = DeviceTarget()
 ) {
 
   require(

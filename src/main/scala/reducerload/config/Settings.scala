@@ -387,7 +387,8 @@ object Settings {
   val scheduleClocksPerSample = new Count(
     "schedule.clocks-per-sample",
     "clocks",
-    "clocks between samples (the initiation interval; auto: the fewest the multiplier budget allows)",
+    "clocks between samples (the initiation interval; auto: chosen by the device fit, the fewest whose design fits " +
+      "the device and max-multipliers)",
     Seq("clocks-per-sample"),
     "auto",
     _.schedule.clocksPerSample
@@ -415,10 +416,11 @@ object Settings {
     "schedule.storage",
     "",
     "clocks-per-sample >= 2: registers (every value its own registers, operands multiplexed) or memory " +
-      "(values in block-RAM banks read by address, adders shared too: far fewer logic elements)",
+      "(values in block-RAM banks read by address, adders shared too: far fewer logic elements); auto: chosen " +
+      "by the device fit (registers when they fit)",
     Nil,
-    Storage.all,
-    (s: Storage) => s.name,
+    None +: Storage.all.map(Some(_)),
+    (s: Option[Storage]) => s.fold("auto")(_.name),
     _.schedule.storage
   )
 
@@ -461,6 +463,26 @@ object Settings {
     Nil,
     "auto",
     _.schedule.adderUnits
+  )
+
+  val deviceName = new Choice(
+    "device.name",
+    "",
+    "the target device: its 18x18 multiplier blocks, memory blocks and logic cells bound the design the fit " +
+      "chooses and are compared with the design's in the report (docs/device.md)",
+    Seq("device"),
+    Device.all,
+    (d: Device) => d.name,
+    _.device.part
+  )
+
+  val deviceMaxLogicFraction = new Real(
+    "device.max-logic-fraction",
+    "",
+    "share of the device's logic cells a design chosen by the fit may use: a nearly full Cyclone IV routes " +
+      "and closes timing poorly (Quartus fits above about 85 % badly), and the user's own logic needs room",
+    Nil,
+    _.device.maxLogicFraction
   )
 
   val numericTargetError = new PerJoint(
@@ -612,6 +634,8 @@ object Settings {
     scheduleListOrder,
     scheduleListTries,
     scheduleAdderUnits,
+    deviceName,
+    deviceMaxLogicFraction,
     numericTargetError,
     monitorEnabled,
     monitorExponent,
@@ -739,6 +763,7 @@ object Settings {
           memoryDelayMinCycles = v(datapathMemoryDelayMinCycles)
         ),
         targetError = v(numericTargetError),
+        device = DeviceTarget(v(deviceName), v(deviceMaxLogicFraction)),
         schedule = ScheduleRequest(
           v(scheduleClocksPerSample),
           v(scheduleMaxMultipliers),
@@ -780,7 +805,7 @@ object Settings {
 
   /** A complete HOCON file for `p`, grouped by section, with units and meanings as comments. */
   def render(p: LoadParams, header: Seq[String]): String = {
-    val order = Seq("", "robot", "cordic", "datapath", "numeric", "schedule", "monitor")
+    val order = Seq("", "robot", "cordic", "datapath", "numeric", "schedule", "device", "monitor")
     val body = order.flatMap { section =>
       val settings = all.filter(s => (if (s.key.contains('.')) s.key.takeWhile(_ != '.') else "") == section)
       if (settings.isEmpty) Nil

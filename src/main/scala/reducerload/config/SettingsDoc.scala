@@ -13,6 +13,7 @@ object SettingsDoc {
     "datapath" -> "Fraction bits of each kind of value, product rounding, multiplier registers, block-RAM delays.",
     "schedule" -> "Clocks per sample, the multiplier budget and how values are stored when samples are spaced.",
     "numeric" -> "Fraction bits chosen for an error target instead of as set.",
+    "device" -> "The target device: the schedule settings left auto are chosen so that the design fits it (docs/device.md).",
     "monitor" -> "The reducer life and limit monitor beside the arm datapath (docs/monitor.md)."
   )
 

@@ -20,14 +20,15 @@ object ConstantMultiplies {
  * What a user asks of the schedule; `None` means derive it.
  *
  * @param clocksPerSample
- *   the initiation interval: a new sample may enter every this many clocks (None: `auto`, the fewest the
- *   budget allows)
+ *   the initiation interval: a new sample may enter every this many clocks (None: `auto`, chosen by the
+ *   compiler's device fit; a schedule built from it without the fit takes the fewest the budget allows)
  * @param maxMultipliers
  *   18x18 multiplier blocks the datapath may use (None: no budget)
  * @param cordicUnits
  *   sin/cos units (None: the fewest that do not lengthen the interval)
  * @param storage
- *   where values wait between operations ([[Storage]])
+ *   where values wait between operations ([[Storage]]; None: `auto`, chosen by the device fit, registers
+ *   without it)
  * @param constantMultiplies
  *   how a multiply by a robot constant is built ([[ConstantMultiplies]])
  * @param listOrder
@@ -39,22 +40,22 @@ object ConstantMultiplies {
  *   priorities
  */
 final case class ScheduleRequest(
-    clocksPerSample: Option[Int] = Some(1),
+    clocksPerSample: Option[Int] = None,
     maxMultipliers: Option[Int] = None,
     cordicUnits: Option[Int] = None,
-    storage: Storage = Storage.Registers,
+    storage: Option[Storage] = None,
     constantMultiplies: ConstantMultiplies = ConstantMultiplies.Blocks,
     listOrder: Option[ListOrder] = None,
     adderUnits: Option[Int] = None,
     listTries: Int = ScheduleRequest.defaultListTries
 ) {
   require(
-    listOrder.isEmpty || storage == Storage.Memory,
+    listOrder.isEmpty || stored == Storage.Memory,
     s"schedule.list-order = ${listOrder.get} orders the block-RAM schedule: it needs " +
       s"schedule.storage = memory (or list-order auto)"
   )
   require(
-    adderUnits.isEmpty || storage == Storage.Memory,
+    adderUnits.isEmpty || stored == Storage.Memory,
     s"schedule.adder-units = ${adderUnits.get} shares adders between additions: it needs schedule.storage " +
       s"= memory (or adder-units auto)"
   )
@@ -62,9 +63,13 @@ final case class ScheduleRequest(
     adderUnits.forall(a => a >= 1 && a <= 4096),
     s"schedule.adder-units must be auto or in 1..4096, got ${adderUnits.get}"
   )
+
+  /** The storage the schedule is built for: as asked, registers while `auto` is not resolved by a fit. */
+  def stored: Storage = storage.getOrElse(Storage.Registers)
+
   require(listTries >= 1 && listTries <= 1024, s"schedule.list-tries must be in 1..1024, got $listTries")
   require(
-    constantMultiplies == ConstantMultiplies.Blocks || storage == Storage.Registers,
+    constantMultiplies == ConstantMultiplies.Blocks || stored == Storage.Registers,
     "schedule.constant-multiplies = shift-add needs schedule.storage = registers " +
       "(block-RAM banks feed shared units only)"
   )
@@ -221,7 +226,7 @@ final class Schedule(
    * Operations a shared unit takes per sample at interval `ii`: every slot with registers; with memory
    * storage an eighth stays free, so that bank read ports and unit slots can still meet.
    */
-  def slotsPerUnit(ii: Int): Int = if (request.storage == Storage.Memory) math.max(1, ii - ii / 8) else ii
+  def slotsPerUnit(ii: Int): Int = if (request.stored == Storage.Memory) math.max(1, ii - ii / 8) else ii
 
   /** Units that take `ops` operations at interval `ii`. */
   def unitsFor(ops: Int, ii: Int): Int = ceilDiv(ops, slotsPerUnit(ii))

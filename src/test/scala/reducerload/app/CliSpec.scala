@@ -94,7 +94,7 @@ class CliSpec extends AnyFlatSpec {
       "clocks-per-sample >= 18"
     )
     refused(
-      ur5 ++ Seq("--max-acceleration", "15", "--schedule.cordic-units", "2"),
+      ur5 ++ Seq("--max-acceleration", "15", "--schedule.cordic-units", "2", "--clocks-per-sample", "1"),
       "schedule.cordic-units = 2",
       "5 sin/cos"
     )
@@ -107,7 +107,7 @@ class CliSpec extends AnyFlatSpec {
     // The joint-3 closed form is a graph like any other: scheduled, not refused.
     assert(params("--clocks-per-sample", "4").arm.schedule.clocksPerSample == 4)
     refused(
-      Seq("--robot", "planar3", "--schedule.storage", "memory"),
+      Seq("--robot", "planar3", "--schedule.storage", "memory", "--clocks-per-sample", "1"),
       "schedule.storage = memory",
       "clocks-per-sample >= 2"
     )

@@ -127,14 +127,14 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       runRobot(
         "planar3",
         51L,
-        ScheduleRequest(clocksPerSample = Some(40), storage = Storage.Memory, adderUnits = Some(4))
+        ScheduleRequest(clocksPerSample = Some(40), storage = Some(Storage.Memory), adderUnits = Some(4))
       )
       runRobot(
         "planar3",
         50L,
-        ScheduleRequest(clocksPerSample = Some(8), cordicUnits = Some(1), storage = Storage.Memory)
+        ScheduleRequest(clocksPerSample = Some(8), cordicUnits = Some(1), storage = Some(Storage.Memory))
       )
-      runRobot("planar3", 49L, ScheduleRequest(clocksPerSample = Some(6), storage = Storage.Memory))
+      runRobot("planar3", 49L, ScheduleRequest(clocksPerSample = Some(6), storage = Some(Storage.Memory)))
     }
 
   it should "fit the UR5 with block-RAM banks at 64 and 88 clocks per sample and a 1e-3 N·m " +
@@ -142,13 +142,13 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       runRobot(
         "ur5",
         52L,
-        ScheduleRequest(clocksPerSample = Some(64), storage = Storage.Memory),
+        ScheduleRequest(clocksPerSample = Some(64), storage = Some(Storage.Memory)),
         targetError = Seq(1e-3)
       )
       runRobot(
         "ur5",
         56L,
-        ScheduleRequest(clocksPerSample = Some(88), storage = Storage.Memory),
+        ScheduleRequest(clocksPerSample = Some(88), storage = Some(Storage.Memory)),
         targetError = Seq(1e-3)
       )
     }

@@ -22,7 +22,7 @@ class BankedScheduleSpec extends AnyFlatSpec {
   private def params(robot: String, ii: Int, targetError: Seq[Double] = Nil): ArmParams =
     Compiler
       .arm(ArmGolden.of(robot).head.config.copy(targetError = targetError))
-      .copy(scheduleRequest = ScheduleRequest(clocksPerSample = Some(ii), storage = Storage.Memory))
+      .copy(scheduleRequest = ScheduleRequest(clocksPerSample = Some(ii), storage = Some(Storage.Memory)))
 
   private def check(p: ArmParams): BankedSchedule = {
     val b = p.banked.get

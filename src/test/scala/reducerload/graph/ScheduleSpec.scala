@@ -173,7 +173,11 @@ class ScheduleSpec extends AnyFlatSpec {
         .contains("schedule.clocks-per-sample")
     )
     val shiftAddInBanks = intercept[IllegalArgumentException](
-      ScheduleRequest(Some(8), storage = Storage.Memory, constantMultiplies = ConstantMultiplies.ShiftAdd)
+      ScheduleRequest(
+        Some(8),
+        storage = Some(Storage.Memory),
+        constantMultiplies = ConstantMultiplies.ShiftAdd
+      )
     )
     assert(
       shiftAddInBanks.getMessage.contains(
@@ -251,7 +255,10 @@ class TargetErrorSpec extends AnyFlatSpec {
       // Capped nodes mix widths; in the UR5's 64-clock memory schedule that splits a multiplier class, so the
       // fit keeps the kinds' bits.
       val memory = Compiler.arm(
-        ur5.copy(targetError = Seq(1e-3), schedule = ScheduleRequest(Some(64), storage = Storage.Memory))
+        ur5.copy(
+          targetError = Seq(1e-3),
+          schedule = ScheduleRequest(Some(64), storage = Some(Storage.Memory))
+        )
       )
       TargetErrorSpec.checkNodes(memory, Seq.fill(memory.chain.size)(1e-3), "ur5 memory ii64")
     }

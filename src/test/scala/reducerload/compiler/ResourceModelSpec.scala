@@ -1,0 +1,88 @@
+package reducerload.compiler
+
+import org.scalatest.flatspec.AnyFlatSpec
+import org.scalatest.matchers.should.Matchers
+import reducerload.app.{ArmSweep, Sweep}
+import reducerload.arm.{ArmGolden, ArmParams}
+import reducerload.config.DeviceFamily
+
+import java.nio.file.{Files, Paths}
+import scala.jdk.CollectionConverters._
+
+/**
+ * The resource prediction against the committed open-tool estimates (docs/sweep/arms.csv, sweep.csv): the
+ * memory blocks counted from the structures, the logic cells from the calibrated count. Prints the table
+ * docs/device.md quotes: `./sbt "testOnly reducerload.compiler.ResourceModelSpec"`.
+ */
+class ResourceModelSpec extends AnyFlatSpec with Matchers {
+  import ResourceModelSpec._
+
+  "the memory-block count" should "agree with the open-tool estimate's M9K count on the committed arm points" in {
+    // Registers storage (CORDIC tables and block-RAM delays): exactly; memory storage (banks and the
+    // microcode table, counted before the table shares equal fields): within one block, but for the
+    // five-adder point, whose table the synthesis shares more of.
+    armPoints.foreach { pt =>
+      val est = pt.estM9k.get
+      val tol =
+        if (pt.p.banked.isEmpty) (if (pt.p.schedule.clocksPerSample == 1) est / 10 else 1)
+        else if (pt.name.contains("-a5-")) est / 3
+        else 1
+      withClue(pt.name)(math.abs(pt.m9k - est) should be <= tol)
+    }
+  }
+
+  "the logic-cell prediction" should s"be within ${ResourceModel.logicTolerance} of the open-tool estimate" in {
+    println("source,point,est_les,predicted_les,err_percent,est_m9k,predicted_m9k")
+    rows.foreach { r =>
+      println(
+        Seq(
+          r.source,
+          r.name,
+          r.estLes,
+          r.les,
+          f"${100.0 * (r.les - r.estLes) / r.estLes}%+.1f",
+          r.estM9k.getOrElse(""),
+          r.m9k
+        )
+          .mkString(",")
+      )
+    }
+    val errors = rows.map(r => (r.les - r.estLes).toDouble / r.estLes)
+    val rms = math.sqrt(errors.map(e => e * e).sum / errors.size)
+    println(f"${rows.size} points: rms ${100 * rms}%.1f %%, largest ${100 * errors.map(math.abs).max}%.1f %%")
+    errors.foreach(e => math.abs(e) should be <= ResourceModel.logicTolerance)
+    rms should be <= 0.07
+  }
+}
+
+object ResourceModelSpec {
+  final case class Point(source: String, name: String, p: ArmParams, estLes: Int, estM9k: Option[Int]) {
+    lazy val features = ResourceModel.features(p)
+    lazy val m9k = ResourceModel.memories(p).map(_.blocks(DeviceFamily.CycloneIVE)).sum
+    lazy val les = ResourceModel.logicElements(p)
+    def cells: Seq[String] =
+      Seq(source, name, estLes.toString, les.toString, estM9k.fold("")(_.toString), m9k.toString) ++
+        features.toSeq.map(f => f"$f%.0f")
+  }
+
+  private def csv(file: String): Seq[Map[String, String]] = {
+    val lines = Files.readAllLines(Paths.get(file)).asScala.toSeq
+    val header = lines.head.split(",").toSeq
+    lines.tail.map(l => header.zip(l.split(",", -1).toSeq).toMap)
+  }
+
+  lazy val armPoints: Seq[Point] = csv("docs/sweep/arms.csv").map { row =>
+    val robot = row("robot")
+    val (_, request, target) = ArmSweep.schedules.find(_._1 == row("schedule")).get
+    val config = ArmGolden.of(robot).head.config
+    val p = Compiler.arm(config.copy(targetError = target, schedule = request))
+    Point("arms", s"$robot ${row("schedule")}", p, row("est_les").toInt, Some(row("est_m9k").toInt))
+  }
+
+  lazy val sweepPoints: Seq[Point] = csv("docs/sweep/sweep.csv").map { row =>
+    val p = Compiler.arm(Sweep.grid.find(_._1 == row("config")).get._2)
+    Point("sweep", row("config"), p, row("est_les").toInt, None)
+  }
+
+  lazy val rows: Seq[Point] = armPoints ++ sweepPoints
+}
