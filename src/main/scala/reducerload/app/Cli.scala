@@ -60,7 +60,7 @@ final case class Cli(
    */
   lazy val compiled: Compiled = {
     val c = Compiler.compile(params, source)
-    c.warnings.foreach(w => System.err.println(w))
+    c.warnings.foreach(w => Console.err.println(w)) // Main.execute's error stream
     c
   }
 

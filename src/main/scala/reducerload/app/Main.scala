@@ -182,7 +182,7 @@ object Main {
    * System.exit, so that tests run the real command line in-process.
    */
   def execute(args: Seq[String], err: java.io.PrintStream = System.err): Int =
-    try { run(args); 0 }
+    try { Console.withErr(err)(run(args)); 0 }
     catch {
       case e: InputError => err.println(s"error: ${e.getMessage}"); 2
       case e: IllegalArgumentException =>

@@ -5,6 +5,7 @@ import reducerload.arm.{ArmModel, ArmSample}
 import reducerload.compiler.Compiler
 import reducerload.config.LoadParams
 import reducerload.dynamics.{LagrangeReference, RandomChains, Rnea}
+import reducerload.graph.{ScheduleRequest, Storage}
 import reducerload.sim.rtl.VerilatorHarness
 import reducerload.util.InputError
 
@@ -61,19 +62,29 @@ object UrdfFuzz {
     (status, new String(err.toByteArray, StandardCharsets.UTF_8).linesIterator.toSeq)
   }
 
+  /**
+   * The fuzz checks reading and numerics, not the device fit: one explicit schedule (one clock per sample,
+   * registers) keeps each case to one scheduling instead of the fit's search over clocks per sample.
+   */
+  private val oneClock = ScheduleRequest(clocksPerSample = Some(1), storage = Some(Storage.Registers))
+  private val oneClockFlags = Seq("--clocks-per-sample", "1", "--schedule.storage", "registers")
+
   /** A refusal as the issue asks: exit 2, one line `error: <file>: ...`, nothing in the output directory. */
   def refusedCleanly(file: Path, tip: String, out: Path): Either[String, String] = {
     val (status, lines) =
       cli(
-        "emit",
-        "--robot",
-        file.toString,
-        "--tip",
-        tip,
-        "--max-acceleration",
-        "10",
-        "--target-dir",
-        out.toString
+        Seq(
+          "emit",
+          "--robot",
+          file.toString,
+          "--tip",
+          tip,
+          "--max-acceleration",
+          "10",
+          "--target-dir",
+          out.toString
+        )
+          ++ oneClockFlags: _*
       )
     if (status != 2) Left(s"exit status $status, not 2 (${lines.take(3).mkString(" | ")})")
     else if (lines.size != 1)
@@ -103,7 +114,18 @@ object UrdfFuzz {
     val file = dir.resolve("mutated.urdf")
     Files.write(file, m.bytes)
     val steps = m.steps.mkString("; ")
-    val (status, lines) = cli("config", "--robot", file.toString, "--tip", m.tip, "--max-acceleration", "10")
+    val (status, lines) =
+      cli(
+        Seq(
+          "config",
+          "--robot",
+          file.toString,
+          "--tip",
+          m.tip,
+          "--max-acceleration",
+          "10"
+        ) ++ oneClockFlags: _*
+      )
     status match {
       case 0 => Passed(s"still valid after: $steps")
       case 2 =>
@@ -173,8 +195,9 @@ object UrdfFuzz {
     }.max
     if (!(lagrange < 1e-6))
       return Failed(f"$label: RNEA and Euler-Lagrange differ by $lagrange%.2e (relative)")
-    val params = LoadParams.arm.copy(robot =
-      RobotParams(source = file.toString, tip = g.tip, maxVelocity = Nil, maxAcceleration = amax)
+    val params = LoadParams.arm.copy(
+      robot = RobotParams(source = file.toString, tip = g.tip, maxVelocity = Nil, maxAcceleration = amax),
+      schedule = oneClock
     )
     val arm =
       try Compiler.compile(params, "fuzz").arm

@@ -37,7 +37,21 @@ class UrdfFuzzSpec extends AnyFlatSpec {
       out.toString
     )
     assert(status == 0, lines.mkString("\n"))
+    assert(lines.exists(l => l.startsWith(s"warning: $file: ") && l.contains("'j2'")), lines.mkString("\n"))
     assert(Files.list(out).toArray.map(_.toString).exists(_.endsWith(".sv")))
+  }
+
+  it should "print the warning of a moving link without <inertial> on the command line, once" in {
+    val file = resource("massless_link.urdf")
+    val (status, lines) = UrdfFuzz.cli("config", "--robot", file.toString, "--max-acceleration", "10")
+    assert(status == 0, lines.mkString("\n"))
+    assert(
+      lines.filter(_.startsWith("warning:")) ==
+        Seq(
+          s"warning: $file: link 'link2': has no <inertial>, taken as massless: joint 'j2' gets its own mass from link 'tool' only"
+        ),
+      lines.mkString("\n")
+    )
   }
 
   it should "name the URDF file when its velocity limits are missing or beyond the declared ranges' rule" in {
