@@ -212,7 +212,10 @@ def main():
         pending = set(futures)
         durations = []
         while pending:
-            done, pending = wait(pending, timeout=10, return_when="FIRST_COMPLETED")
+            try:
+                done, pending = wait(pending, timeout=10, return_when="FIRST_COMPLETED")
+            except TimeoutError:  # nothing finished in 10 s: only the progress line
+                done = set()
             for f in done:
                 j = futures[f]
                 if f.status == "finished":

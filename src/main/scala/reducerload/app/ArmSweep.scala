@@ -149,12 +149,13 @@ object ArmSweep {
 
     /** From comma-separated lists (None: all), each name checked against the sweep's own. */
     def of(robotList: Option[String], scheduleList: Option[String]): Selection = {
-      def names(option: String, list: Option[String], known: Seq[String]): Seq[String] = list.fold(known) { v =>
-        val ns = v.split(",", -1).map(_.trim).toSeq
-        ns.find(n => !known.contains(n)).foreach { n =>
-          throw new InputError(s"command line: --$option: unknown '$n' (known: ${known.mkString(", ")})")
-        }
-        known.filter(ns.contains)
+      def names(option: String, list: Option[String], known: Seq[String]): Seq[String] = list.fold(known) {
+        v =>
+          val ns = v.split(",", -1).map(_.trim).toSeq
+          ns.find(n => !known.contains(n)).foreach { n =>
+            throw new InputError(s"command line: --$option: unknown '$n' (known: ${known.mkString(", ")})")
+          }
+          known.filter(ns.contains)
       }
       Selection(
         names("robots", robotList, ArmSweep.robots),
@@ -200,9 +201,10 @@ object ArmSweep {
     selection.robots.flatMap { robot =>
       val config = ArmGolden.of(robot).head.config
       // Fitted with its own schedule: per-node fraction-bit caps are kept only where they make that schedule cheaper.
-      val points = schedules.filter(s => selection.schedules.contains(s._1)).map { case (point, request, target) =>
-        point -> reducerload.compiler.Compiler.arm(config.copy(targetError = target, schedule = request))
-      }
+      val points =
+        schedules.filter(s => selection.schedules.contains(s._1)).map { case (point, request, target) =>
+          point -> reducerload.compiler.Compiler.arm(config.copy(targetError = target, schedule = request))
+        }
       // The errors depend on the numerics only: measured once per distinct fit.
       def numericsOf(p: ArmParams) = (p.numerics, p.fracBitLimits)
       val errorsOf =
@@ -279,16 +281,19 @@ object ArmSweep {
 
   /** Run tools/sweep/evaluate.py on the manifest; its progress goes to the terminal. */
   def evaluateDask(manifest: Path, cluster: Option[String]): Seq[JobResult] = {
-    if (!Files.isRegularFile(evaluator)) throw new InputError(s"$evaluator not found: run from the repository root")
-    val cmd = Seq("python3", evaluator.toString, manifest.toString) ++ cluster.toSeq.flatMap(c => Seq("--cluster", c))
+    if (!Files.isRegularFile(evaluator))
+      throw new InputError(s"$evaluator not found: run from the repository root")
+    val cmd =
+      Seq("python3", evaluator.toString, manifest.toString) ++ cluster.toSeq.flatMap(c => Seq("--cluster", c))
     val status = cmd.!
-    if (status != 0) throw new InputError(s"the distributed evaluation failed (${cmd.mkString(" ")} exited $status)")
+    if (status != 0)
+      throw new InputError(s"the distributed evaluation failed (${cmd.mkString(" ")} exited $status)")
     readResults(manifest.resolveSibling("results.json"))
   }
 
   /**
-   * Rows from the designs and the evaluation's results, in the designs' order; a point of several seeds gets a
-   * row per seed (its schedule named `point-sN`). Failed jobs give no row: they are listed on the terminal.
+   * Rows from the designs and the evaluation's results, in the designs' order; a point of several seeds gets
+   * a row per seed (its schedule named `point-sN`). Failed jobs give no row: they are listed on the terminal.
    */
   def merge(designs: Seq[Design], results: Seq[JobResult], seeds: Seq[Int]): Seq[Row] = {
     val byJob = results.map(r => (r.key, r.seed) -> r.estimate).toMap
@@ -297,8 +302,26 @@ object ArmSweep {
       seed <- seeds
       e <- byJob.get((d.key, seed)).flatMap(_.toOption)
     } yield Row(d.robot, if (seeds.size > 1) s"${d.point}-s$seed" else d.point, d.p, d.errors, e)
-    results.collect { case JobResult(key, seed, Left(why)) => println(s"sweep: $key seed $seed failed: $why") }
+    results.collect { case JobResult(key, seed, Left(why)) =>
+      println(s"sweep: $key seed $seed failed: $why")
+    }
     rows
+  }
+
+  /** The estimates in this process, `jobs` at once (today's serial path with `jobs` = 1). */
+  def evaluateLocal(ds: Seq[Design], fmax: Boolean, jobs: Int): Seq[Row] = {
+    val pool = java.util.concurrent.Executors.newFixedThreadPool(jobs)
+    implicit val ec: ExecutionContext = ExecutionContext.fromExecutorService(pool)
+    try {
+      def measure(d: Design): Row = {
+        val row = Row(d.robot, d.point, d.p, d.errors, Estimate.run(d.verilog, d.top, fmax))
+        println(row.cells.mkString("sweep: ", ", ", ""))
+        row
+      }
+      // The first estimate alone: it sets up the tools' virtual environments.
+      val first = ds.headOption.map(measure).toSeq
+      first ++ Await.result(Future.sequence(ds.drop(1).map(d => Future(measure(d)))), Duration.Inf)
+    } finally pool.shutdown()
   }
 
   /** The sweep's files from its rows: the one writer of arms.csv, arms.md and the plot. */
@@ -328,21 +351,7 @@ object ArmSweep {
       case Evaluation.Dask(cluster) =>
         val m = writeManifest(out, ds, fmax, seeds)
         write(out, merge(ds, evaluateDask(m, cluster), seeds), fmax, command)
-      case Evaluation.Local(jobs) =>
-        val pool = java.util.concurrent.Executors.newFixedThreadPool(jobs)
-        implicit val ec: ExecutionContext = ExecutionContext.fromExecutorService(pool)
-        val rows =
-          try {
-            def measure(d: Design): Row = {
-              val row = Row(d.robot, d.point, d.p, d.errors, Estimate.run(d.verilog, d.top, fmax))
-              println(row.cells.mkString("sweep: ", ", ", ""))
-              row
-            }
-            // The first estimate alone: it sets up the tools' virtual environments.
-            val first = ds.headOption.map(measure).toSeq
-            first ++ Await.result(Future.sequence(ds.drop(1).map(d => Future(measure(d)))), Duration.Inf)
-          } finally pool.shutdown()
-        write(out, rows, fmax, command)
+      case Evaluation.Local(jobs) => write(out, evaluateLocal(ds, fmax, jobs), fmax, command)
     }
   }
 }

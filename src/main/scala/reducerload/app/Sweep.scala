@@ -36,7 +36,12 @@ object Sweep {
       "with --arms: evaluate the points on 'dask' (tools/sweep/evaluate.py: cached, resumable; docs/distributed-sweeps.md)",
       "in this process"
     ),
-    Opt("cluster", "ADDRESS", "with --evaluate dask: a running Dask scheduler, e.g. tcp://HOST:8786", "a local cluster"),
+    Opt(
+      "cluster",
+      "ADDRESS",
+      "with --evaluate dask: a running Dask scheduler, e.g. tcp://HOST:8786",
+      "a local cluster"
+    ),
     Opt("robots", "LIST", "with --arms: only these robots (comma-separated)", "all"),
     Opt("schedules", "LIST", "with --arms: only these schedule points (comma-separated)", "all"),
     Opt("seeds", "N", "with --evaluate dask or --emit-only and --fmax: placer seeds 1..N per point", "1")
@@ -185,10 +190,12 @@ object Sweep {
 
   private def runArms(cli: Cli, out: Path, fmax: Boolean, jobs: Int): Unit = {
     val evaluation = (cli.get("evaluate"), cli.has("emit-only")) match {
-      case (Some(_), true) => throw new InputError("command line: --emit-only and --evaluate exclude each other")
+      case (Some(_), true) =>
+        throw new InputError("command line: --emit-only and --evaluate exclude each other")
       case (Some("dask"), _) => ArmSweep.Evaluation.Dask(cli.get("cluster"))
-      case (Some(e), _) => throw new InputError(s"command line: --evaluate: unknown engine '$e' (known: dask)")
-      case (None, true) => ArmSweep.Evaluation.EmitOnly
+      case (Some(e), _) =>
+        throw new InputError(s"command line: --evaluate: unknown engine '$e' (known: dask)")
+      case (None, true)  => ArmSweep.Evaluation.EmitOnly
       case (None, false) => ArmSweep.Evaluation.Local(jobs)
     }
     if (cli.has("cluster") && !cli.get("evaluate").contains("dask"))
