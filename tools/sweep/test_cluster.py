@@ -46,7 +46,7 @@ def stop(p):
 
 
 def estimate_sessions(sid):
-    """Sessions of the estimate.py processes a worker (session `sid`) started: it is mid-job if any. The job runs
+    """Sessions of the estimate.py processes of good points a worker (session `sid`) started: mid-job if any. The job runs
     estimate.py in a session of its own (so a timeout can stop its tools), hence by ancestry, not by session."""
     procs = {}
     for pid in filter(str.isdigit, os.listdir("/proc")):
@@ -63,7 +63,7 @@ def estimate_sessions(sid):
                 return True
             pid = procs[pid][0]
         return False
-    return {s for pid, (_, s, cmd) in procs.items() if b"estimate.py" in cmd and in_worker(pid)}
+    return {s for pid, (_, s, cmd) in procs.items() if b"estimate.py" in cmd and b"Broken" not in cmd and in_worker(pid)}
 
 
 def check(ok, what):
