@@ -108,7 +108,9 @@ def estimate_job(top, verilog, seed, fmax, timeout, estimate_dir):
     if not os.path.isfile(script):
         raise RuntimeError(f"{socket.gethostname()}: {script} not found (set REDUCERLOAD_ESTIMATE to tools/estimate of a clone)")
     # The tools' venvs are created on first use; two jobs on one machine must not both create them.
-    with open(os.path.join(estimate_dir, ".setup.lock"), "w") as lock:
+    import hashlib
+    lock_path = os.path.join(tempfile.gettempdir(), "reducerload-estimate-" + hashlib.sha256(estimate_dir.encode()).hexdigest()[:16] + ".lock")
+    with open(lock_path, "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         spec = importlib.util.spec_from_file_location("reducerload_estimate", script)
         est = importlib.util.module_from_spec(spec)

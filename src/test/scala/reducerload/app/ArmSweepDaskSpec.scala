@@ -50,6 +50,26 @@ class ArmSweepDaskSpec extends AnyFlatSpec {
     }
   }
 
+  it should "merge a row per point and seed, and none for a failed job" in {
+    def est(les: Int, mhz: Double) = Estimate(les, 1, 2, 3, 4, 5, 6, Some(mhz), None, None)
+    val Seq(a, b) = designs
+    val results = Seq(
+      ArmSweep.JobResult(a.key, 1, Right(est(100, 120.0))),
+      ArmSweep.JobResult(a.key, 2, Right(est(100, 130.0))),
+      ArmSweep.JobResult(b.key, 1, Left("timed out after 3 s (log x.log)")),
+      ArmSweep.JobResult(b.key, 2, Right(est(90, 110.0)))
+    )
+    val rows = ArmSweep.merge(designs, results, Seq(1, 2))
+    assert(
+      rows.map(r => (r.point, r.fmax)) == Seq(
+        ("ii64-s1", Some(120.0)),
+        ("ii64-s2", Some(130.0)),
+        ("ii256-s2", Some(110.0))
+      )
+    )
+    assert(ArmSweep.merge(designs, results.filter(_.seed == 1), Seq(1)).map(_.point) == Seq("ii64"))
+  }
+
   it should "give the serial run's rows on a two-worker cluster that loses a worker mid-job, and recompute nothing the second time" in {
     if (scala.util.Try(Seq("python3", "--version").!!).isFailure) {
       val reason = "python3 not on PATH: the distributed sweep's cluster test is skipped"
