@@ -189,7 +189,7 @@ def main():
     for j in jobs:
         if os.path.isfile(j["result"]):
             r = json.load(open(j["result"]))
-            records.append({**r, "key": j["key"], "seed": j["seed"], "cached": True})
+            records.append({**r, "key": j["key"], "seed": j["seed"], "cache_key": j["cache_key"], "cached": True})
         else:
             todo.append(j)
     cached = len(records)
@@ -234,7 +234,7 @@ def main():
                 else:
                     failed += 1
                     print(f"evaluate: FAILED {j['key']} seed {j['seed']}: {r['error']} (log {j['log']})", flush=True)
-                records.append({**r, "key": j["key"], "seed": j["seed"], "cached": False})
+                records.append({**r, "key": j["key"], "seed": j["seed"], "cache_key": j["cache_key"], "cached": False})
             nthreads = client.nthreads()
             running = sum(min(len(ks), nthreads.get(w, 1)) for w, ks in client.processing().items())
             left = ""

@@ -109,10 +109,11 @@ def main():
             c.wait_for_workers(2, timeout=120)
         print(f"test_cluster: scheduler {address}, 2 workers ({time.time() - t0:.0f} s)", flush=True)
 
-        def evaluate(n):
+        def evaluate(n, extra=()):
+            # argparse keeps the last of a repeated option: `extra` overrides the cache and the timeout.
             return start([sys.executable, os.path.join(HERE, "evaluate.py"), with_broken, "--cluster", address,
                           "--cache", os.path.join(a.workdir, "cache"), "--results", os.path.join(a.workdir, f"results{n}.json"),
-                          "--timeout", "600"], os.path.join(a.workdir, f"evaluate{n}.log"))
+                          "--timeout", "600", *extra], os.path.join(a.workdir, f"evaluate{n}.log"))
 
         run1 = evaluate(1)
         killed = False
@@ -154,6 +155,23 @@ def main():
         same = {(j["key"], j["seed"]): j["estimate"] for j in r1["jobs"] if j["status"] == "ok"} == \
             {(j["key"], j["seed"]): j["estimate"] for j in r2["jobs"] if j["status"] == "ok"}
         check(same, "run 2's results equal run 1's")
+        # As an interrupted sweep leaves it: one job's result missing, a half-written temporary beside the others.
+        first = [j for j in r1["jobs"] if j["status"] == "ok"][0]
+        os.unlink(os.path.join(a.workdir, "cache", first["cache_key"] + ".json"))
+        with open(os.path.join(a.workdir, "cache", ".tmp-partial"), "w") as f:
+            f.write('{"status": "ok", "estim')
+        run3 = evaluate(3)
+        run3.wait(timeout=max(1.0, a.deadline - (time.time() - t0)))
+        r3 = json.load(open(os.path.join(a.workdir, "results3.json")))
+        check(r3["summary"]["ran"] == 1 and r3["summary"]["cached"] == good - 1,
+              f"an interrupted sweep picks up: 1 ran, {good - 1} cached (got {r3['summary']})")
+        # A job past --timeout: failed with its log, the sweep goes on.
+        run4 = evaluate(4, ["--timeout", "2", "--cache", os.path.join(a.workdir, "cache-timeout")])
+        run4.wait(timeout=max(1.0, a.deadline - (time.time() - t0)))
+        r4 = json.load(open(os.path.join(a.workdir, "results4.json")))
+        timed_out = [j for j in r4["jobs"] if j["key"] != "broken"]
+        check(run4.returncode == 0 and all(j["status"] == "failed" and "timed out" in j["error"] and os.path.isfile(j["log"]) for j in timed_out)
+              and r4["summary"]["failed"] == good + 1, f"jobs past --timeout are failed with their logs (got {r4['summary']})")
         r1["jobs"] = [j for j in r1["jobs"] if j["key"] != "broken"]
         with open(os.path.join(a.workdir, "results.json"), "w") as f:
             json.dump(r1, f, indent=2)
