@@ -7,10 +7,14 @@ MANIFEST: a small sweep from `./sbt "run sweep --arms --emit-only --robots plana
 (ArmSweepDaskSpec writes one). Starts `dask scheduler` and two `dask worker`s (each in a session of its
 own), then:
 
-1. evaluates the manifest plus one broken point (Verilog Yosys refuses) on the cluster, and kills one worker
-   (its whole session: nanny, worker, estimate.py, Yosys) while it runs a job: every good point must still
-   finish (Dask moves the lost job to the other worker), the broken one is recorded as failed with its log;
-2. evaluates again: nothing is recomputed (every good point cached; the failed one is tried again).
+1. evaluates the manifest plus one broken point (Verilog Yosys refuses) on the cluster, and kills the first
+   worker seen running a good point's job (its whole session, and the job's tools, as if its machine died):
+   every good point must still finish (Dask moves the lost job to the other worker), the broken one is
+   recorded as failed with its log;
+2. evaluates again: nothing is recomputed (every good point cached; the failed one is tried again);
+3. removes one result and leaves a half-written temporary in the cache, as an interrupted sweep does:
+   the next run computes that one job only;
+4. evaluates with `--timeout 2` into a fresh cache: every job failed with its log, the run ends normally.
 
 Writes WORKDIR/results.json (run 1's good points) for the caller to merge, prints one line per check, exits 1
 on a failed check. Stops everything it started by itself within --deadline (default 1200 s).
@@ -120,17 +124,18 @@ def main():
         while run1.poll() is None:
             if time.time() - t0 > a.deadline:
                 check(False, f"run 1 within {a.deadline:.0f} s")
-            jobs = estimate_sessions(workers[0].pid) if not killed else set()
-            if jobs:
+            # Whichever worker first runs a good point's job: Dask decides where jobs go.
+            busy = [] if killed else [(i, w, js) for i, w in enumerate(workers) for js in [estimate_sessions(w.pid)] if js]
+            for i, w, jobs in busy[:1]:
                 time.sleep(2)  # well inside the job (estimates here take tens of seconds)
-                stop(workers[0])
+                stop(w)
                 for job in jobs:  # as if its machine died: the job's tools too
                     try:
                         os.killpg(job, signal.SIGKILL)
                     except ProcessLookupError:
                         pass
                 killed = True
-                print(f"test_cluster: killed worker w0 mid-job ({time.time() - t0:.0f} s)", flush=True)
+                print(f"test_cluster: killed worker w{i} mid-job ({time.time() - t0:.0f} s)", flush=True)
             time.sleep(0.5)
         print(open(os.path.join(a.workdir, "evaluate1.log")).read(), flush=True)
         check(run1.returncode == 0, "run 1 exits 0")

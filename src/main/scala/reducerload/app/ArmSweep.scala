@@ -20,6 +20,10 @@ import scala.sys.process._
  * samples/s, and per joint the measured max error against Pinocchio over the golden traces (bit-accurate
  * model; the RTL equals it bit for bit, as the tests check) beside the derived bound. Writes arms.csv,
  * arms.md and, with Python + matplotlib, arms_pareto.png.
+ *
+ * Emission (the JVM) and evaluation (the estimate flow, minutes per point) are apart: the points are
+ * evaluated here, or emitted with a manifest for tools/sweep/evaluate.py, which runs them on Dask with a
+ * cache; either way the rows are written by [[write]] (docs/distributed-sweeps.md).
  */
 object ArmSweep {
 
