@@ -3,9 +3,12 @@ package reducerload.app
 import circt.stage.ChiselStage
 import reducerload.arm.{ArmDatapath, ArmGolden, ArmModel, ArmParams}
 import reducerload.graph.{ScheduleRequest, Storage}
-import reducerload.util.OutputFile
+import com.typesafe.config.{ConfigFactory, ConfigRenderOptions, ConfigValueFactory}
+import reducerload.util.{InputError, OutputFile}
 
-import java.nio.file.Path
+import java.nio.charset.StandardCharsets
+import java.nio.file.{Files, Path, Paths}
+import scala.jdk.CollectionConverters._
 import scala.concurrent.duration.Duration
 import scala.concurrent.{Await, ExecutionContext, Future}
 import scala.sys.process._
@@ -17,6 +20,10 @@ import scala.sys.process._
  * samples/s, and per joint the measured max error against Pinocchio over the golden traces (bit-accurate
  * model; the RTL equals it bit for bit, as the tests check) beside the derived bound. Writes arms.csv,
  * arms.md and, with Python + matplotlib, arms_pareto.png.
+ *
+ * Emission (the JVM) and evaluation (the estimate flow, minutes per point) are apart: the points are
+ * evaluated here, or emitted with a manifest for tools/sweep/evaluate.py, which runs them on Dask with a
+ * cache; either way the rows are written by [[write]] (docs/distributed-sweeps.md).
  */
 object ArmSweep {
 
@@ -139,47 +146,190 @@ object ArmSweep {
       ""
     ) ++ Sweep.table(cells)).mkString("", "\n", "\n")
 
-  def run(out: Path, fmax: Boolean, jobs: Int, command: String): Unit = {
-    val designs = robots.flatMap { robot =>
+  /** Which points a sweep covers: every robot and schedule, or the ones `--robots` and `--schedules` name. */
+  final case class Selection(robots: Seq[String], schedules: Seq[String])
+  object Selection {
+    val all: Selection = Selection(ArmSweep.robots, ArmSweep.schedules.map(_._1))
+
+    /** From comma-separated lists (None: all), each name checked against the sweep's own. */
+    def of(robotList: Option[String], scheduleList: Option[String]): Selection = {
+      def names(option: String, list: Option[String], known: Seq[String]): Seq[String] = list.fold(known) {
+        v =>
+          val ns = v.split(",", -1).map(_.trim).toSeq
+          ns.find(n => !known.contains(n)).foreach { n =>
+            throw new InputError(s"command line: --$option: unknown '$n' (known: ${known.mkString(", ")})")
+          }
+          known.filter(ns.contains)
+      }
+      Selection(
+        names("robots", robotList, ArmSweep.robots),
+        names("schedules", scheduleList, ArmSweep.schedules.map(_._1))
+      )
+    }
+  }
+
+  /** How the emitted points are evaluated (the estimate flow, once per point and seed). */
+  sealed trait Evaluation
+  object Evaluation {
+
+    /** In this process, `jobs` estimates at once. */
+    final case class Local(jobs: Int) extends Evaluation
+
+    /** Only emit the points and their manifest, for tools/sweep/evaluate.py run elsewhere. */
+    case object EmitOnly extends Evaluation
+
+    /** Emit, run tools/sweep/evaluate.py on Dask (a local cluster, or the scheduler at `cluster`), merge. */
+    final case class Dask(cluster: Option[String]) extends Evaluation
+  }
+
+  /** One elaborated point: its rows' JVM-side figures and its Verilog. */
+  final case class Design(
+      robot: String,
+      point: String,
+      p: ArmParams,
+      errors: IndexedSeq[Double],
+      top: String,
+      verilog: String
+  ) {
+    def key: String = s"$robot-$point"
+    lazy val sha256: String =
+      java.security.MessageDigest
+        .getInstance("SHA-256")
+        .digest(verilog.getBytes(StandardCharsets.UTF_8))
+        .map(b => f"$b%02x")
+        .mkString
+  }
+
+  /** Elaborate the selected points, measuring each distinct fit's errors once. */
+  def designs(selection: Selection): Seq[Design] =
+    selection.robots.flatMap { robot =>
       val config = ArmGolden.of(robot).head.config
       // Fitted with its own schedule: per-node fraction-bit caps are kept only where they make that schedule cheaper.
-      val points = schedules.map { case (point, request, target) =>
-        point -> reducerload.compiler.Compiler.arm(config.copy(targetError = target, schedule = request))
-      }
+      val points =
+        schedules.filter(s => selection.schedules.contains(s._1)).map { case (point, request, target) =>
+          point -> reducerload.compiler.Compiler.arm(config.copy(targetError = target, schedule = request))
+        }
       // The errors depend on the numerics only: measured once per distinct fit.
       def numericsOf(p: ArmParams) = (p.numerics, p.fracBitLimits)
       val errorsOf =
         points.map(_._2).groupBy(numericsOf).map { case (key, ps) => key -> goldenErrors(ps.head, robot) }
       points.map { case (point, p) =>
-        val errors = errorsOf(numericsOf(p))
         println(s"sweep: elaborating $robot $point (${p.schedule.clocksPerSample} clocks per sample)")
-        val top = s"ArmDatapath_${p.tag}"
-        (
+        Design(
           robot,
           point,
           p,
-          errors,
-          top,
+          errorsOf(numericsOf(p)),
+          s"ArmDatapath_${p.tag}",
           Emit.withBlackBoxes(
             ChiselStage.emitSystemVerilog(new ArmDatapath(p), Array.empty[String], Emit.firtoolOpts)
           )
         )
       }
     }
+
+  /** The Python driver of the distributed evaluation. */
+  val evaluator: Path = Paths.get("tools", "sweep", "evaluate.py")
+
+  /**
+   * Every point's Verilog in `out/points/` and `out/manifest.json`: per point its key, robot, settings, top,
+   * path (relative to the manifest) and the file's SHA-256 (the cache key's design part); the placer seeds.
+   */
+  def writeManifest(out: Path, designs: Seq[Design], fmax: Boolean, seeds: Seq[Int]): Path = {
+    def settings(p: ArmParams) = Map[String, Any](
+      "clocks_per_sample" -> p.schedule.clocksPerSample,
+      "storage" -> p.schedule.request.stored.name,
+      "max_multipliers" -> p.schedule.request.maxMultipliers.map(Int.box).orNull,
+      "multiplier_units" -> p.schedule.multiplierUnits,
+      "internal_frac_bits" -> p.internalFracBits,
+      "latency_cycles" -> p.latency
+    ).asJava
+    val manifest = Map[String, Any](
+      "fmax" -> fmax,
+      "seeds" -> seeds.map(Int.box).asJava,
+      "points" -> designs.map { d =>
+        Map[String, Any](
+          "key" -> d.key,
+          "robot" -> d.robot,
+          "point" -> d.point,
+          "settings" -> settings(d.p),
+          "top" -> d.top,
+          "path" -> s"points/${d.key}.sv",
+          "sha256" -> d.sha256
+        ).asJava
+      }.asJava
+    ).asJava
+    OutputFile.writeAll(out.resolve("points"), designs.map(d => s"${d.key}.sv" -> d.verilog))
+    val json = ConfigValueFactory
+      .fromAnyRef(manifest)
+      .render(ConfigRenderOptions.concise().setJson(true).setFormatted(true)) + "\n"
+    OutputFile.writeAll(out, Seq("manifest.json" -> json))
+    out.resolve("manifest.json")
+  }
+
+  /** A job's outcome in results.json: the estimate, or why it failed and where its log is. */
+  final case class JobResult(key: String, seed: Int, estimate: Either[String, Estimate])
+
+  /** The jobs of a results.json that tools/sweep/evaluate.py wrote. */
+  def readResults(path: Path): Seq[JobResult] = {
+    if (!Files.isRegularFile(path)) throw new InputError(s"$path: no results (the evaluation did not finish)")
+    ConfigFactory.parseFile(path.toFile).getConfigList("jobs").asScala.toSeq.map { j =>
+      JobResult(
+        j.getString("key"),
+        j.getInt("seed"),
+        if (j.getString("status") == "ok") Right(Estimate.of(j.getConfig("estimate")))
+        else Left(s"${j.getString("error")} (log ${j.getString("log")})")
+      )
+    }
+  }
+
+  /** Run tools/sweep/evaluate.py on the manifest; its progress goes to the terminal. */
+  def evaluateDask(manifest: Path, cluster: Option[String]): Seq[JobResult] = {
+    if (!Files.isRegularFile(evaluator))
+      throw new InputError(s"$evaluator not found: run from the repository root")
+    val cmd =
+      Seq("python3", evaluator.toString, manifest.toString) ++ cluster.toSeq.flatMap(c => Seq("--cluster", c))
+    val status = cmd.!
+    if (status != 0)
+      throw new InputError(s"the distributed evaluation failed (${cmd.mkString(" ")} exited $status)")
+    readResults(manifest.resolveSibling("results.json"))
+  }
+
+  /**
+   * Rows from the designs and the evaluation's results, in the designs' order; a point of several seeds gets
+   * a row per seed (its schedule named `point-sN`). Failed jobs give no row: they are listed on the terminal.
+   */
+  def merge(designs: Seq[Design], results: Seq[JobResult], seeds: Seq[Int]): Seq[Row] = {
+    val byJob = results.map(r => (r.key, r.seed) -> r.estimate).toMap
+    val rows = for {
+      d <- designs
+      seed <- seeds
+      e <- byJob.get((d.key, seed)).flatMap(_.toOption)
+    } yield Row(d.robot, if (seeds.size > 1) s"${d.point}-s$seed" else d.point, d.p, d.errors, e)
+    results.collect { case JobResult(key, seed, Left(why)) =>
+      println(s"sweep: $key seed $seed failed: $why")
+    }
+    rows
+  }
+
+  /** The estimates in this process, `jobs` at once (today's serial path with `jobs` = 1). */
+  def evaluateLocal(ds: Seq[Design], fmax: Boolean, jobs: Int): Seq[Row] = {
     val pool = java.util.concurrent.Executors.newFixedThreadPool(jobs)
     implicit val ec: ExecutionContext = ExecutionContext.fromExecutorService(pool)
-    val rows =
-      try {
-        def measure(d: (String, String, ArmParams, IndexedSeq[Double], String, String)): Row = {
-          val (robot, point, p, errors, top, verilog) = d
-          val row = Row(robot, point, p, errors, Estimate.run(verilog, top, fmax))
-          println(row.cells.mkString("sweep: ", ", ", ""))
-          row
-        }
-        // The first estimate alone: it sets up the tools' virtual environments.
-        val first = designs.headOption.map(measure).toSeq
-        first ++ Await.result(Future.sequence(designs.drop(1).map(d => Future(measure(d)))), Duration.Inf)
-      } finally pool.shutdown()
+    try {
+      def measure(d: Design): Row = {
+        val row = Row(d.robot, d.point, d.p, d.errors, Estimate.run(d.verilog, d.top, fmax))
+        println(row.cells.mkString("sweep: ", ", ", ""))
+        row
+      }
+      // The first estimate alone: it sets up the tools' virtual environments.
+      val first = ds.headOption.map(measure).toSeq
+      first ++ Await.result(Future.sequence(ds.drop(1).map(d => Future(measure(d)))), Duration.Inf)
+    } finally pool.shutdown()
+  }
+
+  /** The sweep's files from its rows: the one writer of arms.csv, arms.md and the plot. */
+  def write(out: Path, rows: Seq[Row], fmax: Boolean, command: String): Unit = {
     val cells = header +: rows.map(_.cells)
     val md = markdown(cells, fmax, command)
     OutputFile.writeAll(out, Seq("arms.csv" -> Sweep.csv(cells), "arms.md" -> md))
@@ -187,5 +337,25 @@ object ArmSweep {
     val plot = Seq("python3", "tools/sweep/plot_arms.py", out.resolve("arms.csv").toString, out.toString)
     val status = plot.!
     if (status != 0) println(s"sweep: plot not made (${plot.mkString(" ")} exited $status)")
+  }
+
+  def run(
+      out: Path,
+      fmax: Boolean,
+      evaluation: Evaluation,
+      command: String,
+      selection: Selection = Selection.all,
+      seeds: Seq[Int] = Seq(1)
+  ): Unit = {
+    val ds = designs(selection)
+    evaluation match {
+      case Evaluation.EmitOnly =>
+        val m = writeManifest(out, ds, fmax, seeds)
+        println(s"sweep: ${ds.size} points emitted; evaluate with: python3 $evaluator $m")
+      case Evaluation.Dask(cluster) =>
+        val m = writeManifest(out, ds, fmax, seeds)
+        write(out, merge(ds, evaluateDask(m, cluster), seeds), fmax, command)
+      case Evaluation.Local(jobs) => write(out, evaluateLocal(ds, fmax, jobs), fmax, command)
+    }
   }
 }

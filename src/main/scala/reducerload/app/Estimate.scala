@@ -1,6 +1,6 @@
 package reducerload.app
 
-import com.typesafe.config.ConfigFactory
+import com.typesafe.config.{Config, ConfigFactory}
 import reducerload.util.InputError
 
 import java.nio.charset.StandardCharsets
@@ -51,6 +51,23 @@ final case class Estimate(
 object Estimate {
   val script: Path = Paths.get("tools", "estimate", "estimate.py")
 
+  /** The figures of estimate.py's JSON output (the JVM's own run, or a distributed sweep's job). */
+  def of(c: Config): Estimate = {
+    def opt[T](k: String, f: String => T) = if (c.hasPath(k)) Some(f(k)) else None
+    Estimate(
+      c.getInt("les"),
+      c.getInt("les_arith"),
+      c.getInt("les_logic"),
+      c.getInt("registers"),
+      c.getInt("mult18x18"),
+      c.getInt("memory_bits"),
+      c.getInt("m9k_blocks"),
+      opt("fmax_ecp5_mhz", c.getDouble),
+      opt("critical_path", c.getString),
+      opt("yosys", c.getString)
+    )
+  }
+
   /** Run the estimator on Verilog held in memory. */
   def run(verilog: String, top: String, fmax: Boolean): Estimate = {
     if (!Files.isRegularFile(script)) throw new InputError(s"$script not found: run from the repository root")
@@ -70,20 +87,7 @@ object Estimate {
         throw new InputError(
           s"the resource estimate failed (${cmd.mkString(" ")}): ${log.toString.trim.linesIterator.toSeq.lastOption.getOrElse("")}"
         )
-      val c = ConfigFactory.parseFile(json.toFile)
-      def opt[T](k: String, f: String => T) = if (c.hasPath(k)) Some(f(k)) else None
-      Estimate(
-        c.getInt("les"),
-        c.getInt("les_arith"),
-        c.getInt("les_logic"),
-        c.getInt("registers"),
-        c.getInt("mult18x18"),
-        c.getInt("memory_bits"),
-        c.getInt("m9k_blocks"),
-        opt("fmax_ecp5_mhz", c.getDouble),
-        opt("critical_path", c.getString),
-        opt("yosys", c.getString)
-      )
+      of(ConfigFactory.parseFile(json.toFile))
     } finally {
       Files.list(dir).forEach(f => Files.deleteIfExists(f))
       Files.deleteIfExists(dir)

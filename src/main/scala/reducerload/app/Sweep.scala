@@ -29,11 +29,27 @@ object Sweep {
       "N",
       "estimates run at once (1..16; each place and route uses one core)",
       "the number of cores"
-    )
+    ),
+    Opt(
+      "evaluate",
+      "ENGINE",
+      "with --arms: evaluate the points on 'dask' (tools/sweep/evaluate.py: cached, resumable; docs/distributed-sweeps.md)",
+      "in this process"
+    ),
+    Opt(
+      "cluster",
+      "ADDRESS",
+      "with --evaluate dask: a running Dask scheduler, e.g. tcp://HOST:8786",
+      "a local cluster"
+    ),
+    Opt("robots", "LIST", "with --arms: only these robots (comma-separated)", "all"),
+    Opt("schedules", "LIST", "with --arms: only these schedule points (comma-separated)", "all"),
+    Opt("seeds", "N", "with --evaluate dask or --emit-only and --fmax: placer seeds 1..N per point", "1")
   )
-  val flags: Seq[String] = Seq("fmax", "arms")
+  val flags: Seq[String] = Seq("fmax", "arms", "emit-only")
   val flagHelp: Map[String, String] = Map(
     "fmax" -> "place and route every point on ECP5 for the Fmax proxy (1 to 5 minutes each)",
+    "emit-only" -> "with --arms: write each point's Verilog and manifest.json for tools/sweep/evaluate.py, no estimate",
     "arms" -> "sweep every joint of planar3, the UR5 and the Panda over the schedule (clocks per sample, multiplier budget) instead of the joint-3 grid"
   )
 
@@ -172,6 +188,37 @@ object Sweep {
       ""
     ) ++ table(cells)).mkString("", "\n", "\n")
 
+  private def runArms(cli: Cli, out: Path, fmax: Boolean, jobs: Int): Unit = {
+    val evaluation = (cli.get("evaluate"), cli.has("emit-only")) match {
+      case (Some(_), true) =>
+        throw new InputError("command line: --emit-only and --evaluate exclude each other")
+      case (Some("dask"), _) => ArmSweep.Evaluation.Dask(cli.get("cluster"))
+      case (Some(e), _) =>
+        throw new InputError(s"command line: --evaluate: unknown engine '$e' (known: dask)")
+      case (None, true)  => ArmSweep.Evaluation.EmitOnly
+      case (None, false) => ArmSweep.Evaluation.Local(jobs)
+    }
+    if (cli.has("cluster") && !cli.get("evaluate").contains("dask"))
+      throw new InputError("command line: --cluster needs --evaluate dask")
+    val seeds = cli.get("seeds").fold(1) { v =>
+      scala.util
+        .Try(v.toInt)
+        .filter(n => n >= 1 && n <= 100)
+        .getOrElse(throw new InputError(s"command line: --seeds must be an integer in 1..100, got '$v'"))
+    }
+    if (seeds > 1 && (!fmax || evaluation.isInstanceOf[ArmSweep.Evaluation.Local]))
+      throw new InputError("command line: --seeds needs --fmax and --evaluate dask or --emit-only")
+    val selection = ArmSweep.Selection.of(cli.get("robots"), cli.get("schedules"))
+    ArmSweep.run(
+      out,
+      fmax,
+      evaluation,
+      command(arms = true, cli.path("out").map(_.toString), fmax),
+      selection,
+      1 to seeds
+    )
+  }
+
   def run(cli: Cli): Unit = {
     val out = cli.pathOr("out", "sweep")
     val fmax = cli.has("fmax")
@@ -184,8 +231,9 @@ object Sweep {
           .getOrElse(throw new InputError(s"command line: --jobs must be an integer in 1..16, got '$v'"))
       }
       .getOrElse(Runtime.getRuntime.availableProcessors.min(16))
-    if (cli.has("arms")) {
-      return ArmSweep.run(out, fmax, jobs, command(arms = true, cli.path("out").map(_.toString), fmax))
+    if (cli.has("arms")) return runArms(cli, out, fmax, jobs)
+    Seq("evaluate", "cluster", "robots", "schedules", "seeds", "emit-only").find(cli.has).foreach { o =>
+      throw new InputError(s"command line: --$o needs --arms")
     }
     // A preset equal to a grid point is measured once (place and route takes minutes). Elaboration
     // and the golden error run here in turn; the estimates (external processes) run `jobs` at once,
