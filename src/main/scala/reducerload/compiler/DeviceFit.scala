@@ -10,7 +10,8 @@ import reducerload.util.Warning
 final case class Candidate(arm: ArmParams, resources: Resources) {
   def clocksPerSample: Int = arm.schedule.clocksPerSample
   def storage: Storage = arm.scheduleRequest.stored
-  def describe: String = s"$clocksPerSample clocks per sample, ${storage.name} storage"
+  def describe: String =
+    s"$clocksPerSample clock${if (clocksPerSample == 1) "" else "s"} per sample, ${storage.name} storage"
 }
 
 /**

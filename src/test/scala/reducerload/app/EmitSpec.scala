@@ -1,6 +1,6 @@
 package reducerload.app
 
-import reducerload.testutil.Scratch
+import reducerload.testutil.{monitoredPlanar3, Scratch}
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.config.LoadParams
 import reducerload.util.InputError
@@ -111,16 +111,7 @@ class EmitSpec extends AnyFlatSpec {
     assume(Try(Seq("verilator", "--version").!!).isSuccess, "verilator is not installed")
     val d = tempDir()
     Main.run(
-      Seq(
-        "emit",
-        "--robot",
-        "planar3",
-        "--monitor.enabled",
-        "true",
-        "--monitor.repeated-peak",
-        "[80, 30, 20]",
-        "--monitor.momentary-peak",
-        "[100, 40, 28]",
+      Seq("emit") ++ monitoredPlanar3 ++ Seq(
         "--monitor.exponent",
         "[3, 3.3333333333333335, 1.5]",
         "--target-dir",

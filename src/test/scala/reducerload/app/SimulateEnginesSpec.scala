@@ -11,7 +11,7 @@ import reducerload.dynamics.{RandomChains, Rnea}
 import reducerload.load._
 import reducerload.sim.rtl.{ArmDriver, Cycle}
 import reducerload.sim.text.{DoubleText, FixedDecimal}
-import reducerload.testutil.{ArmGolden, Golden, Seeds, SimBackend}
+import reducerload.testutil.{monitoredPlanar3, ArmGolden, Golden, Seeds, SimBackend}
 
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path}
@@ -198,13 +198,7 @@ class SimulateEnginesSpec extends AnyFlatSpec with ChiselScalatestTester {
     assert(
       simulate(
         input,
-        design ++ Seq(
-          "--monitor.enabled",
-          "true",
-          "--monitor.repeated-peak",
-          "[80, 30, 20]",
-          "--monitor.momentary-peak",
-          "[100, 40, 28]",
+        monitoredPlanar3 ++ Seq(
           "--saturate",
           "--jobs",
           "1"

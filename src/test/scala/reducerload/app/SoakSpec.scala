@@ -3,7 +3,7 @@ package reducerload.app
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.compiler.{Compiled, Compiler}
 import reducerload.sim.rtl.{Observed, VerilatorHarness}
-import reducerload.testutil.Seeds
+import reducerload.testutil.{monitoredPlanar3, Seeds}
 
 import scala.collection.mutable.ArrayBuffer
 
@@ -19,16 +19,7 @@ class SoakSpec extends AnyFlatSpec {
   private def compiled(args: String*): Compiled =
     Compiler.compile(Cli.parse("simulate", args, Simulate.options, Simulate.flags).params, "test")
 
-  private val monitored = Seq(
-    "--robot",
-    "planar3",
-    "--monitor.enabled",
-    "true",
-    "--monitor.repeated-peak",
-    "[80, 30, 20]",
-    "--monitor.momentary-peak",
-    "[100, 40, 28]"
-  )
+  private val monitored = monitoredPlanar3
 
   /** Soak `c` with `rates`; returns the result and everything observed. */
   private def soak(label: String, c: Compiled, rates: SoakRates, seed: Long): (Soak.Result, Seq[Observed]) = {

@@ -66,7 +66,7 @@ class DeviceFitSpec extends AnyFlatSpec with Matchers {
     val blocks = c.arm.schedule.multiplierBlocks
     blocks should be > 66
     c.warnings.map(_.toString) should contain(
-      s"warning: device EP4CE30: the design (1 clocks per sample, registers storage) uses $blocks 18x18 multiplier blocks, the device has 66"
+      s"warning: device EP4CE30: the design (1 clock per sample, registers storage) uses $blocks 18x18 multiplier blocks, the device has 66"
     )
   }
 
@@ -81,6 +81,6 @@ class DeviceFitSpec extends AnyFlatSpec with Matchers {
     val c = compiled(Nil)
     c.arm.schedule.clocksPerSample shouldBe 1
     c.arm.scheduleRequest.stored shouldBe Storage.Registers
-    c.fit.line should startWith("device EP4CE30: chose 1 clocks per sample, registers storage")
+    c.fit.line should startWith("device EP4CE30: chose 1 clock per sample, registers storage")
   }
 }

@@ -315,6 +315,21 @@ object VerilatorHarness {
        |  return v;
        |}
        |
+       |// Reset with valid low and the held host inputs at 0; the clock ends low, ready for the first rising edge.
+       |void reset(Vtop& top) {
+       |  top.${ports.clock} = 0;
+       |  top.${ports.reset} = 1;
+       |  top.${ports.inValid} = 0;${ports.held.map(h => s"\n  top.${h.name} = 0;  // held").mkString}
+       |  top.eval();
+       |  for (int i = 0; i < kResetCycles; ++i) {
+       |    top.${ports.clock} = 1;
+       |    top.eval();
+       |    top.${ports.clock} = 0;
+       |    top.eval();
+       |  }
+       |  top.${ports.reset} = 0;
+       |}
+       |
        |FILE* open(const char* path, const char* mode) {
        |  FILE* f = std::fopen(path, mode);
        |  if (f == nullptr) fail("cannot open", path);
@@ -346,17 +361,7 @@ object VerilatorHarness {
        |
        |  auto context = std::make_unique<VerilatedContext>();
        |  auto top = std::make_unique<Vtop>(context.get());
-       |  top->${ports.clock} = 0;
-       |  top->${ports.reset} = 1;
-       |  top->${ports.inValid} = 0;${ports.held.map(h => s"\n  top->${h.name} = 0;  // held").mkString}
-       |  top->eval();
-       |  for (int i = 0; i < kResetCycles; ++i) {
-       |    top->${ports.clock} = 1;
-       |    top->eval();
-       |    top->${ports.clock} = 0;
-       |    top->eval();
-       |  }
-       |  top->${ports.reset} = 0;
+       |  reset(*top);
        |
        |  int64_t sample[kInputs];
        |  bool haveEvent = nextEvent(), holding = false;
@@ -433,18 +438,7 @@ object VerilatorHarness {
        |  auto context = std::make_unique<VerilatedContext>();
        |  auto top = std::make_unique<Vtop>(context.get());
        |
-       |  // Reset with valid low; the clock ends low, ready for the first rising edge.
-       |  top->${ports.clock} = 0;
-       |  top->${ports.reset} = 1;
-       |  top->${ports.inValid} = 0;${ports.held.map(h => s"\n  top->${h.name} = 0;  // held").mkString}
-       |  top->eval();
-       |  for (int i = 0; i < kResetCycles; ++i) {
-       |    top->${ports.clock} = 1;
-       |    top->eval();
-       |    top->${ports.clock} = 0;
-       |    top->eval();
-       |  }
-       |  top->${ports.reset} = 0;
+       |  reset(*top);
        |
        |  std::vector<int64_t> samples(kChunk * kInputs);
        |  size_t have = 0, next = 0;

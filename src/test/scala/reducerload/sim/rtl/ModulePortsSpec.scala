@@ -5,6 +5,7 @@ import reducerload.app.{Cli, Emission, Emit, Simulate, Top}
 import reducerload.arm.ArmIO
 import reducerload.cordic.CordicSinCosIO
 import reducerload.monitor.MonitoredArmIO
+import reducerload.testutil.monitoredPlanar3
 
 /**
  * The ports derived from a module's IO Bundle are the emitted Verilog's, name, direction, width and order:
@@ -27,16 +28,7 @@ class ModulePortsSpec extends AnyFlatSpec {
     val arm = plain.arm
     assert(derived(ModulePorts(new ArmIO(arm))) == inVerilog(Emit.emit(plain, Top.Load, "test")))
 
-    val monitored = params(
-      "--robot",
-      "planar3",
-      "--monitor.enabled",
-      "true",
-      "--monitor.repeated-peak",
-      "[80, 30, 20]",
-      "--monitor.momentary-peak",
-      "[100, 40, 28]"
-    )
+    val monitored = params(monitoredPlanar3: _*)
     val io = new MonitoredArmIO(monitored.arm, monitored.monitor.get)
     val ports = ModulePorts(io)
     assert(derived(ports) == inVerilog(Emit.emit(monitored, Top.Load, "test")))
