@@ -3,10 +3,10 @@
 
     python3 tools/sweep/evaluate.py MANIFEST [--cluster tcp://HOST:8786] [--cache DIR] [--results FILE]
 
-MANIFEST is what `./sbt "run sweep --arms --emit-only"` writes (out/manifest.json): per point its key, robot,
-settings, top module, Verilog path (relative to the manifest) and the file's SHA-256; the seeds; whether the
-Fmax proxy runs. Results go to FILE (default results.json beside the manifest), which `run sweep --arms
---evaluate dask` merges into arms.csv / arms.md / arms_pareto.png. Exit status 0 when every job finished, 1 when
+MANIFEST is what `./sbt "run sweep --arms --emit-only"` writes (target/sweep/arms/manifest.json, or under
+--cache DIR): per point its key, robot, settings, top module, Verilog path (relative to the manifest) and the
+file's SHA-256; the seeds; whether the Fmax proxy runs. Results go to FILE (default results.json beside the
+manifest), which `run sweep` (on Dask by default) merges into its CSV, markdown and plot. Exit status 0 when every job finished, 1 when
 some failed (recorded in FILE with their logs; the others' results are written and cached), 2 on bad input.
 
 Why Dask and not Ray: the jobs are independent external processes with small inputs and outputs, which is
