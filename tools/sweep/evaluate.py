@@ -3,10 +3,11 @@
 
     python3 tools/sweep/evaluate.py MANIFEST [--cluster tcp://HOST:8786] [--cache DIR] [--results FILE]
 
-MANIFEST is what `./sbt "run sweep --arms --emit-only"` writes (out/manifest.json): per point its key, robot,
-settings, top module, Verilog path (relative to the manifest) and the file's SHA-256; the seeds; whether the
-Fmax proxy runs. Results go to FILE (default results.json beside the manifest), which `run sweep --arms
---evaluate dask` merges into arms.csv / arms.md / arms_pareto.png.
+MANIFEST is what `./sbt "run sweep --arms --emit-only"` writes (target/sweep/arms/manifest.json, or under
+--cache DIR): per point its key, robot, settings, top module, Verilog path (relative to the manifest) and the
+file's SHA-256; the seeds; whether the Fmax proxy runs. Results go to FILE (default results.json beside the
+manifest), which `run sweep` (on Dask by default) merges into its CSV, markdown and plot. Exit status 0 when every job finished, 1 when
+some failed (recorded in FILE with their logs; the others' results are written and cached), 2 on bad input.
 
 Why Dask and not Ray: the jobs are independent external processes with small inputs and outputs, which is
 all Dask's `distributed` does well; it is pure Python (one pip install, no object store or dashboard
@@ -247,6 +248,7 @@ def main():
     summary = {"jobs": len(jobs), "ran": ran, "cached": cached, "failed": failed, "seconds": round(time.time() - t_start, 1)}
     write_atomically(results_path, json.dumps({"summary": summary, "jobs": records}, indent=2, sort_keys=True))
     print(f"evaluate: {len(jobs)} jobs: {ran} ran, {cached} cached, {failed} failed in {minutes(summary['seconds'])}; results in {results_path}", flush=True)
+    sys.exit(1 if failed else 0)
 
 
 if __name__ == "__main__":

@@ -14,7 +14,12 @@ own), then:
 2. evaluates again: nothing is recomputed (every good point cached; the failed one is tried again);
 3. removes one result and leaves a half-written temporary in the cache, as an interrupted sweep does:
    the next run computes that one job only;
-4. evaluates with `--timeout 2` into a fresh cache: every job failed with its log, the run ends normally.
+4. evaluates with `--timeout 2` into a fresh cache: every job failed with its log, the run ends normally;
+5. on a second cluster whose one worker cannot run the flow (REDUCERLOAD_ESTIMATE names no clone, so the job
+   raises on the worker), evaluates with `--retries 2`: Dask runs every job three times (the worker's log
+   counts them), then each is recorded as failed with the worker's error.
+
+Every run with a failed job must exit 1 after writing its results.
 
 Writes WORKDIR/results.json (run 1's good points) for the caller to merge, prints one line per check, exits 1
 on a failed check. Stops everything it started by itself within --deadline (default 1200 s).
@@ -35,8 +40,8 @@ from evaluate import VENV, ensure_venv, sha256_file  # noqa: E402
 started = []
 
 
-def start(cmd, log):
-    p = subprocess.Popen(cmd, stdout=open(log, "w"), stderr=subprocess.STDOUT, start_new_session=True)
+def start(cmd, log, env=None):
+    p = subprocess.Popen(cmd, stdout=open(log, "w"), stderr=subprocess.STDOUT, start_new_session=True, env=env)
     started.append(p)
     return p
 
@@ -98,24 +103,30 @@ def main():
     with open(with_broken, "w") as f:
         json.dump(manifest, f)
 
-    s = socket.socket()
-    s.bind(("127.0.0.1", 0))
-    port = s.getsockname()[1]
-    s.close()
-    address = f"tcp://127.0.0.1:{port}"
     dask = os.path.join(VENV, "bin", "dask")
-    try:
-        start([dask, "scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"], os.path.join(a.workdir, "scheduler.log"))
+
+    def cluster(name, n, env=None):
+        """A scheduler on a free loopback port and `n` single-threaded workers; returns its address and workers."""
+        s = socket.socket()
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+        s.close()
+        address = f"tcp://127.0.0.1:{port}"
+        start([dask, "scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"], os.path.join(a.workdir, f"{name}-scheduler.log"))
         workers = [start([dask, "worker", address, "--host", "127.0.0.1", "--nthreads", "1", "--no-dashboard", "--name", f"w{i}"],
-                         os.path.join(a.workdir, f"worker{i}.log")) for i in range(2)]
+                         os.path.join(a.workdir, f"{name}-worker{i}.log"), env) for i in range(n)]
         from distributed import Client
         with Client(address, timeout=60) as c:
-            c.wait_for_workers(2, timeout=120)
-        print(f"test_cluster: scheduler {address}, 2 workers ({time.time() - t0:.0f} s)", flush=True)
+            c.wait_for_workers(n, timeout=120)
+        print(f"test_cluster: {name}: scheduler {address}, {n} workers ({time.time() - t0:.0f} s)", flush=True)
+        return address, workers
 
-        def evaluate(n, extra=()):
+    try:
+        address, workers = cluster("main", 2)
+
+        def evaluate(n, extra=(), at=address):
             # argparse keeps the last of a repeated option: `extra` overrides the cache and the timeout.
-            return start([sys.executable, os.path.join(HERE, "evaluate.py"), with_broken, "--cluster", address,
+            return start([sys.executable, os.path.join(HERE, "evaluate.py"), with_broken, "--cluster", at,
                           "--cache", os.path.join(a.workdir, "cache"), "--results", os.path.join(a.workdir, f"results{n}.json"),
                           "--timeout", "600", *extra], os.path.join(a.workdir, f"evaluate{n}.log"))
 
@@ -138,7 +149,7 @@ def main():
                 print(f"test_cluster: killed worker w{i} mid-job ({time.time() - t0:.0f} s)", flush=True)
             time.sleep(0.5)
         print(open(os.path.join(a.workdir, "evaluate1.log")).read(), flush=True)
-        check(run1.returncode == 0, "run 1 exits 0")
+        check(run1.returncode == 1, "run 1 exits 1 (a job failed)")
         check(killed, "a worker was killed while running a job")
         r1 = json.load(open(os.path.join(a.workdir, "results1.json")))
         summary = r1["summary"]
@@ -175,8 +186,19 @@ def main():
         run4.wait(timeout=max(1.0, a.deadline - (time.time() - t0)))
         r4 = json.load(open(os.path.join(a.workdir, "results4.json")))
         timed_out = [j for j in r4["jobs"] if j["key"] != "broken"]
-        check(run4.returncode == 0 and all(j["status"] == "failed" and "timed out" in j["error"] and os.path.isfile(j["log"]) for j in timed_out)
+        check(run4.returncode == 1 and all(j["status"] == "failed" and "timed out" in j["error"] and os.path.isfile(j["log"]) for j in timed_out)
               and r4["summary"]["failed"] == good + 1, f"jobs past --timeout are failed with their logs (got {r4['summary']})")
+        # A job that raises on its worker: Dask's retries, then failed with the worker's error.
+        bad_env = dict(os.environ, REDUCERLOAD_ESTIMATE=os.path.join(a.workdir, "no-clone"))
+        bad_address, bad_workers = cluster("retry", 1, bad_env)
+        run5 = evaluate(5, ["--retries", "2", "--cache", os.path.join(a.workdir, "cache-retry")], at=bad_address)
+        run5.wait(timeout=max(1.0, a.deadline - (time.time() - t0)))
+        stop(bad_workers[0])  # its log complete
+        attempts = open(os.path.join(a.workdir, "retry-worker0.log")).read().count("Compute Failed")
+        r5 = json.load(open(os.path.join(a.workdir, "results5.json")))
+        check(run5.returncode == 1 and attempts == 3 * (good + 1) and r5["summary"]["failed"] == good + 1
+              and all(j["status"] == "failed" and "not found" in j["error"] for j in r5["jobs"]),
+              f"a job that raises is run 1 + 2 retries times, then failed with the worker's error ({attempts} attempts, {r5['summary']})")
         r1["jobs"] = [j for j in r1["jobs"] if j["key"] != "broken"]
         with open(os.path.join(a.workdir, "results.json"), "w") as f:
             json.dump(r1, f, indent=2)

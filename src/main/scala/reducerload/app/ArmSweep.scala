@@ -3,14 +3,9 @@ package reducerload.app
 import circt.stage.ChiselStage
 import reducerload.arm.{ArmDatapath, ArmGolden, ArmModel, ArmParams}
 import reducerload.graph.{ScheduleRequest, Storage}
-import com.typesafe.config.{ConfigFactory, ConfigRenderOptions, ConfigValueFactory}
 import reducerload.util.{InputError, OutputFile}
 
-import java.nio.charset.StandardCharsets
-import java.nio.file.{Files, Path, Paths}
-import scala.jdk.CollectionConverters._
-import scala.concurrent.duration.Duration
-import scala.concurrent.{Await, ExecutionContext, Future}
+import java.nio.file.Path
 import scala.sys.process._
 
 /**
@@ -21,9 +16,9 @@ import scala.sys.process._
  * model; the RTL equals it bit for bit, as the tests check) beside the derived bound. Writes arms.csv,
  * arms.md and, with Python + matplotlib, arms_pareto.png.
  *
- * Emission (the JVM) and evaluation (the estimate flow, minutes per point) are apart: the points are
- * evaluated here, or emitted with a manifest for tools/sweep/evaluate.py, which runs them on Dask with a
- * cache; either way the rows are written by [[write]] (docs/distributed-sweeps.md).
+ * Emission (the JVM) and evaluation (the estimate flow, minutes per point) are apart ([[SweepJobs]]): the
+ * points go to Dask through tools/sweep/evaluate.py (cached, resumable), or are estimated here one after
+ * another; either way the rows are written by [[write]] (docs/distributed-sweeps.md).
  */
 object ArmSweep {
 
@@ -168,20 +163,6 @@ object ArmSweep {
     }
   }
 
-  /** How the emitted points are evaluated (the estimate flow, once per point and seed). */
-  sealed trait Evaluation
-  object Evaluation {
-
-    /** In this process, `jobs` estimates at once. */
-    final case class Local(jobs: Int) extends Evaluation
-
-    /** Only emit the points and their manifest, for tools/sweep/evaluate.py run elsewhere. */
-    case object EmitOnly extends Evaluation
-
-    /** Emit, run tools/sweep/evaluate.py on Dask (a local cluster, or the scheduler at `cluster`), merge. */
-    final case class Dask(cluster: Option[String]) extends Evaluation
-  }
-
   /** One elaborated point: its rows' JVM-side figures and its Verilog. */
   final case class Design(
       robot: String,
@@ -192,12 +173,25 @@ object ArmSweep {
       verilog: String
   ) {
     def key: String = s"$robot-$point"
-    lazy val sha256: String =
-      java.security.MessageDigest
-        .getInstance("SHA-256")
-        .digest(verilog.getBytes(StandardCharsets.UTF_8))
-        .map(b => f"$b%02x")
-        .mkString
+
+    /** The point as an evaluation job; the manifest names its robot, point and settings. */
+    lazy val job: SweepJobs.Point = SweepJobs.Point(
+      key,
+      top,
+      verilog,
+      Map(
+        "robot" -> robot,
+        "point" -> point,
+        "settings" -> Map(
+          "clocks_per_sample" -> p.schedule.clocksPerSample,
+          "storage" -> p.schedule.request.stored.name,
+          "max_multipliers" -> p.schedule.request.maxMultipliers,
+          "multiplier_units" -> p.schedule.multiplierUnits,
+          "internal_frac_bits" -> p.internalFracBits,
+          "latency_cycles" -> p.latency
+        )
+      )
+    )
   }
 
   /** Elaborate the selected points, measuring each distinct fit's errors once. */
@@ -228,73 +222,6 @@ object ArmSweep {
       }
     }
 
-  /** The Python driver of the distributed evaluation. */
-  val evaluator: Path = Paths.get("tools", "sweep", "evaluate.py")
-
-  /**
-   * Every point's Verilog in `out/points/` and `out/manifest.json`: per point its key, robot, settings, top,
-   * path (relative to the manifest) and the file's SHA-256 (the cache key's design part); the placer seeds.
-   */
-  def writeManifest(out: Path, designs: Seq[Design], fmax: Boolean, seeds: Seq[Int]): Path = {
-    def settings(p: ArmParams) = Map[String, Any](
-      "clocks_per_sample" -> p.schedule.clocksPerSample,
-      "storage" -> p.schedule.request.stored.name,
-      "max_multipliers" -> p.schedule.request.maxMultipliers.map(Int.box).orNull,
-      "multiplier_units" -> p.schedule.multiplierUnits,
-      "internal_frac_bits" -> p.internalFracBits,
-      "latency_cycles" -> p.latency
-    ).asJava
-    val manifest = Map[String, Any](
-      "fmax" -> fmax,
-      "seeds" -> seeds.map(Int.box).asJava,
-      "points" -> designs.map { d =>
-        Map[String, Any](
-          "key" -> d.key,
-          "robot" -> d.robot,
-          "point" -> d.point,
-          "settings" -> settings(d.p),
-          "top" -> d.top,
-          "path" -> s"points/${d.key}.sv",
-          "sha256" -> d.sha256
-        ).asJava
-      }.asJava
-    ).asJava
-    OutputFile.writeAll(out.resolve("points"), designs.map(d => s"${d.key}.sv" -> d.verilog))
-    val json = ConfigValueFactory
-      .fromAnyRef(manifest)
-      .render(ConfigRenderOptions.concise().setJson(true).setFormatted(true)) + "\n"
-    OutputFile.writeAll(out, Seq("manifest.json" -> json))
-    out.resolve("manifest.json")
-  }
-
-  /** A job's outcome in results.json: the estimate, or why it failed and where its log is. */
-  final case class JobResult(key: String, seed: Int, estimate: Either[String, Estimate])
-
-  /** The jobs of a results.json that tools/sweep/evaluate.py wrote. */
-  def readResults(path: Path): Seq[JobResult] = {
-    if (!Files.isRegularFile(path)) throw new InputError(s"$path: no results (the evaluation did not finish)")
-    ConfigFactory.parseFile(path.toFile).getConfigList("jobs").asScala.toSeq.map { j =>
-      JobResult(
-        j.getString("key"),
-        j.getInt("seed"),
-        if (j.getString("status") == "ok") Right(Estimate.of(j.getConfig("estimate")))
-        else Left(s"${j.getString("error")} (log ${j.getString("log")})")
-      )
-    }
-  }
-
-  /** Run tools/sweep/evaluate.py on the manifest; its progress goes to the terminal. */
-  def evaluateDask(manifest: Path, cluster: Option[String]): Seq[JobResult] = {
-    if (!Files.isRegularFile(evaluator))
-      throw new InputError(s"$evaluator not found: run from the repository root")
-    val cmd =
-      Seq("python3", evaluator.toString, manifest.toString) ++ cluster.toSeq.flatMap(c => Seq("--cluster", c))
-    val status = cmd.!
-    if (status != 0)
-      throw new InputError(s"the distributed evaluation failed (${cmd.mkString(" ")} exited $status)")
-    readResults(manifest.resolveSibling("results.json"))
-  }
-
   /**
    * Rows from the designs and the evaluation's results, in the designs' order; a point of several seeds gets
    * a row per seed (its schedule named `point-sN`). Failed jobs give no row: they are listed on the terminal.
@@ -306,26 +233,10 @@ object ArmSweep {
       seed <- seeds
       e <- byJob.get((d.key, seed)).flatMap(_.toOption)
     } yield Row(d.robot, if (seeds.size > 1) s"${d.point}-s$seed" else d.point, d.p, d.errors, e)
-    results.collect { case JobResult(key, seed, Left(why)) =>
+    results.collect { case JobResult(key, seed, Left(why), _) =>
       println(s"sweep: $key seed $seed failed: $why")
     }
     rows
-  }
-
-  /** The estimates in this process, `jobs` at once (today's serial path with `jobs` = 1). */
-  def evaluateLocal(ds: Seq[Design], fmax: Boolean, jobs: Int): Seq[Row] = {
-    val pool = java.util.concurrent.Executors.newFixedThreadPool(jobs)
-    implicit val ec: ExecutionContext = ExecutionContext.fromExecutorService(pool)
-    try {
-      def measure(d: Design): Row = {
-        val row = Row(d.robot, d.point, d.p, d.errors, Estimate.run(d.verilog, d.top, fmax))
-        println(row.cells.mkString("sweep: ", ", ", ""))
-        row
-      }
-      // The first estimate alone: it sets up the tools' virtual environments.
-      val first = ds.headOption.map(measure).toSeq
-      first ++ Await.result(Future.sequence(ds.drop(1).map(d => Future(measure(d)))), Duration.Inf)
-    } finally pool.shutdown()
   }
 
   /** The sweep's files from its rows: the one writer of arms.csv, arms.md and the plot. */
@@ -339,8 +250,25 @@ object ArmSweep {
     if (status != 0) println(s"sweep: plot not made (${plot.mkString(" ")} exited $status)")
   }
 
+  /** The sweep's files from the designs and their results, then its summary; a failed job fails the run. */
+  def report(
+      out: Path,
+      designs: Seq[Design],
+      results: Seq[JobResult],
+      seeds: Seq[Int],
+      fmax: Boolean,
+      command: String
+  ): Unit = {
+    write(out, merge(designs, results, seeds), fmax, command)
+    SweepJobs.finish(results, out.resolve("arms.csv"))
+  }
+
+  /**
+   * Elaborate the selection, evaluate it as `evaluation` says (its files in `store/arms/`), write to `out`.
+   */
   def run(
       out: Path,
+      store: Path,
       fmax: Boolean,
       evaluation: Evaluation,
       command: String,
@@ -348,14 +276,8 @@ object ArmSweep {
       seeds: Seq[Int] = Seq(1)
   ): Unit = {
     val ds = designs(selection)
-    evaluation match {
-      case Evaluation.EmitOnly =>
-        val m = writeManifest(out, ds, fmax, seeds)
-        println(s"sweep: ${ds.size} points emitted; evaluate with: python3 $evaluator $m")
-      case Evaluation.Dask(cluster) =>
-        val m = writeManifest(out, ds, fmax, seeds)
-        write(out, merge(ds, evaluateDask(m, cluster), seeds), fmax, command)
-      case Evaluation.Local(jobs) => write(out, evaluateLocal(ds, fmax, jobs), fmax, command)
-    }
+    SweepJobs
+      .evaluate(evaluation, store.resolve("arms"), ds.map(_.job), fmax, seeds)
+      .foreach(results => report(out, ds, results, seeds, fmax, command))
   }
 }

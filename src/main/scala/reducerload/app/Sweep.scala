@@ -10,8 +10,6 @@ import reducerload.trace.TraceCsv
 import reducerload.util.{InputError, OutputFile}
 
 import java.nio.file.{Files, Path, Paths}
-import scala.concurrent.duration.Duration
-import scala.concurrent.{Await, ExecutionContext, Future}
 import scala.jdk.CollectionConverters._
 import scala.sys.process._
 
@@ -19,37 +17,45 @@ import scala.sys.process._
  * `run sweep`: a design-space benchmark. Elaborates a grid of configurations and measures, for each, the max
  * load error over the golden traces (bit-accurate model; the RTL equals it bit for bit, as the tests check),
  * the derived bound, latency, and the open-tool resource estimate (and the ECP5 Fmax proxy with --fmax).
- * Writes sweep.csv, sweep.md and, with Python + matplotlib, PNG plots.
+ * Writes sweep.csv, sweep.md and, with Python + matplotlib, PNG plots. The estimates run like the arm sweep's
+ * ([[SweepJobs]]: on Dask by default, cached in target/sweep/joint3/).
  */
 object Sweep {
   val options: Seq[Opt] = Seq(
-    Opt("out", "DIR", "where sweep.csv, sweep.md and the plots go", "sweep"),
-    Opt(
-      "jobs",
-      "N",
-      "estimates run at once (1..16; each place and route uses one core)",
-      "the number of cores"
-    ),
+    Opt("out", "DIR", "where the CSV, markdown and plots go", "sweep"),
     Opt(
       "evaluate",
       "ENGINE",
-      "with --arms: evaluate the points on 'dask' (tools/sweep/evaluate.py: cached, resumable; docs/distributed-sweeps.md)",
-      "in this process"
+      "where the estimates run: 'dask' (tools/sweep/evaluate.py: cached, resumable, failures recorded; " +
+        "docs/distributed-sweeps.md) or 'serial' (in this process, one after another, uncached)",
+      "dask"
+    ),
+    Opt(
+      "jobs",
+      "N",
+      "workers of the local Dask cluster (1..16; each estimate uses one core)",
+      "the number of cores"
     ),
     Opt(
       "cluster",
       "ADDRESS",
-      "with --evaluate dask: a running Dask scheduler, e.g. tcp://HOST:8786",
+      "a running Dask scheduler to evaluate on, e.g. tcp://HOST:8786",
       "a local cluster"
+    ),
+    Opt(
+      "cache",
+      "DIR",
+      "where the emitted points, manifest, results and cached estimates go",
+      SweepJobs.defaultStore.toString
     ),
     Opt("robots", "LIST", "with --arms: only these robots (comma-separated)", "all"),
     Opt("schedules", "LIST", "with --arms: only these schedule points (comma-separated)", "all"),
-    Opt("seeds", "N", "with --evaluate dask or --emit-only and --fmax: placer seeds 1..N per point", "1")
+    Opt("seeds", "N", "with --arms and --fmax: placer seeds 1..N per point (not with --evaluate serial)", "1")
   )
   val flags: Seq[String] = Seq("fmax", "arms", "emit-only")
   val flagHelp: Map[String, String] = Map(
     "fmax" -> "place and route every point on ECP5 for the Fmax proxy (1 to 5 minutes each)",
-    "emit-only" -> "with --arms: write each point's Verilog and manifest.json for tools/sweep/evaluate.py, no estimate",
+    "emit-only" -> "write each point's Verilog and manifest.json (in --cache) for tools/sweep/evaluate.py, no estimate",
     "arms" -> "sweep every joint of planar3, the UR5 and the Panda over the schedule (clocks per sample, multiplier budget) instead of the joint-3 grid"
   )
 
@@ -188,29 +194,57 @@ object Sweep {
       ""
     ) ++ table(cells)).mkString("", "\n", "\n")
 
-  private def runArms(cli: Cli, out: Path, fmax: Boolean, jobs: Int): Unit = {
+  /** The evaluation the command line asks for; every option is checked before anything is elaborated. */
+  private def evaluation(cli: Cli): Evaluation = {
+    val jobs = cli.get("jobs").map { v =>
+      scala.util
+        .Try(v.toInt)
+        .filter(j => j >= 1 && j <= 16)
+        .getOrElse(throw new InputError(s"command line: --jobs must be an integer in 1..16, got '$v'"))
+    }
     val evaluation = (cli.get("evaluate"), cli.has("emit-only")) match {
       case (Some(_), true) =>
         throw new InputError("command line: --emit-only and --evaluate exclude each other")
-      case (Some("dask"), _) => ArmSweep.Evaluation.Dask(cli.get("cluster"))
+      case (None, true)        => Evaluation.EmitOnly
+      case (Some("serial"), _) => Evaluation.Serial
+      case (Some("dask") | None, _) =>
+        Evaluation.Dask(
+          cli
+            .get("cluster")
+            .fold[Evaluation.Cluster](
+              Evaluation.Cluster.Local(jobs.getOrElse(Runtime.getRuntime.availableProcessors.min(16)))
+            )(Evaluation.Cluster.At)
+        )
       case (Some(e), _) =>
-        throw new InputError(s"command line: --evaluate: unknown engine '$e' (known: dask)")
-      case (None, true)  => ArmSweep.Evaluation.EmitOnly
-      case (None, false) => ArmSweep.Evaluation.Local(jobs)
+        throw new InputError(s"command line: --evaluate: unknown engine '$e' (known: dask, serial)")
     }
-    if (cli.has("cluster") && !cli.get("evaluate").contains("dask"))
+    if (cli.has("cluster") && !evaluation.isInstanceOf[Evaluation.Dask])
       throw new InputError("command line: --cluster needs --evaluate dask")
+    evaluation match {
+      case Evaluation.Dask(_: Evaluation.Cluster.Local) => evaluation
+      case _ if jobs.nonEmpty =>
+        throw new InputError(
+          "command line: --jobs sets the workers of the local Dask cluster: not with --cluster, --evaluate serial or --emit-only"
+        )
+      case _ => evaluation
+    }
+  }
+
+  private def runArms(cli: Cli, out: Path, store: Path, fmax: Boolean, evaluation: Evaluation): Unit = {
     val seeds = cli.get("seeds").fold(1) { v =>
       scala.util
         .Try(v.toInt)
         .filter(n => n >= 1 && n <= 100)
         .getOrElse(throw new InputError(s"command line: --seeds must be an integer in 1..100, got '$v'"))
     }
-    if (seeds > 1 && (!fmax || evaluation.isInstanceOf[ArmSweep.Evaluation.Local]))
-      throw new InputError("command line: --seeds needs --fmax and --evaluate dask or --emit-only")
+    if (seeds > 1 && (!fmax || evaluation == Evaluation.Serial))
+      throw new InputError(
+        "command line: --seeds needs --fmax, and Dask or --emit-only (not --evaluate serial)"
+      )
     val selection = ArmSweep.Selection.of(cli.get("robots"), cli.get("schedules"))
     ArmSweep.run(
       out,
+      store,
       fmax,
       evaluation,
       command(arms = true, cli.path("out").map(_.toString), fmax),
@@ -222,69 +256,48 @@ object Sweep {
   def run(cli: Cli): Unit = {
     val out = cli.pathOr("out", "sweep")
     val fmax = cli.has("fmax")
-    val jobs = cli
-      .get("jobs")
-      .map { v =>
-        scala.util
-          .Try(v.toInt)
-          .filter(j => j >= 1 && j <= 16)
-          .getOrElse(throw new InputError(s"command line: --jobs must be an integer in 1..16, got '$v'"))
+    // The project's build directory, not the user's: sbt runs in the repository, as tools/ is found there too.
+    val store = cli.path("cache").getOrElse(SweepJobs.defaultStore)
+    if (!cli.has("arms"))
+      Seq("robots", "schedules", "seeds").find(cli.has).foreach { o =>
+        throw new InputError(s"command line: --$o needs --arms")
       }
-      .getOrElse(Runtime.getRuntime.availableProcessors.min(16))
-    if (cli.has("arms")) return runArms(cli, out, fmax, jobs)
-    Seq("evaluate", "cluster", "robots", "schedules", "seeds", "emit-only").find(cli.has).foreach { o =>
-      throw new InputError(s"command line: --$o needs --arms")
-    }
-    // A preset equal to a grid point is measured once (place and route takes minutes). Elaboration
-    // and the golden error run here in turn; the estimates (external processes) run `jobs` at once,
-    // after the first one alone has set up the tools' virtual environments.
+    val how = evaluation(cli)
+    if (cli.has("arms")) return runArms(cli, out, store, fmax, how)
+    // A preset equal to a grid point is measured once (place and route takes minutes); it is named by its
+    // first name in the grid.
     val distinct = grid.map(_._2).distinct
+    val names = distinct.map(p => p -> grid.filter(_._2 == p).map(_._1)).toMap
     val compiled = distinct.map(p => p -> Compiler.compile(p, "sweep grid")).toMap
-    val designs = distinct.zipWithIndex.map { case (p, i) =>
+    val points = distinct.zipWithIndex.map { case (p, i) =>
       val c = compiled(p)
-      println(
-        s"sweep: elaborating ${i + 1} of ${distinct.size}: ${grid.filter(_._2 == p).map(_._1).mkString(" = ")}"
-      )
-      (
-        p,
+      println(s"sweep: elaborating ${i + 1} of ${distinct.size}: ${names(p).mkString(" = ")}")
+      SweepJobs.Point(
+        names(p).head,
         c.arm.moduleName,
         Emit.withBlackBoxes(
           ChiselStage
             .emitSystemVerilog(new reducerload.arm.ArmDatapath(c.arm), Array.empty[String], Emit.firtoolOpts)
         ),
-        goldenError(c)
+        Map("configs" -> names(p))
       )
     }
-    val pool = java.util.concurrent.Executors.newFixedThreadPool(jobs)
-    implicit val ec: ExecutionContext = ExecutionContext.fromExecutorService(pool)
-    val measured: Map[LoadParams, (Double, Estimate)] =
-      try {
-        def estimate(d: (LoadParams, String, String, Double), i: Int): (LoadParams, (Double, Estimate)) = {
-          val (p, top, verilog, error) = d
-          val e = Estimate.run(verilog, top, fmax)
-          println(
-            s"sweep: estimated ${i + 1} of ${designs.size}: ${e.les} LEs" + e.fmaxEcp5Mhz
-              .map(f => f", $f%.1f MHz")
-              .getOrElse("")
-          )
-          p -> (error, e)
-        }
-        val first = designs.headOption.map(estimate(_, 0)).toSeq
-        val rest = designs.zipWithIndex.drop(1).map { case (d, i) => Future(estimate(d, i)) }
-        (first ++ Await.result(Future.sequence(rest), Duration.Inf)).toMap
-      } finally pool.shutdown()
-    val rows = grid.map { case (name, p) =>
-      val (error, estimate) = measured(p)
-      val row = Row(name, compiled(p), error, estimate)
-      println(row.cells.mkString("sweep: ", ", ", ""))
-      row
+    val errors = distinct.map(p => p -> goldenError(compiled(p))).toMap
+    SweepJobs.evaluate(how, store.resolve("joint3"), points, fmax, Seq(1)).foreach { results =>
+      val estimates = results.map(r => r.key -> r.estimate).toMap
+      // A failed point has no row; the summary names it.
+      val rows = grid.flatMap { case (name, p) =>
+        estimates(names(p).head).toOption.map(e => Row(name, compiled(p), errors(p), e))
+      }
+      rows.foreach(r => println(r.cells.mkString("sweep: ", ", ", "")))
+      val cells = header +: rows.map(_.cells)
+      val md = markdown(cells, fmax, cli.path("out").map(_.toString))
+      OutputFile.writeAll(out, Seq("sweep.csv" -> csv(cells), "sweep.md" -> md))
+      println(md)
+      val plot = Seq("python3", "tools/sweep/plot.py", out.resolve("sweep.csv").toString, out.toString)
+      val status = plot.!
+      if (status != 0) println(s"sweep: plots not made (${plot.mkString(" ")} exited $status)")
+      SweepJobs.finish(results, out.resolve("sweep.csv"))
     }
-    val cells = header +: rows.map(_.cells)
-    val md = markdown(cells, fmax, cli.path("out").map(_.toString))
-    OutputFile.writeAll(out, Seq("sweep.csv" -> csv(cells), "sweep.md" -> md))
-    println(md)
-    val plot = Seq("python3", "tools/sweep/plot.py", out.resolve("sweep.csv").toString, out.toString)
-    val status = plot.!
-    if (status != 0) println(s"sweep: plots not made (${plot.mkString(" ")} exited $status)")
   }
 }
