@@ -33,7 +33,7 @@ Mounting (golden/arms/mounting/ur5_<mounting>_<kind>.csv). The robot base's orie
 the URDF roll-pitch-yaw R = Rz(yaw) Ry(pitch) Rx(roll) (base to world); the world's gravity is (0, 0, -9.81)
 m/s^2, so in the base frame, where Pinocchio works, it is R^T (0, 0, -9.81): model.gravity is set to that,
 with R from pin.rpy.rpyToMatrix (machine-readable line '# mounting: name=... base-rpy=roll,pitch,yaw').
-  ceiling  base-rpy = (pi, 0, 0): upside down, gravity (0, ~0, +9.81) in the base frame;
+  ceiling  base-rpy = (pi, 0, 0): upside down, gravity (0, -1.2e-15, +9.81) in the base frame;
   tilt30   base-rpy = (0, pi/6, 0): the base tilted 30 degrees about its y axis, gravity
            (4.905, 0, -8.496) in the base frame.
 Kinds: random (1000 rows, seed 11) and rest_to_rest (600 rows, seed 7): the same samples as
