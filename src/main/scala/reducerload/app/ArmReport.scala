@@ -127,7 +127,7 @@ final case class ArmReport(
 
   def summaryLines: Seq[String] = estimate.toSeq.flatMap(_.lines) ++ Seq(
     s"Computes: ${p.dynamics.description}",
-    s"Robot: ${p.chain.name}, ${joints.size} moving joints (numbered from the base), gravity ${p.chain.gravity.toSeq.mkString("(", ", ", ")")} m/s^2 in base coordinates (the mounting, robot.base-rpy, folded in)",
+    s"Robot: ${p.chain.name}, ${joints.size} moving joints (numbered from the base), gravity ${p.chain.gravity.toSeq.mkString("(", ", ", ")")} m/s^2",
     "Joints kept:"
   ) ++ jointLines ++ Seq(
     s"Operations after constant folding and sharing: ${counts.multiplications} multiplications (${counts.constantMultiplications} by a constant), " +

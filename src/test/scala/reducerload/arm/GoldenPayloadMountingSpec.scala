@@ -61,6 +61,10 @@ class GoldenPayloadMountingSpec extends AnyFlatSpec {
       case (mounting, traces) =>
         val p = Compiler.arm(traces.head.config)
         assert(p.chain.gravity == traces.head.chain.gravity)
+        println(s"[golden] ur5 $mounting: gravity ${p.chain.gravity}, ${p.graph.counts}")
+        // The report (and the emitted Verilog's header) states the folded gravity vector.
+        val gravity = s"gravity ${p.chain.gravity.toSeq.mkString("(", ", ", ")")} m/s^2"
+        assert(reducerload.app.ArmReport(p, "ur5", "test").summaryLines.exists(_.contains(gravity)), gravity)
         assert(p.errorBound <= ArmChecks.target, s"$mounting: derived bound ${p.errorBound}")
         val model = new ArmModel(p)
         val samples = traces.flatMap(_.samples)
