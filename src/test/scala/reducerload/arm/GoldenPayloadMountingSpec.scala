@@ -56,7 +56,7 @@ class GoldenPayloadMountingSpec extends AnyFlatSpec {
     }
   }
 
-  it should "compute the mounted UR5 bit-accurately within each joint's derived bound and 1e-3 N·m of Pinocchio" in {
+  it should "compute the mounted UR5 bit-accurately (ArmModel, FastArmModel) within each joint's derived bound and 1e-3 N·m of Pinocchio" in {
     ArmGolden.mounted("ur5").groupBy(_.mounting).toSeq.sortBy(_._1.toString).foreach {
       case (mounting, traces) =>
         val p = Compiler.arm(traces.head.config)
@@ -68,7 +68,16 @@ class GoldenPayloadMountingSpec extends AnyFlatSpec {
         assert(p.errorBound <= ArmChecks.target, s"$mounting: derived bound ${p.errorBound}")
         val model = new ArmModel(p)
         val samples = traces.flatMap(_.samples)
-        val hw = samples.map(model.evaluate)
+        val codes = samples.map(model.encode)
+        val out = codes.map(model.evaluate)
+        // The replay's long-integer model, bit for bit the same.
+        val fast = new reducerload.sim.model.FastArmModel(p)
+        assert(reducerload.sim.model.FastArmModel.supports(p))
+        assert(
+          codes.zip(out).forall { case (c, o) => fast.evaluate(c) == o },
+          s"$mounting: FastArmModel differs"
+        )
+        val hw = out.map(model.torques)
         val pin = traces.flatMap(_.torques)
         val dbl = samples.map(s => Rnea.reference(p.chain, s.q, s.qd, s.qdd))
         p.graph.outputs.indices.foreach { j =>
