@@ -112,6 +112,22 @@ final case class SerialChain(
   }
   def size: Int = joints.size
 
+  /**
+   * The same chain carrying `payload` (mass, centre of mass and inertia about it in the frame of the link
+   * `frame`, one of [[tipFrames]]): merged into the last moving joint's body, as Pinocchio's
+   * `model.inertias[last] += placement * payload` in the golden traces.
+   */
+  def carrying(frame: String, payload: RigidBody): SerialChain = {
+    val pose = tipFrames.getOrElse(
+      frame,
+      throw new IllegalArgumentException(
+        s"$label: '$frame' is not a link the last moving joint carries (${tipFrames.keys.toSeq.sorted.mkString(", ")})"
+      )
+    )
+    val last = joints.last
+    copy(joints = joints.updated(size - 1, last.copy(body = last.body.merge(payload.transformed(pose)))))
+  }
+
   /** The same chain on a base mounted so: its gravity rotated into base coordinates (see [[Mounting]]). */
   def mounted(m: Mounting): SerialChain = if (m.isFloor) this else copy(gravity = m.gravity(gravity))
 

@@ -3,7 +3,7 @@ package reducerload.arm
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.compiler.Compiler
 import reducerload.dynamics.Rnea
-import reducerload.robot.{Mat3, Mounting, RigidBody, SerialChain, Vec3}
+import reducerload.robot.{Mounting, RigidBody, Vec3}
 import reducerload.testutil.ArmGolden
 
 /**
@@ -99,15 +99,6 @@ class GoldenPayloadMountingSpec extends AnyFlatSpec {
     }
   }
 
-  /** The chain with `payload` (in the frame `frame` of the last moving joint's carried links) merged in. */
-  private def carrying(chain: SerialChain, frame: String, payload: RigidBody): SerialChain = {
-    val last = chain.joints.last
-    val pose = chain.tipFrames.getOrElse(frame, fail(s"no frame $frame on ${chain.name}'s last joint"))
-    chain.copy(joints =
-      chain.joints.updated(chain.size - 1, last.copy(body = last.body.merge(payload.transformed(pose))))
-    )
-  }
-
   for (robot <- Seq("ur5", "panda"))
     it should s"match Pinocchio on the $robot carrying payloads (the last body merged with the payload, within 1e-9 N·m)" in {
       val traces = ArmGolden.withPayload(robot)
@@ -129,7 +120,7 @@ class GoldenPayloadMountingSpec extends AnyFlatSpec {
         if (t.name.endsWith("pick_and_place")) assert(changes >= 3, s"${t.name}: $changes payload changes")
         val ref = t.samples.indices.map { i =>
           val s = t.samples(i)
-          Rnea.reference(carrying(t.chain, ranges.frame, payloads(i)), s.q, s.qd, s.qdd)
+          Rnea.reference(t.chain.carrying(ranges.frame, payloads(i)), s.q, s.qd, s.qdd)
         }
         val err = worst(ref, t.torques)
         val bare = worst(t.samples.map(s => Rnea.reference(t.chain, s.q, s.qd, s.qdd)), t.torques)
@@ -150,6 +141,15 @@ class GoldenPayloadMountingSpec extends AnyFlatSpec {
     assert(Set("panda_link7", "panda_link8", "panda_hand").subsetOf(panda.tipFrames.keySet))
     assert(!panda.tipFrames.contains("panda_link6"))
     assert(math.abs(panda.tipFrames("panda_hand").translation.z - 0.107) < 1e-15)
-    assert((panda.tipFrames("panda_hand").rotation * Mat3.identity).isFinite)
+    assert(panda.tipFrames("panda_hand").rotation.isFinite)
+    assert(
+      intercept[IllegalArgumentException](panda.carrying("panda_link6", RigidBody.massless)).getMessage
+        .contains("panda_link6")
+    )
+    // planar3: a payload at the tip adds to m3's point mass.
+    val planar = reducerload.robot.Planar3.chain()
+    val link3 = planar.carrying("tip", RigidBody.pointMass(2.0, Vec3.zero)).joints(2).body
+    assert(link3.mass == 12.0 && (link3.com - Vec3(0.3, 0, 0)).norm < 1e-15)
+    assert(link3.inertia.rows.flatten.forall(x => math.abs(x) < 1e-15))
   }
 }
