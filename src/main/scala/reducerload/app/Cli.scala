@@ -173,7 +173,9 @@ object Cli {
    */
   private def assign[T](setting: Setting[T], value: String): Assignment[T] = {
     val text = setting match {
-      case _: Setting.PerJoint if value.contains(",") && !value.trim.startsWith("[") => s"[$value]"
+      case _: Setting.PerJoint | _: Setting.Orientation
+          if value.contains(",") && !value.trim.startsWith("[") =>
+        s"[$value]"
       case _: Setting.Choice[_] => "\"" + value.replace("\"", "") + "\""
       case _: Setting.Text      => ConfigValueFactory.fromAnyRef(value).render()
       case _                    => value

@@ -39,6 +39,10 @@ final case class LoadParams(
     robot.isPlanar3 || !model.closedForm,
     s"model ${model.name} is the planar arm's joint-3 closed form; robot ${robot.source} needs model rnea"
   )
+  require(
+    robot.mounting.isFloor || !model.closedForm,
+    s"${reducerload.robot.Mounting.setting} = ${robot.mounting} needs model rnea (the joint-3 closed form ${model.name} assumes planar3's own gravity)"
+  )
   targetError.foreach(t =>
     require(!t.isNaN && t > 0 && t < 1e6, s"numeric.target-error must be positive N·m, got $t")
   )

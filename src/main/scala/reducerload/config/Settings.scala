@@ -5,7 +5,7 @@ import reducerload.cordic.{CordicArchitecture, CordicParams}
 import reducerload.fixedpoint.Rounding
 import reducerload.graph.{ConstantMultiplies, ListOrder, ScheduleRequest, Storage}
 import reducerload.load.LoadModel
-import reducerload.robot.RobotParams
+import reducerload.robot.{Mounting, RobotParams}
 import reducerload.util.InputError
 
 import scala.jdk.CollectionConverters._
@@ -135,6 +135,36 @@ object Setting {
   }
 
   /**
+   * The robot base's orientation: a named mounting (`floor`, `ceiling`, `wall`) or `[roll, pitch, yaw]` in
+   * rad (URDF convention).
+   */
+  final class Orientation(key: String, help: String, aliases: Seq[String], get: LoadParams => Mounting)
+      extends Setting[Mounting](key, "rad", help, aliases, get) {
+    private val names = Mounting.named.map(_._1)
+    private val expected = s"${names.mkString(", ")} or [roll, pitch, yaw]"
+    def show(v: Mounting): String = v.name.getOrElse(Seq(v.roll, v.pitch, v.yaw).mkString("[", ", ", "]"))
+    def typeName: String = names.mkString("", "|", "|[roll, pitch, yaw]")
+    def read(c: Config, source: String): Mounting = c.getValue(key).valueType() match {
+      case ConfigValueType.STRING =>
+        val s = c.getString(key)
+        Mounting.named
+          .collectFirst { case (n, m) if n == s => m }
+          .getOrElse(throw new InputError(s"$source: key '$key' must be $expected, got '$s'"))
+      case ConfigValueType.LIST =>
+        val items = c.getList(key).asScala.toSeq
+        if (items.size != 3 || items.exists(_.valueType() != ConfigValueType.NUMBER))
+          wrongType(source, s"$expected (three numbers, rad)", c)
+        val a = items.map(_.unwrapped().asInstanceOf[Number].doubleValue())
+        try Mounting(a(0), a(1), a(2))
+        catch {
+          case e: IllegalArgumentException =>
+            throw new InputError(s"$source: ${e.getMessage.stripPrefix("requirement failed: ")}")
+        }
+      case _ => wrongType(source, expected, c)
+    }
+  }
+
+  /**
    * One value per joint: a single number stands for every joint, a list gives each joint its own (the joint
    * count comes from the robot, not from here), and `keyword` (if any) stands for a derived value, read as an
    * empty Seq: `urdf` takes the URDF's limits, `auto` a derived width, `none` leaves the value out. `integer`
@@ -223,6 +253,15 @@ object Settings {
     "planar3: gravitational acceleration (t1 = 0 points link 1 down; a URDF robot has 9.81 along -z)",
     Seq("g"),
     _.robot.g
+  )
+
+  val robotBaseRpy = new Orientation(
+    Mounting.setting,
+    "the base's orientation in the world (URDF roll, pitch, yaw), whose gravity is (0, 0, -g) (planar3: its own " +
+      "(+g, 0, 0)); R(rpy)^T times it, the gravity in base coordinates, is folded at elaboration. floor = [0, 0, 0]; " +
+      "ceiling = [pi, 0, 0]; wall = [0, pi/2, 0]: base z along world +x, base x down, gravity along base +x",
+    Seq("base-rpy", "mounting"),
+    _.robot.mounting
   )
 
   val robotMaxVelocity = new PerJoint(
@@ -606,6 +645,7 @@ object Settings {
     robotL2,
     robotL3,
     robotG,
+    robotBaseRpy,
     robotMaxVelocity,
     robotMaxAcceleration,
     model,
@@ -738,7 +778,8 @@ object Settings {
           maxAcceleration = ranges(robotMaxAcceleration),
           source = v(robotSource),
           tip = v(robotTip),
-          allowMassless = v(robotAllowMassless)
+          allowMassless = v(robotAllowMassless),
+          mounting = v(robotBaseRpy)
         ),
         model = v(model),
         cordic = CordicParams(

@@ -22,6 +22,8 @@ package reducerload.robot
  * @param allowMassless
  *   accept a URDF whose last joints move no mass (their torque identically zero), with a warning; refused
  *   otherwise (see [[Urdf]])
+ * @param mounting
+ *   the base's orientation in the world (`robot.base-rpy`): rotates the chain's gravity (see [[Mounting]])
  */
 final case class RobotParams(
     m3: Double = 10.0,
@@ -33,7 +35,8 @@ final case class RobotParams(
     maxAcceleration: Seq[Double] = Seq(10.0, 10.0, 10.0),
     source: String = RobotParams.planar3,
     tip: String = "",
-    allowMassless: Boolean = false
+    allowMassless: Boolean = false,
+    mounting: Mounting = Mounting.floor
 ) {
 
   private def finite(x: Double) = !x.isNaN && !x.isInfinite
@@ -62,10 +65,14 @@ final case class RobotParams(
 
   def isPlanar3: Boolean = source == RobotParams.planar3
 
-  /** The serial chain: the built-in planar arm, or the URDF file's chain to its tip (read on each call). */
+  /**
+   * The serial chain: the built-in planar arm, or the URDF file's chain to its tip (read on each call), on
+   * the base's mounting.
+   */
   def chain: SerialChain =
-    if (isPlanar3) Planar3.chain(this)
-    else Urdf.read(java.nio.file.Paths.get(source), Option(tip).filter(_.nonEmpty), allowMassless)
+    (if (isPlanar3) Planar3.chain(this)
+     else Urdf.read(java.nio.file.Paths.get(source), Option(tip).filter(_.nonEmpty), allowMassless))
+      .mounted(mounting)
 
   /** Products of robot constants, folded at elaboration (the joint-3 closed form's coefficients). */
   val a: Double = m3 * l1 * l3 // multiplies dd1 cos(t2+t3) and d1^2 sin(t2+t3)

@@ -86,13 +86,17 @@ final case class ChainJoint(
  *   what reading the robot's description accepted but a user should know (see [[reducerload.util.Warning]])
  * @param source
  *   the file it was read from (empty: built in)
+ * @param tipFrames
+ *   the links the last moving joint carries (its child link, links fixed to it, links of joints locked off
+ *   the chain after it), each with its pose in that joint's frame: where a payload can be attached
  */
 final case class SerialChain(
     name: String,
     joints: IndexedSeq[ChainJoint],
     gravity: Vec3,
     warnings: Seq[reducerload.util.Warning] = Nil,
-    source: String = ""
+    source: String = "",
+    tipFrames: Map[String, Transform] = Map.empty
 ) {
   require(joints.nonEmpty, s"robot $name: the chain has no moving joint")
   require(joints.map(_.name).distinct.size == joints.size, s"robot $name: joint names repeat")
@@ -107,6 +111,25 @@ final case class SerialChain(
     )
   }
   def size: Int = joints.size
+
+  /**
+   * The same chain carrying `payload` (mass, centre of mass and inertia about it in the frame of the link
+   * `frame`, one of [[tipFrames]]): merged into the last moving joint's body, as Pinocchio's
+   * `model.inertias[last] += placement * payload` in the golden traces.
+   */
+  def carrying(frame: String, payload: RigidBody): SerialChain = {
+    val pose = tipFrames.getOrElse(
+      frame,
+      throw new IllegalArgumentException(
+        s"$label: '$frame' is not a link the last moving joint carries (${tipFrames.keys.toSeq.sorted.mkString(", ")})"
+      )
+    )
+    val last = joints.last
+    copy(joints = joints.updated(size - 1, last.copy(body = last.body.merge(payload.transformed(pose)))))
+  }
+
+  /** The same chain on a base mounted so: its gravity rotated into base coordinates (see [[Mounting]]). */
+  def mounted(m: Mounting): SerialChain = if (m.isFloor) this else copy(gravity = m.gravity(gravity))
 
   /** Where a refusal about the robot points: its file, or its name when built in. */
   def label: String = if (source.nonEmpty) source else s"robot $name"

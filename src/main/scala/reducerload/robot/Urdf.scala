@@ -475,7 +475,10 @@ private final class UrdfChainBuilder(source: String, robot: UrdfRobot) {
       },
       gravity = Vec3(0, 0, -9.81),
       warnings = masslessWarnings ++ linkWarnings,
-      source = source
+      source = source,
+      tipFrames = placements.collect {
+        case (link, Placement(Some(k), pose)) if k == moving.size - 1 => link -> pose
+      }
     )
   }
 

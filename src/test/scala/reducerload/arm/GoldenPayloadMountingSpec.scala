@@ -1,0 +1,155 @@
+package reducerload.arm
+
+import org.scalatest.flatspec.AnyFlatSpec
+import reducerload.compiler.Compiler
+import reducerload.dynamics.Rnea
+import reducerload.robot.{Mounting, RigidBody, Vec3}
+import reducerload.testutil.ArmGolden
+
+/**
+ * The Pinocchio traces of golden/arms/mounting and golden/arms/payload (make_golden_payload.py) against the
+ * double reference: the mounted UR5 built with the trace's `robot.base-rpy` (and its bit-accurate model
+ * within the derived bound and 1e-3 N·m), and the UR5 and the Panda with the payload merged into the last
+ * body at its frame's placement. No payload hardware: the payload check is in doubles.
+ */
+class GoldenPayloadMountingSpec extends AnyFlatSpec {
+  behavior of "The payload and mounting golden traces"
+
+  /**
+   * N·m. Pinocchio and the traces' own checks agree to 1e-13; the UR5's URDF writes pi/2 as 1.57079632679
+   * (5e-12 rad short), which Mat3.rpy snaps to exact zeros and ones: that alone moves its torques by up to
+   * 8e-10 N·m (the Panda's full-precision angles agree to 1e-13).
+   */
+  private val tolerance = 1e-9
+
+  private def worst(a: Seq[IndexedSeq[Double]], b: Seq[IndexedSeq[Double]]): Double =
+    a.zip(b).map { case (x, y) => x.zip(y).map { case (u, v) => math.abs(u - v) }.max }.max
+
+  it should "read the mounting as the trace's base-rpy and rotate the UR5's gravity by it" in {
+    val traces = ArmGolden.mounted("ur5")
+    assert(traces.map(_.mounting.name.getOrElse("tilt")).toSet == Set("ceiling", "tilt"))
+    traces.foreach { t =>
+      assert(t.payloads.forall(_.isEmpty) && t.payloadRanges.isEmpty)
+      val expected =
+        if (t.mounting == Mounting.ceiling) Vec3(0, 0, 9.81)
+        else {
+          val (c, s) = (math.cos(math.Pi / 6), math.sin(math.Pi / 6))
+          assert(t.mounting == Mounting(0, math.Pi / 6, 0))
+          Vec3(9.81 * s, 0, -9.81 * c)
+        }
+      assert((t.chain.gravity - expected).norm < 1e-12, s"${t.name}: gravity ${t.chain.gravity}")
+    }
+  }
+
+  it should "match Pinocchio on the ceiling-mounted and the tilted UR5 (the double reference within 1e-9 N·m)" in {
+    ArmGolden.mounted("ur5").foreach { t =>
+      val ref = t.samples.map(s => Rnea.reference(t.chain, s.q, s.qd, s.qdd))
+      val err = worst(ref, t.torques)
+      println(
+        f"[golden] ${t.name} (${t.mounting}): max |rnea - pinocchio| $err%.2e N·m over ${t.samples.size} rows"
+      )
+      assert(err < tolerance, s"${t.name}: $err N·m")
+      // The same samples on the floor-mounted chain are far off: the check sees the mounting.
+      val floor = t.config.robot.copy(mounting = Mounting.floor).chain
+      val unmounted = worst(t.samples.map(s => Rnea.reference(floor, s.q, s.qd, s.qdd)), t.torques)
+      assert(unmounted > 1.0, s"${t.name}: the floor-mounted chain is only $unmounted N·m off")
+    }
+  }
+
+  it should "compute the mounted UR5 bit-accurately (ArmModel, FastArmModel) within each joint's derived bound and 1e-3 N·m of Pinocchio" in {
+    ArmGolden.mounted("ur5").groupBy(_.mounting).toSeq.sortBy(_._1.toString).foreach {
+      case (mounting, traces) =>
+        val p = Compiler.arm(traces.head.config)
+        assert(p.chain.gravity == traces.head.chain.gravity)
+        println(s"[golden] ur5 $mounting: gravity ${p.chain.gravity}, ${p.graph.counts}")
+        // The report (and the emitted Verilog's header) states the folded gravity vector.
+        val gravity = s"gravity ${p.chain.gravity.toSeq.mkString("(", ", ", ")")} m/s^2"
+        assert(reducerload.app.ArmReport(p, "ur5", "test").summaryLines.exists(_.contains(gravity)), gravity)
+        assert(p.errorBound <= ArmChecks.target, s"$mounting: derived bound ${p.errorBound}")
+        val model = new ArmModel(p)
+        val samples = traces.flatMap(_.samples)
+        val codes = samples.map(model.encode)
+        val out = codes.map(model.evaluate)
+        // The replay's long-integer model, bit for bit the same.
+        val fast = new reducerload.sim.model.FastArmModel(p)
+        assert(reducerload.sim.model.FastArmModel.supports(p))
+        assert(
+          codes.zip(out).forall { case (c, o) => fast.evaluate(c) == o },
+          s"$mounting: FastArmModel differs"
+        )
+        val hw = out.map(model.torques)
+        val pin = traces.flatMap(_.torques)
+        val dbl = samples.map(s => Rnea.reference(p.chain, s.q, s.qd, s.qdd))
+        p.graph.outputs.indices.foreach { j =>
+          val vsPin = hw.zip(pin).map { case (h, r) => math.abs(h(j) - r(j)) }.max
+          val vsRef = hw.zip(dbl).map { case (h, r) => math.abs(h(j) - r(j)) }.max
+          println(
+            f"[golden] ur5 $mounting ${p.graph.outputs(j).name}%-20s max |model - pinocchio| $vsPin%.3e N·m " +
+              f"(bound ${p.errorBounds(j)}%.3e)"
+          )
+          assert(
+            vsRef <= p.errorBounds(j),
+            s"$mounting joint ${j + 1}: $vsRef above the bound ${p.errorBounds(j)}"
+          )
+          assert(
+            vsPin <= p.errorBounds(j) + 1e-9 && vsPin <= ArmChecks.target,
+            s"$mounting joint ${j + 1}: $vsPin"
+          )
+        }
+    }
+  }
+
+  for (robot <- Seq("ur5", "panda"))
+    it should s"match Pinocchio on the $robot carrying payloads (the last body merged with the payload, within 1e-9 N·m)" in {
+      val traces = ArmGolden.withPayload(robot)
+      assert(traces.map(_.name).toSet == Set(s"payload/${robot}_random", s"payload/${robot}_pick_and_place"))
+      traces.foreach { t =>
+        val ranges = t.payloadRanges.getOrElse(fail(s"${t.name}: no declared payload ranges"))
+        assert(ranges.maxMass == (if (robot == "ur5") 5.0 else 3.0) && ranges.comRadius == 0.1)
+        assert(ranges.frame == t.config.robot.tip)
+        val payloads = t.payloads.map(_.getOrElse(fail(s"${t.name}: a row without payload")))
+        payloads.foreach { b =>
+          assert(b.mass >= 0 && b.mass <= ranges.maxMass)
+          assert(b.com.norm <= ranges.comRadius + 1e-12)
+          assert(b.inertia.rows.flatten.forall(x => math.abs(x) <= ranges.maxInertia))
+          assert(b.inertia == b.inertia.transpose)
+        }
+        assert(payloads.exists(_.mass == 0) && payloads.exists(_.mass == ranges.maxMass))
+        assert(payloads.exists(b => math.abs(b.com.norm - ranges.comRadius) < 1e-12))
+        val changes = payloads.zip(payloads.drop(1)).count { case (a, b) => a != b }
+        if (t.name.endsWith("pick_and_place")) assert(changes >= 3, s"${t.name}: $changes payload changes")
+        val ref = t.samples.indices.map { i =>
+          val s = t.samples(i)
+          Rnea.reference(t.chain.carrying(ranges.frame, payloads(i)), s.q, s.qd, s.qdd)
+        }
+        val err = worst(ref, t.torques)
+        val bare = worst(t.samples.map(s => Rnea.reference(t.chain, s.q, s.qd, s.qdd)), t.torques)
+        println(
+          f"[golden] ${t.name}: max |rnea with payload - pinocchio| $err%.2e N·m over ${t.samples.size} rows " +
+            f"($changes payload changes; without the payload $bare%.1f N·m off)"
+        )
+        assert(err < tolerance, s"${t.name}: $err N·m")
+        assert(bare > 1.0, s"${t.name}: the payload moves the torques by only $bare N·m")
+      }
+    }
+
+  it should "offer the payload frames the last joint carries, at their URDF placement" in {
+    val ur5 = ArmGolden.of("ur5").head.chain
+    assert(Set("wrist_3_link", "tool0").subsetOf(ur5.tipFrames.keySet))
+    assert(ur5.tipFrames("wrist_3_link") == reducerload.robot.Transform.identity)
+    val panda = ArmGolden.of("panda").head.chain
+    assert(Set("panda_link7", "panda_link8", "panda_hand").subsetOf(panda.tipFrames.keySet))
+    assert(!panda.tipFrames.contains("panda_link6"))
+    assert(math.abs(panda.tipFrames("panda_hand").translation.z - 0.107) < 1e-15)
+    assert(panda.tipFrames("panda_hand").rotation.isFinite)
+    assert(
+      intercept[IllegalArgumentException](panda.carrying("panda_link6", RigidBody.massless)).getMessage
+        .contains("panda_link6")
+    )
+    // planar3: a payload at the tip adds to m3's point mass.
+    val planar = reducerload.robot.Planar3.chain()
+    val link3 = planar.carrying("tip", RigidBody.pointMass(2.0, Vec3.zero)).joints(2).body
+    assert(link3.mass == 12.0 && (link3.com - Vec3(0.3, 0, 0)).norm < 1e-15)
+    assert(link3.inertia.rows.flatten.forall(x => math.abs(x) < 1e-15))
+  }
+}
