@@ -41,7 +41,7 @@ object CsrEmitters {
       s"${4 * CsrMap.minSpan} bytes) after the previous block.",
     "A value wider than 32 bits takes consecutive registers _w0, _w1, ... least significant word first; a signed " +
       "value is sign-extended to whole words. Unused offsets read 0 and ignore writes.",
-    "Access: " + Access.all.map(a => s"${a.name} ${a.meaning}").mkString("; ") + "."
+    "Access: " + Access.all.map(a => s"${a.name} (${a.meaning})").mkString(", ") + "."
   )
 }
 

@@ -3,7 +3,7 @@ package reducerload.regmap
 import reducerload.compiler.Compiled
 import reducerload.config.Settings
 import reducerload.fixedpoint.FixedFormat
-import reducerload.monitor.{JointField, MonitorParams, RegisterEntry, RegisterKey, RegisterMap}
+import reducerload.monitor.{JointField, MonitorParams, MonitorSnapshot, RegisterEntry, RegisterKey}
 import reducerload.robot.JointKind
 
 import java.nio.charset.StandardCharsets
@@ -294,51 +294,72 @@ object ReducerLoadRegisters {
   /**
    * One 32-bit register per word of each monitor register, least significant word first (`_w0`, `_w1`). A
    * signed value fills its top word (sign-extended); the SI format is on word 0's field and scales the
-   * assembled value.
+   * assembled value. Reset values: the shadow bank after reset (the cleared state, as MonitorModel has it).
    */
-  private def monitorBlock(m: MonitorParams, c: Compiled): Block = Block(
-    "monitor",
-    "the monitor's shadow bank: what the last snapshot saw (docs/monitor.md)",
-    BlockContent.Registers(m.registerMap.entries.flatMap { e =>
-      val base = figureName(e)
-      val format = e.key match {
-        case RegisterKey.Joint(j, f) => figureFormat(m, c, j, f)
-        case _                       => FieldFormat.Integer
-      }
-      (0 until e.words).map { w =>
-        val name = if (e.words == 1) base else s"${base}_w$w"
-        val last = w == e.words - 1
-        val width = if (!last || e.signed) 32 else e.width - 32 * w
-        val meaning = (if (e.words == 1) "" else s"bits ${32 * w}.. of ${e.width}: ") + e.meaning
-        val fields = e.key match {
-          case RegisterKey.Joint(_, JointField.Flags) =>
-            Seq(
-              "repeated_peak_seen" -> JointField.FlagBit.repeatedPeakSeen,
-              "momentary_peak_seen" -> JointField.FlagBit.momentaryPeakSeen,
-              "in_event" -> JointField.FlagBit.inEvent,
-              "histogram_saturated" -> JointField.FlagBit.histogramSaturated
-            ).map { case (n, bit) =>
-              Field(n, bit, 1, Access.ReadOnly, n.replace('_', ' '), FieldFormat.Flag)
-            }
-          case RegisterKey.Id =>
-            Seq(ro("value", 0, 32, "0x524D0000 + joint count", RegisterMap.idBase + m.joints))
-          case _ =>
-            Seq(
-              Field(
-                "value",
-                0,
-                width,
-                Access.ReadOnly,
-                e.meaning,
-                if (w == 0) format else FieldFormat.Integer,
-                signed = e.signed && last
-              )
-            )
+  private def monitorBlock(m: MonitorParams, c: Compiled): Block = {
+    val afterReset = MonitorSnapshot.cleared(m).bank(m)
+    def field(
+        name: String,
+        lsb: Int,
+        width: Int,
+        meaning: String,
+        word: Int,
+        format: FieldFormat,
+        signed: Boolean
+    ) =
+      Field(
+        name,
+        lsb,
+        width,
+        Access.ReadOnly,
+        meaning,
+        format,
+        signed,
+        (afterReset(word) >> lsb) & ((BigInt(1) << width) - 1)
+      )
+    Block(
+      "monitor",
+      "the monitor's shadow bank: what the last snapshot saw (docs/monitor.md)",
+      BlockContent.Registers(m.registerMap.entries.flatMap { e =>
+        val base = figureName(e)
+        val format = e.key match {
+          case RegisterKey.Joint(j, f) => figureFormat(m, c, j, f)
+          case _                       => FieldFormat.Integer
         }
-        Register(name, meaning, fields, Source.Monitor(e, w))
-      }
-    })
-  )
+        (0 until e.words).map { w =>
+          val word = e.address + w
+          val name = if (e.words == 1) base else s"${base}_w$w"
+          val last = w == e.words - 1
+          val width = if (!last || e.signed) 32 else e.width - 32 * w
+          val meaning = (if (e.words == 1) "" else s"bits ${32 * w}.. of ${e.width}: ") + e.meaning
+          val fields = e.key match {
+            case RegisterKey.Joint(_, JointField.Flags) =>
+              Seq(
+                "repeated_peak_seen" -> JointField.FlagBit.repeatedPeakSeen,
+                "momentary_peak_seen" -> JointField.FlagBit.momentaryPeakSeen,
+                "in_event" -> JointField.FlagBit.inEvent,
+                "histogram_saturated" -> JointField.FlagBit.histogramSaturated
+              ).map { case (n, bit) =>
+                field(n, bit, 1, n.replace('_', ' '), word, FieldFormat.Flag, signed = false)
+              }
+            case _ =>
+              Seq(
+                field(
+                  "value",
+                  0,
+                  width,
+                  e.meaning,
+                  word,
+                  if (w == 0) format else FieldFormat.Integer,
+                  e.signed && last
+                )
+              )
+          }
+          Register(name, meaning, fields, Source.Monitor(e, w))
+        }
+      })
+    )
+  }
 
   /** The map of a compiled design with a monitor. */
   def apply(c: Compiled): CsrMap = {

@@ -12,20 +12,9 @@ import scala.jdk.CollectionConverters._
 import scala.sys.process._
 import scala.util.{Random, Try}
 
-/** The monitored planar arm the register-map tests use (the monitor lint test's settings). */
+/** The monitored planar arm the register-map tests use (docs/register-map.md's example). */
 object RegMapDesign {
-  val args: Seq[String] = Seq(
-    "--robot",
-    "planar3",
-    "--monitor.enabled",
-    "true",
-    "--monitor.repeated-peak",
-    "[80, 30, 20]",
-    "--monitor.momentary-peak",
-    "[100, 40, 28]",
-    "--monitor.exponent",
-    "[3, 3.3333333333333335, 1.5]"
-  )
+  val args: Seq[String] = reducerload.app.RegisterMapDoc.exampleArgs
   lazy val compiled: Compiled = Cli.parse("emit", args, Emit.options).compiled
   lazy val map: CsrMap = ReducerLoadRegisters(compiled)
 
