@@ -3,7 +3,7 @@ package reducerload.regmap
 import chisel3._
 import chisel3.util.MuxLookup
 import reducerload.arm.{ArmIO, ArmParams}
-import reducerload.monitor.{MonitorParams, MonitoredArm}
+import reducerload.monitor.{JointField, MonitorParams, MonitoredArm}
 import reducerload.pipeline.MultiplierImpl
 
 /**
@@ -87,14 +87,10 @@ class MonitoredArmAvalon(val p: ArmParams, val monitor: MonitorParams, val map: 
 
   private val eventBits = Event.all.map(_.bit).max + 1
   private val flags = arm.io.flags.get
-  private val previousFlags = RegNext(flags, VecInit(Seq.fill(monitor.joints)(0.U(flags.head.getWidth.W))))
+  private def rose(bit: Int): Bool = flags.map(f => f(bit) && !RegNext(f(bit), false.B)).reduce(_ || _)
+  private val inEvent = flags.map(_(JointField.FlagBit.inEvent)).reduce(_ || _)
   private val events = VecInit((0 until eventBits).map { bit =>
-    Event.all.find(_.bit == bit).fold(false.B) { e =>
-      flags
-        .zip(previousFlags)
-        .map { case (now, before) => now(Event.flagBit(e)) && !before(Event.flagBit(e)) }
-        .reduce(_ || _)
-    }
+    Event.all.find(_.bit == bit).fold(false.B)(e => rose(Event.flagBit(e)))
   }).asUInt
   private val irqStatus = RegInit(0.U(eventBits.W))
   private val irqMask = RegInit(0.U(eventBits.W))
@@ -114,10 +110,14 @@ class MonitoredArmAvalon(val p: ArmParams, val monitor: MonitorParams, val map: 
     (io.csr.address >> monitor.addressBits).asUInt === (monitorBlock.base >> monitor.addressBits).U
 
   private def value(r: PlacedRegister): Option[UInt] = r.register.source match {
-    case Source.Constant   => Some(r.register.reset.U(32.W))
-    case Source.Control    => Some(0.U(32.W))
-    case Source.Status     => Some((snapshotReady.asUInt << ReducerLoadRegisters.snapshotReadyBit).asUInt)
-    case Source.Counter(k) => Some(counters(k))
+    case Source.Constant => Some(r.register.reset.U(32.W))
+    case Source.Control  => Some(0.U(32.W))
+    case Source.Status =>
+      Some(
+        (snapshotReady.asUInt << ReducerLoadRegisters.snapshotReadyBit).asUInt |
+          (inEvent.asUInt << ReducerLoadRegisters.inEventBit).asUInt
+      )
+    case Source.Counter(k)      => Some(counters(k))
     case Source.InterruptStatus => Some(irqStatus)
     case Source.InterruptMask   => Some(irqMask)
     case Source.Monitor(_, _)   => None

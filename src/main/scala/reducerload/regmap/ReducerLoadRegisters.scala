@@ -91,8 +91,9 @@ object ReducerLoadRegisters {
     val all: Seq[Command] = Seq(Snapshot, Clear, ClearCounters)
   }
 
-  /** Status bit: the last requested snapshot is in the shadow bank (0 from the request until it lands). */
+  /** Status bits: the last requested snapshot is in the shadow bank; a joint is in a momentary-peak event. */
   val snapshotReadyBit = 0
+  val inEventBit = 1
 
   /** A design's identity for the id block: SHA-256 of the settings and the robot, first 4 bytes. */
   def designHash(c: Compiled): BigInt = {
@@ -196,7 +197,7 @@ object ReducerLoadRegisters {
     )
   )
 
-  private val ctrlBlock = Block(
+  private def ctrlBlock(m: MonitorParams) = Block(
     "ctrl",
     "monitor control and status",
     BlockContent.Registers(
@@ -219,6 +220,15 @@ object ReducerLoadRegisters {
               "1: the last requested snapshot is in the monitor block (0 from the request until it lands)",
               FieldFormat.Flag,
               reset = 1
+            ),
+            Field(
+              "in_event",
+              inEventBit,
+              1,
+              Access.ReadOnly,
+              "1: some joint is in a momentary-peak event now (|tau| > T_M; live, not the snapshot)",
+              FieldFormat.Flag,
+              reset = if (m.clearInEvent) 1 else 0
             )
           ),
           Source.Status
@@ -371,7 +381,7 @@ object ReducerLoadRegisters {
       .place(
         name,
         s"${c.arm.chain.name}: ${c.arm.chain.size} joints, ${c.arm.tag}",
-        Seq(idBlock(c, ps), ctrlBlock, counterBlock, irqBlock, payloadBlock, monitorBlock(m, c))
+        Seq(idBlock(c, ps), ctrlBlock(m), counterBlock, irqBlock, payloadBlock, monitorBlock(m, c))
       )
       .copy(ports = ps)
   }

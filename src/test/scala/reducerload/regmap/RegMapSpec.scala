@@ -203,4 +203,38 @@ class RegMapSpec extends AnyFlatSpec {
     println(s"RegMapSpec: PeakRDL agreement: ${out.linesIterator.toSeq.last}")
     assert(exit == 0 && out.trim == s"checked ${checks.size + 1}, failed 0", out)
   }
+
+  it should "give an Avalon slave whose own module passes Verilator lint -Wall with the project's waivers" in {
+    assume(Try(Seq("verilator", "--version").!!).isSuccess, "verilator is not installed")
+    val c = RegMapDesign.compiled
+    val verilog = Emit.withBlackBoxes(
+      circt.stage.ChiselStage.emitSystemVerilog(
+        new MonitoredArmAvalon(c.arm, c.monitor.get, map),
+        Array.empty[String],
+        Emit.firtoolOpts
+      )
+    )
+    val d = Scratch.dir("regmap-lint-")
+    val sv = d.resolve("MonitoredArmAvalon.sv")
+    Files.write(sv, verilog.getBytes(StandardCharsets.UTF_8))
+    val top = s"MonitoredArmAvalon_${c.arm.tag}"
+    val log = new StringBuilder
+    val status =
+      Seq("verilator", "--lint-only", "-Wall", "--top-module", top, "lint/waivers.vlt", sv.toString)
+        .!(ProcessLogger(l => log.append(l).append('\n'), l => log.append(l).append('\n')))
+    // The new module's own lines; what it instantiates is the monitored arm, linted on its own terms
+    // (EmitSpec), so its warnings are printed, not failed here.
+    val lines = verilog.linesIterator.toIndexedSeq
+    val first = lines.indexWhere(_.startsWith(s"module $top(")) + 1
+    val last = lines.indexWhere(_.startsWith("endmodule"), first) + 1
+    val warning = """%Warning-[A-Z]+: [^:]*MonitoredArmAvalon\.sv:(\d+):.*""".r
+    val (own, others) = log.toString.linesIterator
+      .collect { case l @ warning(line) => (line.toInt, l) }
+      .toSeq
+      .partition { case (line, _) => line >= first && line <= last }
+    others.foreach { case (_, l) => println(s"RegMapSpec: lint outside $top: $l") }
+    assert(first > 0 && last >= first, s"no module $top in the Verilog")
+    assert(own.isEmpty, s"verilator lint of $top (lines $first-$last):\n${own.map(_._2).mkString("\n")}")
+    assert(status == 0 || others.nonEmpty, s"verilator lint failed for $top:\n$log")
+  }
 }
