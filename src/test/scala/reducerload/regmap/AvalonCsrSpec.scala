@@ -3,7 +3,7 @@ package reducerload.regmap
 import chisel3._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import reducerload.arm.{ArmModel, ArmSample}
+import reducerload.arm.{ArmIO, ArmModel, ArmSample}
 import reducerload.dynamics.RandomChains
 import reducerload.graph.SampleCodes
 import reducerload.monitor.{JointField, MonitorCycle, MonitorModel, RegisterKey, TrajectorySummary}
@@ -71,68 +71,114 @@ object AvalonCsrExpect {
   }
 }
 
-/** The only code that talks to the simulator for [[MonitoredArmAvalon]]. */
-object AvalonDriver {
-  def idle(dut: MonitoredArmAvalon): Unit = {
-    dut.io.csr.read.poke(false.B)
-    dut.io.csr.write.poke(false.B)
-    dut.io.in.valid.poke(false.B)
-  }
-
-  def write(dut: MonitoredArmAvalon, word: Int, data: BigInt): Unit = {
-    dut.io.csr.address.poke(word.U)
-    dut.io.csr.writedata.poke(data.U)
-    dut.io.csr.write.poke(true.B)
-    dut.clock.step()
-    dut.io.csr.write.poke(false.B)
-  }
-
-  /** One read; the data in the cycle readdatavalid is high. */
-  def read(dut: MonitoredArmAvalon, word: Int): BigInt = {
-    dut.io.csr.address.poke(word.U)
-    dut.io.csr.read.poke(true.B)
-    dut.clock.step()
-    dut.io.csr.read.poke(false.B)
-    var waited = 0
-    while (!dut.io.csr.readdatavalid.peek().litToBoolean) {
-      require(waited < 8, s"no readdatavalid 8 clocks after a read of word $word")
-      dut.clock.step(); waited += 1
-    }
-    dut.io.csr.readdata.peek().litValue
-  }
+/** A register bus and sample stream as the test drives them (the only code that talks to the simulator). */
+trait CsrBus {
+  def read(word: Int): BigInt
+  def write(word: Int, data: BigInt): Unit
 
   /** Offer each sample until taken; returns the clocks a sample waited (valid and not ready). */
-  def stream(dut: MonitoredArmAvalon, codes: Seq[SampleCodes]): Int = {
+  def stream(codes: Seq[SampleCodes]): Int
+  def irq: Boolean
+  def step(n: Int): Unit
+}
+
+object CsrBus {
+  private def stream(clock: Clock, io: ArmIO, codes: Seq[SampleCodes]): Int = {
     var stalls = 0
     codes.foreach { s =>
-      dut.io.in.valid.poke(true.B)
+      io.in.valid.poke(true.B)
       s.angles.indices.foreach { j =>
-        dut.io.in.bits.q(j).poke(s.angles(j).U)
-        dut.io.in.bits.qd(j).poke(s.velocities(j).S)
-        dut.io.in.bits.qdd(j).poke(s.accelerations(j).S)
+        io.in.bits.q(j).poke(s.angles(j).U)
+        io.in.bits.qd(j).poke(s.velocities(j).S)
+        io.in.bits.qdd(j).poke(s.accelerations(j).S)
       }
-      while (!dut.io.in.ready.peek().litToBoolean) { stalls += 1; dut.clock.step() }
-      dut.clock.step()
+      while (!io.in.ready.peek().litToBoolean) { stalls += 1; clock.step() }
+      clock.step()
     }
-    dut.io.in.valid.poke(false.B)
+    io.in.valid.poke(false.B)
     stalls
+  }
+
+  /** Wait (at most 8 clocks) for `ready`. */
+  private def await(clock: Clock, ready: Bool, what: String): Unit = {
+    var waited = 0
+    while (!ready.peek().litToBoolean) {
+      require(waited < 8, s"$what: no handshake within 8 clocks")
+      clock.step(); waited += 1
+    }
+  }
+
+  def avalon(dut: MonitoredArmAvalon): CsrBus = new CsrBus {
+    private val csr = dut.io.csr
+    csr.read.poke(false.B); csr.write.poke(false.B); dut.io.in.valid.poke(false.B)
+    def write(word: Int, data: BigInt): Unit = {
+      csr.address.poke(word.U); csr.writedata.poke(data.U); csr.write.poke(true.B)
+      dut.clock.step()
+      csr.write.poke(false.B)
+    }
+    def read(word: Int): BigInt = {
+      csr.address.poke(word.U); csr.read.poke(true.B)
+      dut.clock.step()
+      csr.read.poke(false.B)
+      await(dut.clock, csr.readdatavalid, s"read of word $word")
+      csr.readdata.peek().litValue
+    }
+    def stream(codes: Seq[SampleCodes]): Int = CsrBus.stream(dut.clock, dut.io, codes)
+    def irq: Boolean = dut.io.irq.peek().litToBoolean
+    def step(n: Int): Unit = dut.clock.step(n)
+  }
+
+  def axiLite(dut: MonitoredArmAxiLite): CsrBus = new CsrBus {
+    private val csr = dut.io.csr
+    Seq(csr.aw.valid, csr.w.valid, csr.ar.valid, csr.b.ready, csr.r.ready, dut.io.in.valid)
+      .foreach(_.poke(false.B))
+    def write(word: Int, data: BigInt): Unit = {
+      csr.aw.bits.poke((4 * word).U); csr.aw.valid.poke(true.B)
+      csr.w.bits.data.poke(data.U); csr.w.bits.strb.poke(0xf.U); csr.w.valid.poke(true.B)
+      await(dut.clock, csr.aw.ready, s"write of word $word")
+      dut.clock.step()
+      csr.aw.valid.poke(false.B); csr.w.valid.poke(false.B)
+      await(dut.clock, csr.b.valid, s"write response of word $word")
+      assert(csr.b.bits.peek().litValue == 0, "write response not OKAY")
+      csr.b.ready.poke(true.B)
+      dut.clock.step()
+      csr.b.ready.poke(false.B)
+    }
+    def read(word: Int): BigInt = {
+      csr.ar.bits.poke((4 * word).U); csr.ar.valid.poke(true.B)
+      await(dut.clock, csr.ar.ready, s"read of word $word")
+      dut.clock.step()
+      csr.ar.valid.poke(false.B)
+      await(dut.clock, csr.r.valid, s"read data of word $word")
+      assert(csr.r.bits.resp.peek().litValue == 0, "read response not OKAY")
+      val data = csr.r.bits.data.peek().litValue
+      csr.r.ready.poke(true.B)
+      dut.clock.step()
+      csr.r.ready.poke(false.B)
+      data
+    }
+    def stream(codes: Seq[SampleCodes]): Int = CsrBus.stream(dut.clock, dut.io, codes)
+    def irq: Boolean = dut.io.irq.peek().litToBoolean
+    def step(n: Int): Unit = dut.clock.step(n)
   }
 }
 
 /**
- * The monitored planar arm behind its Avalon-MM register slave, on one compiled design: the identification
- * block read through the bus equals the description's constants and the independently known ones; after a
- * seeded stream (some samples beyond the declared ranges) a snapshot written through the bus gives, word for
- * word, the bank of MonitorModel fed by ArmModel; the counters, the interrupt status, mask, line and W1C.
+ * The monitored planar arm behind its Avalon-MM register slave, and behind AXI4-Lite (one compiled design
+ * each): the identification block read through the bus equals the description's constants and the
+ * independently known ones; after a seeded stream (some samples beyond the declared ranges) a snapshot
+ * written through the bus gives, word for word, the bank of MonitorModel fed by ArmModel; the counters, the
+ * interrupt status, mask, line and W1C.
  */
 class AvalonCsrSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "MonitoredArmAvalon"
 
-  it should "read the identification block and a snapshot of the monitor through the bus as the models say" in {
+  /** The test on any bus: the expected values computed here, the bus driven by the returned check. */
+  private def scenario(label: String): CsrBus => Unit = {
     val c = RegMapDesign.compiled
     val map = RegMapDesign.map
     val m = c.monitor.get
-    val seed = Seeds("AvalonCsrSpec", 32)
+    val seed = Seeds(s"AvalonCsrSpec $label", 32)
     val rng = new Random(seed)
     val model = new ArmModel(c.arm)
     val samples = IndexedSeq.tabulate(SimBackend.scale(300)) { i =>
@@ -146,58 +192,76 @@ class AvalonCsrSpec extends AnyFlatSpec with ChiselScalatestTester {
     val bank = AvalonCsrExpect.monitorBank(c, codes)
     val events = AvalonCsrExpect.events(c, bank)
     println(
-      s"[avalon-csr] ${codes.size} samples ($outOfRange out of range), expected interrupt status $events"
+      s"[csr $label] ${codes.size} samples ($outOfRange out of range), expected interrupt status $events"
     )
     def word(name: String) = map.register(name).word
     val monitor = map.block("monitor")
 
-    test(new MonitoredArmAvalon(c.arm, m, map)).withAnnotations(SimBackend.annotations) { dut =>
-      dut.clock.setTimeout(0)
-      AvalonDriver.idle(dut)
-      dut.clock.step()
+    def check(bus: CsrBus): Unit = {
+      bus.step(1)
       AvalonCsrExpect.id(map).foreach { case (r, want) =>
-        assert(AvalonDriver.read(dut, r.word) == want, s"${r.cName}")
+        assert(bus.read(r.word) == want, s"${r.cName}")
       }
       AvalonCsrExpect.independent(m.joints).foreach { case (name, want) =>
-        val got = AvalonDriver.read(dut, word(name))
+        val got = bus.read(word(name))
         assert((if (name == "id_shape") got & 0xff else got) == want, s"$name: ${got.toString(16)}")
       }
-      AvalonDriver.write(dut, word("irq_mask"), (BigInt(1) << ReducerLoadRegisters.Event.all.size) - 1)
-      val stalls = AvalonDriver.stream(dut, codes)
-      dut.clock.step(c.arm.latency + 2)
-      AvalonDriver.write(dut, word("ctrl_control"), BigInt(1) << ReducerLoadRegisters.Command.Snapshot.bit)
+      bus.write(word("irq_mask"), (BigInt(1) << ReducerLoadRegisters.Event.all.size) - 1)
+      val stalls = bus.stream(codes)
+      bus.step(c.arm.latency + 2)
+      bus.write(word("ctrl_control"), BigInt(1) << ReducerLoadRegisters.Command.Snapshot.bit)
       val inEvent = if (AvalonCsrExpect.inEvent(c, bank)) BigInt(2) else BigInt(0)
-      assert(AvalonDriver.read(dut, word("ctrl_status")) == inEvent, "snapshot_ready right after the request")
-      dut.clock.step(m.snapshotLatency + 1)
+      assert(bus.read(word("ctrl_status")) == inEvent, "snapshot_ready right after the request")
+      bus.step(m.snapshotLatency + 1)
       assert(
-        AvalonDriver.read(dut, word("ctrl_status")) == (inEvent | 1),
+        bus.read(word("ctrl_status")) == (inEvent | 1),
         "snapshot_ready after the snapshot latency"
       )
       val read = ArrayBuffer.empty[BigInt]
-      monitor.registers.foreach(r => read += AvalonDriver.read(dut, r.word))
+      monitor.registers.foreach(r => read += bus.read(r.word))
       val monitorWords = m.registerMap.entries.flatMap(e => (0 until e.words).map(w => e.address + w))
       val want = monitorWords.map(bank)
       val wrong = monitor.registers.indices
         .filter(i => read(i) != want(i))
         .map(i => s"${monitor.registers(i).cName}: bus ${read(i)}, model ${want(i)}")
       assert(wrong.isEmpty, wrong.mkString("; "))
-      assert(AvalonDriver.read(dut, word("counters_samples_in")) == codes.size)
-      assert(AvalonDriver.read(dut, word("counters_samples_out")) == codes.size)
-      assert(AvalonDriver.read(dut, word("counters_out_of_range")) == outOfRange)
-      assert(AvalonDriver.read(dut, word("counters_stalls")) == stalls)
-      assert(AvalonDriver.read(dut, word("irq_status")) == events)
-      assert(dut.io.irq.peek().litToBoolean == (events != 0))
-      AvalonDriver.write(dut, word("irq_status"), events)
-      assert(AvalonDriver.read(dut, word("irq_status")) == 0, "W1C left bits set")
-      assert(!dut.io.irq.peek().litToBoolean)
-      AvalonDriver.write(
-        dut,
+      assert(bus.read(word("counters_samples_in")) == codes.size)
+      assert(bus.read(word("counters_samples_out")) == codes.size)
+      assert(bus.read(word("counters_out_of_range")) == outOfRange)
+      assert(bus.read(word("counters_stalls")) == stalls)
+      assert(bus.read(word("irq_status")) == events)
+      assert(bus.irq == (events != 0))
+      bus.write(word("irq_status"), events)
+      assert(bus.read(word("irq_status")) == 0, "W1C left bits set")
+      assert(!bus.irq)
+      bus.write(
         word("ctrl_control"),
         BigInt(1) << ReducerLoadRegisters.Command.ClearCounters.bit
       )
-      dut.clock.step()
-      assert(AvalonDriver.read(dut, word("counters_samples_in")) == 0)
-      assert(AvalonDriver.read(dut, map.block("payload").base) == 0, "the reserved payload block reads 0")
+      bus.step(1)
+      assert(bus.read(word("counters_samples_in")) == 0)
+      assert(bus.read(map.block("payload").base) == 0, "the reserved payload block reads 0")
     }
+    check
+  }
+
+  it should "read the identification block and a snapshot of the monitor through Avalon-MM as the models say" in {
+    val c = RegMapDesign.compiled
+    val check = scenario("avalon")
+    test(new MonitoredArmAvalon(c.arm, c.monitor.get, RegMapDesign.map))
+      .withAnnotations(SimBackend.annotations) { dut =>
+        dut.clock.setTimeout(0)
+        check(CsrBus.avalon(dut))
+      }
+  }
+
+  it should "read and write the same registers through AXI4-Lite (byte addresses, handshakes, responses)" in {
+    val c = RegMapDesign.compiled
+    val check = scenario("axi4-lite")
+    test(new MonitoredArmAxiLite(c.arm, c.monitor.get, RegMapDesign.map))
+      .withAnnotations(SimBackend.annotations) { dut =>
+        dut.clock.setTimeout(0)
+        check(CsrBus.axiLite(dut))
+      }
   }
 }
