@@ -53,3 +53,11 @@ lazy val root = (project in file("."))
     Compile / mainClass := Some("reducerload.app.Main"),
     Test / testOptions += Tests.Argument(TestFrameworks.ScalaTest, "-oD")
   )
+
+// The generator's version for the register map's identification block (regmap/ReducerLoadRegisters.scala):
+// written once here, read as a resource.
+Compile / resourceGenerators += Def.task {
+  val file = (Compile / resourceManaged).value / "reducerload" / "version.txt"
+  IO.write(file, version.value + "\n")
+  Seq(file)
+}.taskValue

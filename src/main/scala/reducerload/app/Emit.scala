@@ -7,6 +7,7 @@ import reducerload.config.Settings
 import reducerload.cordic.CordicSinCos
 import reducerload.compiler.Compiled
 import reducerload.monitor.MonitoredArm
+import reducerload.regmap.{CsrEmitters, CsrFile, ReducerLoadRegisters}
 import reducerload.util.{InputError, OutputFile}
 
 import java.nio.file.Path
@@ -19,13 +20,17 @@ object Top {
   val all: Seq[Top] = Seq(Load, SinCos)
 }
 
-/** What an emission produced, in memory until written. */
+/**
+ * What an emission produced, in memory until written; `registerFiles`: the register map's C header, reference
+ * and SystemRDL (a design with the monitor).
+ */
 final case class Emission(
     topModule: String,
     verilog: String,
     reportMd: String,
     reportJson: String,
-    config: String
+    config: String,
+    registerFiles: Seq[CsrFile] = Nil
 )
 
 object Emit {
@@ -119,7 +124,11 @@ object Emit {
         c.config,
         Seq("Effective configuration of this emission; regenerate with:", s"  $command")
       )
-    Emission(r.moduleName, header + body, r.markdown, r.json, config)
+    val registerFiles = (top, c.monitor) match {
+      case (Top.Load, Some(_)) => CsrEmitters.all(ReducerLoadRegisters(c), command)
+      case _                   => Nil
+    }
+    Emission(r.moduleName, header + body, r.markdown, r.json, config, registerFiles)
   }
 
   /** Write all files or none ([[OutputFile.writeAll]]). */
@@ -131,7 +140,7 @@ object Emit {
         "report.md" -> e.reportMd,
         "report.json" -> e.reportJson,
         "config.conf" -> e.config
-      )
+      ) ++ e.registerFiles.map(f => f.name -> f.text)
     )
 
   def run(cli: Cli, commandLine: String): Unit = {

@@ -16,13 +16,18 @@ import reducerload.pipeline.{MultiplierImpl, PipelinedMultiplier}
  * and snapshot exactly as [[MonitorModel.step]] does. Data registers carry no reset; the valid and command
  * bits and the state do.
  */
-class JointMonitor(p: MonitorParams, j: Int)(implicit multiplierImpl: MultiplierImpl) extends Module {
+class JointMonitor(p: MonitorParams, j: Int, liveFlags: Boolean = false)(implicit
+    multiplierImpl: MultiplierImpl
+) extends Module {
   override def desiredName = s"JointMonitor_${p.jointNames(j)}"
   val io = IO(new Bundle {
     val in = Flipped(Valid(new MonitorJointSample(p, j)))
     val snapshot = Input(Bool())
     val clear = Input(Bool())
     val shadow = Output(new JointMonitorState(p, j))
+    // The live state's flags (JointField.Flags' bits), for a bus wrapper's interrupt; absent by default, so
+    // the monitor's Verilog is the same without it.
+    val flags = if (liveFlags) Some(Output(UInt(JointField.FlagBit.count.W))) else None
   })
   private val (tf, vf, table) = (p.torqueFormats(j), p.velocityFormats(j), p.powerTables(j))
   private val update = p.updateStage
@@ -212,4 +217,5 @@ class JointMonitor(p: MonitorParams, j: Int)(implicit multiplierImpl: Multiplier
   live := next
   when(snapshot)(shadow := live)
   io.shadow := shadow
+  io.flags.foreach(_ := live.field(JointField.Flags, JointField.FlagBit.count))
 }

@@ -22,11 +22,12 @@ import reducerload.arm.{ArmDatapath, ArmIO, ArmInput, ArmOutput, ArmOutputCodes,
  * cycle t holds the samples whose torques left `io.out` before cycle t, i.e. the samples given on `io.in`
  * before cycle t - `p.latency`.
  */
-class MonitoredArm(val p: ArmParams, val monitor: MonitorParams)(implicit multiplierImpl: MultiplierImpl)
-    extends Module {
+class MonitoredArm(val p: ArmParams, val monitor: MonitorParams, liveFlags: Boolean = false)(implicit
+    multiplierImpl: MultiplierImpl
+) extends Module {
   MonitoredArm.check(p, monitor)
   override def desiredName = s"MonitoredArm_${p.tag}"
-  val io = IO(new MonitoredArmIO(p, monitor))
+  val io = IO(new MonitoredArmIO(p, monitor, liveFlags))
   private val joints = p.chain.size
   private val numerics = p.numerics
 
@@ -48,7 +49,7 @@ class MonitoredArm(val p: ArmParams, val monitor: MonitorParams)(implicit multip
 
   private val sampleOutOfRange = datapath.io.out.bits.outOfRange.asUInt.orR
 
-  private val reducers = Module(new ReducerMonitor(monitor))
+  private val reducers = Module(new ReducerMonitor(monitor, liveFlags))
   reducers.io.in.valid := datapath.io.out.valid
   (0 until joints).foreach { j =>
     val width = monitor.torqueFormats(j).width
@@ -60,11 +61,16 @@ class MonitoredArm(val p: ArmParams, val monitor: MonitorParams)(implicit multip
     reducers.io.in.bits.outOfRange(j) := sampleOutOfRange
   }
   io.host <> reducers.io.host
+  io.flags.foreach(_ := reducers.io.flags.get)
 }
 
-/** [[MonitoredArm]]'s ports: the datapath's ([[ArmIO]]) and the monitor's host port. */
-class MonitoredArmIO(p: ArmParams, monitor: MonitorParams) extends ArmIO(p) {
+/**
+ * [[MonitoredArm]]'s ports: the datapath's ([[ArmIO]]) and the monitor's host port; with `liveFlags`, every
+ * joint's live flags (JointField.Flags' bits) for a bus wrapper's interrupt.
+ */
+class MonitoredArmIO(p: ArmParams, monitor: MonitorParams, liveFlags: Boolean = false) extends ArmIO(p) {
   val host = new MonitorHostPort(monitor)
+  val flags = if (liveFlags) Some(Output(Vec(monitor.joints, UInt(JointField.FlagBit.count.W)))) else None
 }
 
 object MonitoredArm {

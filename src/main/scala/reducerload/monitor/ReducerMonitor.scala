@@ -13,17 +13,21 @@ import reducerload.pipeline.MultiplierImpl
  *
  * Timing in input cycles (docs/monitor.md): a snapshot pulsed in cycle t holds every valid sample of cycles
  * before t, none from t on; a clear pulsed in cycle t makes the sample of cycle t the first of the new
- * period. Both together: read-and-reset with no sample lost or counted twice.
+ * period. Both together: read-and-reset with no sample lost or counted twice. With `liveFlags`, `io.flags`
+ * gives every joint's live flags (a bus wrapper's interrupt sources).
  */
-class ReducerMonitor(val p: MonitorParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
+class ReducerMonitor(val p: MonitorParams, liveFlags: Boolean = false)(implicit
+    multiplierImpl: MultiplierImpl
+) extends Module {
   override def desiredName = s"ReducerMonitor_${p.joints}j"
   val io = IO(new Bundle {
     val in = Flipped(Valid(new MonitorSample(p)))
     val host = new MonitorHostPort(p)
+    val flags = if (liveFlags) Some(Output(Vec(p.joints, UInt(JointField.FlagBit.count.W)))) else None
   })
 
   private val joints = (0 until p.joints).map { j =>
-    val m = Module(new JointMonitor(p, j))
+    val m = Module(new JointMonitor(p, j, liveFlags))
     m.io.in.valid := io.in.valid
     m.io.in.bits.torque := io.in.bits.torque(j)
     m.io.in.bits.velocity := io.in.bits.velocity(j)
@@ -54,6 +58,7 @@ class ReducerMonitor(val p: MonitorParams)(implicit multiplierImpl: MultiplierIm
     "ReducerMonitor: register bank size differs from the register map"
   )
   // Padded to a power of two so every address selects a word (unused ones read 0).
+  io.flags.foreach(f => f := VecInit(joints.map(_.io.flags.get)))
   private val bank = VecInit(words ++ Seq.fill((1 << p.addressBits) - words.size)(0.U(32.W)))
   io.host.readData := RegNext(bank(io.host.readAddress))
 }

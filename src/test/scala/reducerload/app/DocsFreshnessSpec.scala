@@ -44,7 +44,8 @@ class DocsFreshnessSpec extends AnyFlatSpec {
     "docs/sweep/arms.md" -> (() => linesOf(sweepMarkdown("arms"))),
     "./sbt --error \"runMain reducerload.monitor.MonitorDoc\"" -> (() =>
       linesOf(MonitorDoc.text).drop(1).dropRight(1)
-    )
+    ),
+    RegisterMapDoc.key -> (() => RegisterMapDoc.lines)
   )
 
   private val begin = "<!-- generated: "

@@ -1,0 +1,267 @@
+package reducerload.regmap
+
+import chisel3._
+import chiseltest._
+import org.scalatest.flatspec.AnyFlatSpec
+import reducerload.arm.{ArmIO, ArmModel, ArmSample}
+import reducerload.dynamics.RandomChains
+import reducerload.graph.SampleCodes
+import reducerload.monitor.{JointField, MonitorCycle, MonitorModel, RegisterKey, TrajectorySummary}
+import reducerload.testutil.{Seeds, SimBackend}
+import reducerload.testutil.SimBackend.multiplierImpl
+
+import java.nio.charset.StandardCharsets
+import java.nio.file.{Files, Paths}
+import scala.collection.mutable.ArrayBuffer
+import scala.util.Random
+
+/** What the test expects, in plain Scala from the description, the models and independent constants. */
+object AvalonCsrExpect {
+
+  /**
+   * Every identification register's value, from the description (its constants are what the RTL must hold).
+   */
+  def id(map: CsrMap): Seq[(PlacedRegister, BigInt)] =
+    map.block("id").registers.map(r => r -> r.register.reset)
+
+  /** Identification values the test knows on its own: the magic ("RLOD"), build.sbt's version, the joints. */
+  def independent(joints: Int): Map[String, BigInt] = {
+    val build = new String(
+      Files.readAllBytes(Paths.get(sys.env.getOrElse("REDUCERLOAD_CWD", ".")).resolve("build.sbt")),
+      StandardCharsets.UTF_8
+    )
+    val v = """ThisBuild / version := "(\d+)\.(\d+)\.(\d+)""".r.findFirstMatchIn(build).get
+    val Seq(major, minor, patch) = (1 to 3).map(i => v.group(i).toInt)
+    Map(
+      "id_magic" -> BigInt("524C4F44", 16),
+      "id_version" -> BigInt((major << 16) | (minor << 8) | patch),
+      "id_shape" -> BigInt(joints)
+    )
+  }
+
+  /** The monitor's shadow bank after `codes` and one snapshot (no clear): MonitorModel fed by ArmModel. */
+  def monitorBank(c: reducerload.compiler.Compiled, codes: Seq[SampleCodes]): IndexedSeq[BigInt] = {
+    val m = c.monitor.get
+    val fed = TrajectorySummary.monitorInputs(c.arm, codes)
+    val model = new MonitorModel(m)
+    val state =
+      model.run(fed.iterator.map(s => MonitorCycle(Some(s))) ++ Iterator(MonitorCycle(None, snapshot = true)))
+    state.shadow.bank(m)
+  }
+
+  /** Whether a joint is in a momentary-peak event at the snapshot (the live flag, unchanged since). */
+  def inEvent(c: reducerload.compiler.Compiled, bank: IndexedSeq[BigInt]): Boolean = {
+    val m = c.monitor.get
+    val values = m.registerMap.decode(bank)
+    (0 until m.joints).exists(j =>
+      values(RegisterKey.Joint(j, JointField.Flags)).testBit(JointField.FlagBit.inEvent)
+    )
+  }
+
+  /** The interrupt status after `bank`'s samples from a cleared monitor: a flag seen on any joint. */
+  def events(c: reducerload.compiler.Compiled, bank: IndexedSeq[BigInt]): BigInt = {
+    val m = c.monitor.get
+    val values = m.registerMap.decode(bank)
+    ReducerLoadRegisters.Event.all.map { e =>
+      val seen = (0 until m.joints).exists(j =>
+        values(RegisterKey.Joint(j, JointField.Flags)).testBit(ReducerLoadRegisters.Event.flagBit(e))
+      )
+      if (seen) BigInt(1) << e.bit else BigInt(0)
+    }.sum
+  }
+}
+
+/** A register bus and sample stream as the test drives them (the only code that talks to the simulator). */
+trait CsrBus {
+  def read(word: Int): BigInt
+  def write(word: Int, data: BigInt): Unit
+
+  /** Offer each sample until taken; returns the clocks a sample waited (valid and not ready). */
+  def stream(codes: Seq[SampleCodes]): Int
+  def irq: Boolean
+  def step(n: Int): Unit
+}
+
+object CsrBus {
+  private def stream(clock: Clock, io: ArmIO, codes: Seq[SampleCodes]): Int = {
+    var stalls = 0
+    codes.foreach { s =>
+      io.in.valid.poke(true.B)
+      s.angles.indices.foreach { j =>
+        io.in.bits.q(j).poke(s.angles(j).U)
+        io.in.bits.qd(j).poke(s.velocities(j).S)
+        io.in.bits.qdd(j).poke(s.accelerations(j).S)
+      }
+      while (!io.in.ready.peek().litToBoolean) { stalls += 1; clock.step() }
+      clock.step()
+    }
+    io.in.valid.poke(false.B)
+    stalls
+  }
+
+  /** Wait (at most 8 clocks) for `ready`. */
+  private def await(clock: Clock, ready: Bool, what: String): Unit = {
+    var waited = 0
+    while (!ready.peek().litToBoolean) {
+      require(waited < 8, s"$what: no handshake within 8 clocks")
+      clock.step(); waited += 1
+    }
+  }
+
+  def avalon(dut: MonitoredArmAvalon): CsrBus = new CsrBus {
+    private val csr = dut.io.csr
+    csr.read.poke(false.B); csr.write.poke(false.B); dut.io.in.valid.poke(false.B)
+    def write(word: Int, data: BigInt): Unit = {
+      csr.address.poke(word.U); csr.writedata.poke(data.U); csr.write.poke(true.B)
+      dut.clock.step()
+      csr.write.poke(false.B)
+    }
+    def read(word: Int): BigInt = {
+      csr.address.poke(word.U); csr.read.poke(true.B)
+      dut.clock.step()
+      csr.read.poke(false.B)
+      await(dut.clock, csr.readdatavalid, s"read of word $word")
+      csr.readdata.peek().litValue
+    }
+    def stream(codes: Seq[SampleCodes]): Int = CsrBus.stream(dut.clock, dut.io, codes)
+    def irq: Boolean = dut.io.irq.peek().litToBoolean
+    def step(n: Int): Unit = dut.clock.step(n)
+  }
+
+  def axiLite(dut: MonitoredArmAxiLite): CsrBus = new CsrBus {
+    private val csr = dut.io.csr
+    Seq(csr.aw.valid, csr.w.valid, csr.ar.valid, csr.b.ready, csr.r.ready, dut.io.in.valid)
+      .foreach(_.poke(false.B))
+    def write(word: Int, data: BigInt): Unit = {
+      csr.aw.bits.poke((4 * word).U); csr.aw.valid.poke(true.B)
+      csr.w.bits.data.poke(data.U); csr.w.bits.strb.poke(0xf.U); csr.w.valid.poke(true.B)
+      await(dut.clock, csr.aw.ready, s"write of word $word")
+      dut.clock.step()
+      csr.aw.valid.poke(false.B); csr.w.valid.poke(false.B)
+      await(dut.clock, csr.b.valid, s"write response of word $word")
+      assert(csr.b.bits.peek().litValue == 0, "write response not OKAY")
+      csr.b.ready.poke(true.B)
+      dut.clock.step()
+      csr.b.ready.poke(false.B)
+    }
+    def read(word: Int): BigInt = {
+      csr.ar.bits.poke((4 * word).U); csr.ar.valid.poke(true.B)
+      await(dut.clock, csr.ar.ready, s"read of word $word")
+      dut.clock.step()
+      csr.ar.valid.poke(false.B)
+      await(dut.clock, csr.r.valid, s"read data of word $word")
+      assert(csr.r.bits.resp.peek().litValue == 0, "read response not OKAY")
+      val data = csr.r.bits.data.peek().litValue
+      csr.r.ready.poke(true.B)
+      dut.clock.step()
+      csr.r.ready.poke(false.B)
+      data
+    }
+    def stream(codes: Seq[SampleCodes]): Int = CsrBus.stream(dut.clock, dut.io, codes)
+    def irq: Boolean = dut.io.irq.peek().litToBoolean
+    def step(n: Int): Unit = dut.clock.step(n)
+  }
+}
+
+/**
+ * The monitored planar arm behind its Avalon-MM register slave, and behind AXI4-Lite (one compiled design
+ * each): the identification block read through the bus equals the description's constants and the
+ * independently known ones; after a seeded stream (some samples beyond the declared ranges) a snapshot
+ * written through the bus gives, word for word, the bank of MonitorModel fed by ArmModel; the counters, the
+ * interrupt status, mask, line and W1C.
+ */
+class AvalonCsrSpec extends AnyFlatSpec with ChiselScalatestTester {
+  behavior of "MonitoredArmAvalon"
+
+  /** The test on any bus: the expected values computed here, the bus driven by the returned check. */
+  private def scenario(label: String): CsrBus => Unit = {
+    val c = RegMapDesign.compiled
+    val map = RegMapDesign.map
+    val m = c.monitor.get
+    val seed = Seeds(s"AvalonCsrSpec $label", 32)
+    val rng = new Random(seed)
+    val model = new ArmModel(c.arm)
+    val samples = IndexedSeq.tabulate(SimBackend.scale(300)) { i =>
+      val scale = if (i % 25 == 7) 1.4 else 0.95
+      val (q, qd, qdd) =
+        RandomChains.sample(rng, c.arm.maxVelocity.map(_ * scale), c.arm.maxAcceleration.map(_ * scale))
+      ArmSample(q, qd, qdd)
+    }
+    val codes = samples.map(model.encode)
+    val outOfRange = codes.count(s => model.evaluate(s).outOfRange.exists(identity))
+    val bank = AvalonCsrExpect.monitorBank(c, codes)
+    val events = AvalonCsrExpect.events(c, bank)
+    println(
+      s"[csr $label] ${codes.size} samples ($outOfRange out of range), expected interrupt status $events"
+    )
+    def word(name: String) = map.register(name).word
+    val monitor = map.block("monitor")
+
+    def check(bus: CsrBus): Unit = {
+      bus.step(1)
+      AvalonCsrExpect.id(map).foreach { case (r, want) =>
+        assert(bus.read(r.word) == want, s"${r.cName}")
+      }
+      AvalonCsrExpect.independent(m.joints).foreach { case (name, want) =>
+        val got = bus.read(word(name))
+        assert((if (name == "id_shape") got & 0xff else got) == want, s"$name: ${got.toString(16)}")
+      }
+      bus.write(word("irq_mask"), (BigInt(1) << ReducerLoadRegisters.Event.all.size) - 1)
+      val stalls = bus.stream(codes)
+      bus.step(c.arm.latency + 2)
+      bus.write(word("ctrl_control"), BigInt(1) << ReducerLoadRegisters.Command.Snapshot.bit)
+      val inEvent = if (AvalonCsrExpect.inEvent(c, bank)) BigInt(2) else BigInt(0)
+      assert(bus.read(word("ctrl_status")) == inEvent, "snapshot_ready right after the request")
+      bus.step(m.snapshotLatency + 1)
+      assert(
+        bus.read(word("ctrl_status")) == (inEvent | 1),
+        "snapshot_ready after the snapshot latency"
+      )
+      val read = ArrayBuffer.empty[BigInt]
+      monitor.registers.foreach(r => read += bus.read(r.word))
+      val monitorWords = m.registerMap.entries.flatMap(e => (0 until e.words).map(w => e.address + w))
+      val want = monitorWords.map(bank)
+      val wrong = monitor.registers.indices
+        .filter(i => read(i) != want(i))
+        .map(i => s"${monitor.registers(i).cName}: bus ${read(i)}, model ${want(i)}")
+      assert(wrong.isEmpty, wrong.mkString("; "))
+      assert(bus.read(word("counters_samples_in")) == codes.size)
+      assert(bus.read(word("counters_samples_out")) == codes.size)
+      assert(bus.read(word("counters_out_of_range")) == outOfRange)
+      assert(bus.read(word("counters_stalls")) == stalls)
+      assert(bus.read(word("irq_status")) == events)
+      assert(bus.irq == (events != 0))
+      bus.write(word("irq_status"), events)
+      assert(bus.read(word("irq_status")) == 0, "W1C left bits set")
+      assert(!bus.irq)
+      bus.write(
+        word("ctrl_control"),
+        BigInt(1) << ReducerLoadRegisters.Command.ClearCounters.bit
+      )
+      bus.step(1)
+      assert(bus.read(word("counters_samples_in")) == 0)
+      assert(bus.read(map.block("payload").base) == 0, "the reserved payload block reads 0")
+    }
+    check
+  }
+
+  it should "read the identification block and a snapshot of the monitor through Avalon-MM as the models say" in {
+    val c = RegMapDesign.compiled
+    val check = scenario("avalon")
+    test(new MonitoredArmAvalon(c.arm, c.monitor.get, RegMapDesign.map))
+      .withAnnotations(SimBackend.annotations) { dut =>
+        dut.clock.setTimeout(0)
+        check(CsrBus.avalon(dut))
+      }
+  }
+
+  it should "read and write the same registers through AXI4-Lite (byte addresses, handshakes, responses)" in {
+    val c = RegMapDesign.compiled
+    val check = scenario("axi4-lite")
+    test(new MonitoredArmAxiLite(c.arm, c.monitor.get, RegMapDesign.map))
+      .withAnnotations(SimBackend.annotations) { dut =>
+        dut.clock.setTimeout(0)
+        check(CsrBus.axiLite(dut))
+      }
+  }
+}
