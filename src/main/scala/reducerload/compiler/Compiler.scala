@@ -1,10 +1,10 @@
 package reducerload.compiler
 
-import reducerload.arm.{ArmParams, Dynamics}
+import reducerload.arm.{ArmParams, Dynamics, PayloadSpec}
 import reducerload.config.LoadParams
 import reducerload.graph.BankedSchedule
 import reducerload.monitor.{MonitorConfig, MonitorParams, RatedReducer}
-import reducerload.robot.{RobotParams, SerialChain}
+import reducerload.robot.{RobotParams, SerialChain, UrdfFrames}
 import reducerload.util.{InputError, Warning}
 
 /**
@@ -100,6 +100,19 @@ object Compiler {
         )
     }
 
+  /** The payload's declared set, in the frame of its link in the last moving joint's frame. */
+  private def payload(p: LoadParams): PayloadSpec = {
+    val tip = Option(p.robot.tip).filter(_.nonEmpty)
+    val frame = Option(p.payload.frame).filter(_.nonEmpty)
+    PayloadSpec(
+      frame.orElse(tip).getOrElse(""),
+      UrdfFrames.fixedToLast(java.nio.file.Paths.get(p.robot.source), tip, frame, "payload.frame"),
+      p.payload.maxMass,
+      p.payload.comRadius,
+      p.payload.maxGyrationRadius
+    )
+  }
+
   private def configured(p: LoadParams): ArmParams = {
     val c = p.robot.chain
     ArmParams(
@@ -109,7 +122,8 @@ object Compiler {
       cordic = p.cordic,
       datapath = p.datapath,
       scheduleRequest = p.schedule,
-      dynamics = if (p.model.closedForm) Dynamics.Joint3(p.model, p.robot) else Dynamics.Rnea
+      dynamics = if (p.model.closedForm) Dynamics.Joint3(p.model, p.robot) else Dynamics.Rnea,
+      payload = Option.when(p.payload.enabled)(payload(p))
     )
   }
 }
