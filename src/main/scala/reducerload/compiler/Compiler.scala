@@ -106,7 +106,13 @@ object Compiler {
     val frame = Option(p.payload.frame).filter(_.nonEmpty)
     PayloadSpec(
       frame.orElse(tip).getOrElse(""),
-      UrdfFrames.fixedToLast(java.nio.file.Paths.get(p.robot.source), tip, frame, "payload.frame"),
+      UrdfFrames.fixedToLast(
+        java.nio.file.Paths.get(p.robot.source),
+        tip,
+        p.robot.allowMassless,
+        frame,
+        "payload.frame"
+      ),
       p.payload.maxMass,
       p.payload.comRadius,
       p.payload.maxGyrationRadius

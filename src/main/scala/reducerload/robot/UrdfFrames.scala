@@ -3,17 +3,23 @@ package reducerload.robot
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path}
 
-/** Frames of a URDF robot's links, as the chain [[Urdf.read]] builds sees them. */
+/** Frames of a URDF robot's links, as the chain that [[Urdf.read]] builds sees them. */
 object UrdfFrames {
 
   /**
    * The pose of link `frame` (None: the tip) in the frame of the last moving joint of the chain to `tip`
-   * (empty: the only leaf): `link` must be fixed to that joint (the tip itself, a flange or tool frame, any
+   * (None: the only leaf): that link must be fixed to that joint (the tip itself, a flange or tool frame, any
    * link reached from the joint through fixed joints only). `key` names the setting in a refusal.
    */
-  def fixedToLast(path: Path, tip: Option[String], frame: Option[String], key: String): Transform = {
+  def fixedToLast(
+      path: Path,
+      tip: Option[String],
+      allowMassless: Boolean,
+      frame: Option[String],
+      key: String
+  ): Transform = {
     val source = path.toString
-    val chain = Urdf.read(path, tip) // every check of the file and the tip, once
+    val chain = Urdf.read(path, tip, allowMassless) // every check of the file and the tip, once
     val robot = new UrdfParser(source).robot(new String(Files.readAllBytes(path), StandardCharsets.UTF_8))
     val parentJoint = robot.joints.map(j => j.child -> j).toMap
     // The chain was read, so without a tip there is exactly one leaf.
