@@ -6,6 +6,7 @@ import reducerload.arm.{ArmIO, ArmParams}
 import reducerload.compiler.{DeviceFit, Fitted, Resource}
 import reducerload.monitor.MonitoredArmIO
 import reducerload.fixedpoint.FixedFormat
+import reducerload.graph.InertialParameter
 import reducerload.monitor.{JointField, MonitorParams}
 import reducerload.sim.rtl.ModulePorts
 
@@ -70,6 +71,19 @@ final case class ArmReport(
           s"${n.accelerationPortFormat.describe}, rad/s^2, declared |qdd${j + 1}| <= ${n.accelerationLimits(j)}"
         )
       ) ++
+      io.in.bits.payload.toSeq.flatMap(_.zip(n.parameters).map { case (port, s) =>
+        val unit = s.parameter match {
+          case InertialParameter.Mass       => "kg"
+          case InertialParameter.Com(_)     => "m"
+          case _: InertialParameter.Inertia => "kg m^2"
+        }
+        val r = n.parameterRanges(s)
+        at(
+          port,
+          s"${n.parameterPortFormat.describe}, $unit, payload ${s.parameter} in the frame of " +
+            s"${p.payload.fold("")(_.frame)}, declared in [${r.lo}, ${r.hi}] (beyond: clamped, every joint flagged)"
+        )
+      }) ++
       Seq(at(io.out.valid, s"1 bit: the torques of the sample given ${p.latency} cycles earlier")) ++
       p.analysis.outputs.indices.map(j =>
         at(
@@ -80,7 +94,8 @@ final case class ArmReport(
       joints.indices.map(j =>
         at(
           io.out.bits.outOfRange(j),
-          s"1 bit: qd${j + 1} or qdd${j + 1} of this sample was beyond its declared range (clamped)"
+          s"1 bit: qd${j + 1} or qdd${j + 1}" + (if (p.payload.isDefined) " or a payload parameter" else "") +
+            " of this sample was beyond its declared range (clamped)"
         )
       ) ++
       ((io, monitor) match {

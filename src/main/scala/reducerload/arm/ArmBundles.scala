@@ -5,12 +5,22 @@ import chisel3.util.{Decoupled, Valid}
 
 /**
  * One sample: per joint a binary angle (full turn = 2^angleBits; any code is in range), a velocity and an
- * acceleration as raw codes of the port formats (every joint in the widest joint's format).
+ * acceleration as raw codes of the port formats (every joint in the widest joint's format), and the payload
+ * it is computed with.
  */
 class ArmInput(p: ArmParams) extends Bundle {
   val q = Vec(p.chain.size, UInt(p.numerics.angleBits.W))
   val qd = Vec(p.chain.size, SInt(p.numerics.velocityPortFormat.width.W))
   val qdd = Vec(p.chain.size, SInt(p.numerics.accelerationPortFormat.width.W))
+
+  /**
+   * With a run-time payload: the codes of its parameters this sample is computed with, in
+   * `numerics.parameters`' order, every one in the widest parameter's format (all have the same fraction
+   * bits); none otherwise.
+   */
+  val payload = Option.when(p.numerics.parameters.nonEmpty)(
+    Vec(p.numerics.parameters.size, SInt(p.numerics.parameterPortFormat.width.W))
+  )
 }
 
 /**

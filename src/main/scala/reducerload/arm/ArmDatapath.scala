@@ -140,8 +140,9 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   // a sample is. Memory storage loads them into its input chain in cycle 1: they take the port every
   // clock, so the clamp's set and reset of the registers do not wait on the phase (the flag of
   // residue 0 into the clamp's reset goes through a LUT the placer puts far from both).
-  private def clamp(x: SInt, limit: BigInt, width: Int): (SInt, Bool) = {
-    val (value, outside) = FixedHw.clamp(x, -limit, limit, width)
+  private def clamp(x: SInt, limit: BigInt, width: Int): (SInt, Bool) = clampTo(x, -limit, limit, width)
+  private def clampTo(x: SInt, lo: BigInt, hi: BigInt, width: Int): (SInt, Bool) = {
+    val (value, outside) = FixedHw.clamp(x, lo, hi, width)
     if (p.banked.isDefined) (RegNext(value), RegNext(outside))
     else (RegEnable(value, during(0)), RegEnable(outside, during(0)))
   }
@@ -151,11 +152,21 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   private val accelerations = (0 until joints).map(j =>
     clamp(io.in.bits.qdd(j), numerics.accelerationLimitRaw(j), numerics.accelerationFormats(j).width)
   )
+  // The payload's parameters, each clamped to its declared interval like the velocities: with the sample.
+  private val parameters: Map[Signal.Inertial, (SInt, Bool)] = numerics.parameters.zipWithIndex.map {
+    case (s, k) =>
+      val (lo, hi) = numerics.parameterLimitRaw(s)
+      s -> clampTo(io.in.bits.payload.get(k), lo, hi, numerics.parameterFormats(s).width)
+  }.toMap
   require(schedule.inputCycle == ArmDatapath.inputCycle, "the input stage above is one register deep")
-  // Cycle 1: one flag per joint (the two compares are registered apart, so their OR has a clock of its own).
-  private val jointFlagRegisters = (0 until joints).map(j =>
-    RegEnable(velocities(j)._2 || accelerations(j)._2, during(ArmDatapath.inputCycle))
-  )
+  // Cycle 1: one flag per joint (the two compares are registered apart, so their OR has a clock of its own);
+  // a clamped payload parameter changes every torque, so it flags every joint.
+  private val payloadOutside: Option[Bool] =
+    Option.when(parameters.nonEmpty)(numerics.parameters.map(parameters(_)._2).reduce(_ || _))
+  private val jointFlagRegisters = (0 until joints).map { j =>
+    val inputs = velocities(j)._2 || accelerations(j)._2
+    RegEnable(payloadOutside.fold(inputs)(inputs || _), during(ArmDatapath.inputCycle))
+  }
 
   // Angles: each joint's code from the input register, at the cycles its sums are issued.
   private val angleTaps = (0 until joints).map(j => held(angles(j), 1, schedule.angleReads(j)))
@@ -182,6 +193,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   private def signal(s: Signal): SInt = s match {
     case Signal.Velocity(j)     => velocities(j)._1
     case Signal.Acceleration(j) => accelerations(j)._1
+    case s: Signal.Inertial     => parameters(s)._1
   }
 
   private val outAt = p.outputsReady
@@ -222,6 +234,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
         case Const(_)                      => Map.empty
         case Input(Signal.Velocity(j))     => kept(velocities(j)._1)
         case Input(Signal.Acceleration(j)) => kept(accelerations(j)._1)
+        case Input(s: Signal.Inertial)     => kept(parameters(s)._1)
         case Trig(fn, a) =>
           val out = cordicOutputs(schedule.angleSlot(a).unit.get)
           val v = if (fn == TrigFn.Cos) out.cos else out.sin

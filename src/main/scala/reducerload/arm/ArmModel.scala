@@ -1,7 +1,8 @@
 package reducerload.arm
 
 import reducerload.fixedpoint.{FixedFormat, Rounding}
-import reducerload.graph.{GraphModel, SampleCodes}
+import reducerload.graph.{GraphModel, SampleCodes, Signal}
+import reducerload.robot.RigidBody
 
 /**
  * One sample of joint state in SI units: angles (rad), velocities (rad/s), accelerations (rad/s^2), one each
@@ -48,8 +49,14 @@ final class ArmModel(val p: ArmParams) {
     val (qd, qdFlags) = in.velocities.zip(numerics.velocityLimitRaw).map { case (x, l) => clamp(x, l) }.unzip
     val (qdd, qddFlags) =
       in.accelerations.zip(numerics.accelerationLimitRaw).map { case (x, l) => clamp(x, l) }.unzip
-    val out = graphModel.outputs(SampleCodes(in.angles, qd, qdd))
-    val saturated = out.exists(_._2)
+    val (parameters, parameterFlags) = numerics.parameters.map { s =>
+      val (lo, hi) = numerics.parameterLimitRaw(s)
+      val (v, outside) = FixedFormat.clamp(in.parameters(s), lo, hi)
+      (s -> v, outside)
+    }.unzip
+    val out = graphModel.outputs(SampleCodes(in.angles, qd, qdd, parameters.toMap))
+    // A clamped payload parameter changes every torque: every joint is flagged.
+    val saturated = out.exists(_._2) || parameterFlags.exists(identity)
     ArmOutputCodes(out.map(_._1), qdFlags.zip(qddFlags).map { case (a, b) => a || b || saturated })
   }
 
@@ -60,8 +67,14 @@ final class ArmModel(val p: ArmParams) {
     FixedFormat(62, numerics.angleBits).quantize(turns - math.floor(turns), Rounding.HalfUp).mod(turn)
   }
 
-  /** Port codes of a sample (round to nearest); values beyond the port format saturate at it. */
-  def encode(s: ArmSample): SampleCodes = {
+  /** Port codes of a sample (round to nearest), with no payload; values beyond a port's format saturate. */
+  def encode(s: ArmSample): SampleCodes = encode(s, RigidBody.massless)
+
+  /**
+   * Port codes of a sample (round to nearest) computed with `payload` (in the payload frame; ignored by a
+   * design without one); values beyond a port's format saturate at it.
+   */
+  def encode(s: ArmSample, payload: RigidBody): SampleCodes = {
     require(
       s.q.size == p.chain.size,
       s"a sample of ${s.q.size} joints for the ${p.chain.size}-joint ${p.chain.name}"
@@ -70,7 +83,10 @@ final class ArmModel(val p: ArmParams) {
     SampleCodes(
       s.q.map(angleCode),
       s.qd.map(code(_, numerics.velocityPortFormat)),
-      s.qdd.map(code(_, numerics.accelerationPortFormat))
+      s.qdd.map(code(_, numerics.accelerationPortFormat)),
+      p.payload.fold(Map.empty[Signal.Inertial, BigInt])(spec =>
+        spec.values(p.chain, payload).map { case (sig, v) => sig -> code(v, numerics.parameterFormats(sig)) }
+      )
     )
   }
 

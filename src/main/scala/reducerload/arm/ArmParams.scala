@@ -2,7 +2,7 @@ package reducerload.arm
 
 import reducerload.config.DatapathParams
 import reducerload.cordic.CordicParams
-import reducerload.dynamics.{JointState, Rnea}
+import reducerload.dynamics.{JointState, Rnea, Sym3, V3}
 import reducerload.fixedpoint.Rounding
 import reducerload.graph._
 import reducerload.load.{Joint3Load, LoadModel}
@@ -36,6 +36,8 @@ object Dynamics {
  *   the configuration's `datapath.*` settings (fraction bits moved by the target-error fit)
  * @param fracBitLimits
  *   per-node caps below the kinds' fraction bits (chosen by [[reducerload.compiler.TargetFit]])
+ * @param payload
+ *   a payload on the last joint whose inertial parameters are run-time inputs (None: no payload, no inputs)
  */
 final case class ArmParams(
     chain: SerialChain,
@@ -45,8 +47,13 @@ final case class ArmParams(
     datapath: DatapathParams = DatapathParams(),
     scheduleRequest: ScheduleRequest = ScheduleRequest(),
     dynamics: Dynamics = Dynamics.Rnea,
-    fracBitLimits: FracBitLimits = FracBitLimits.none
+    fracBitLimits: FracBitLimits = FracBitLimits.none,
+    payload: Option[PayloadSpec] = None
 ) {
+  require(
+    payload.isEmpty || dynamics == Dynamics.Rnea,
+    s"payload.enabled = true needs model rnea (the ${dynamics.name} closed form has no payload)"
+  )
 
   require(
     maxVelocity.size == chain.size,
@@ -76,7 +83,8 @@ final case class ArmParams(
     constantFracBits,
     internalFracBits,
     outputFracBits,
-    productRounding
+    productRounding,
+    payload.fold(Map.empty[Signal.Inertial, Interval])(_.ranges(chain))
   )
 
   /**
@@ -84,7 +92,7 @@ final case class ArmParams(
    * while building it.
    */
   private lazy val built: (Graph, RangeHints) = dynamics match {
-    case Dynamics.Rnea             => ArmParams.rneaGraph(chain, maxVelocity, maxAcceleration)
+    case Dynamics.Rnea             => ArmParams.rneaGraph(chain, maxVelocity, maxAcceleration, payload)
     case Dynamics.Joint3(model, r) => (ArmParams.joint3Graph(chain, model, r), RangeHints.none)
   }
   lazy val graph: Graph = built._1
@@ -147,9 +155,11 @@ final case class ArmParams(
   def tag: String = (dynamics match {
     case Dynamics.Rnea => s"${chain.name.replaceAll("[^A-Za-z0-9]", "_")}_${chain.size}dof"
     case d             => d.name
-  }) + (if (schedule.clocksPerSample > 1) s"_ii${schedule.clocksPerSample}" else "") + (if (banked.isDefined)
-                                                                                          "_mem"
-                                                                                        else "")
+  }) + (if (payload.isDefined) "_payload" else "") + (if (schedule.clocksPerSample > 1)
+                                                        s"_ii${schedule.clocksPerSample}"
+                                                      else "") + (if (banked.isDefined)
+                                                                    "_mem"
+                                                                  else "")
 
   /**
    * The top module's name: `LoadDatapath_<model>` for the joint-3 closed forms (the name their users know),
@@ -176,7 +186,8 @@ object ArmParams {
   def rneaGraph(
       chain: SerialChain,
       maxVelocity: Seq[Double],
-      maxAcceleration: Seq[Double]
+      maxAcceleration: Seq[Double],
+      payload: Option[PayloadSpec] = None
   ): (Graph, RangeHints) =
     GraphBuilder.buildWithBounds { b =>
       val va = new TrackingAlgebra(b)
@@ -188,7 +199,21 @@ object ArmParams {
           va.leaf(b.input(Signal.Acceleration(j)), maxAcceleration(j))
         )
       }
-      val torques = Rnea.torques(chain, state)(va)
+      // The payload's ten parameters as inputs, each with its declared bound; its body at the last joint's
+      // origin is computed from them per sample.
+      val added = payload.map { spec =>
+        val ranges = spec.ranges(chain)
+        def in(p: InertialParameter) = {
+          val s = Signal.Inertial(spec.joint(chain), p)
+          va.leaf(b.input(s), ranges(s).maxAbs)
+        }
+        spec.joint(chain) -> spec.added(
+          in(InertialParameter.Mass),
+          V3(in(InertialParameter.Com(0)), in(InertialParameter.Com(1)), in(InertialParameter.Com(2))),
+          Sym3.tabulate((r, c) => in(InertialParameter.Inertia(r, c)))
+        )(va)
+      }
+      val torques = Rnea.torques(chain, state, added.toMap)(va)
       (chain.joints.map(_.name).zip(torques.map(_.node)), va.hints)
     }
 

@@ -1,6 +1,6 @@
 package reducerload.compiler
 
-import reducerload.arm.{ArmParams, Dynamics}
+import reducerload.arm.{ArmParams, Dynamics, PayloadSpec}
 import reducerload.config.LoadParams
 import reducerload.graph.BankedSchedule
 import reducerload.monitor.{MonitorConfig, MonitorParams, RatedReducer}
@@ -100,6 +100,19 @@ object Compiler {
         )
     }
 
+  /** The payload's declared set, stated in a link the last moving joint carries (the tip by default). */
+  private def payload(p: LoadParams, chain: SerialChain): PayloadSpec = {
+    val frame = Option(p.payload.frame).filter(_.nonEmpty).getOrElse(chain.tip)
+    val pose = chain.tipFrames.getOrElse(
+      frame,
+      throw new InputError(
+        s"${chain.label}: payload.frame: link '$frame' is not fixed to the last moving joint " +
+          s"'${chain.joints.last.name}' (links it carries: ${chain.tipFrames.keys.toSeq.sorted.mkString(", ")})"
+      )
+    )
+    PayloadSpec(frame, pose, p.payload.maxMass, p.payload.comRadius, p.payload.maxGyrationRadius)
+  }
+
   private def configured(p: LoadParams): ArmParams = {
     val c = p.robot.chain
     ArmParams(
@@ -109,7 +122,8 @@ object Compiler {
       cordic = p.cordic,
       datapath = p.datapath,
       scheduleRequest = p.schedule,
-      dynamics = if (p.model.closedForm) Dynamics.Joint3(p.model, p.robot) else Dynamics.Rnea
+      dynamics = if (p.model.closedForm) Dynamics.Joint3(p.model, p.robot) else Dynamics.Rnea,
+      payload = Option.when(p.payload.enabled)(payload(p, c))
     )
   }
 }

@@ -11,6 +11,8 @@ import reducerload.robot.RobotParams
  * own; [[reducerload.compiler.Compiler]] derives the datapath (every node's format, each output's error
  * bound, the schedule).
  *
+ * @param payload
+ *   the run-time payload's declared set and frame (`payload.*` keys)
  * @param datapath
  *   fraction bits, product rounding, multiplier latency, block-RAM delays (`datapath.*` keys)
  * @param monitor
@@ -26,6 +28,7 @@ import reducerload.robot.RobotParams
  */
 final case class LoadParams(
     robot: RobotParams = RobotParams(),
+    payload: PayloadSettings = PayloadSettings(),
     model: LoadModel = LoadModel.Exact,
     cordic: CordicParams = CordicParams.tableResidual,
     datapath: DatapathParams = DatapathParams(),
@@ -42,6 +45,14 @@ final case class LoadParams(
   require(
     robot.mounting.isFloor || !model.closedForm,
     s"${reducerload.robot.Mounting.setting} = ${robot.mounting} needs model rnea (the joint-3 closed form ${model.name} assumes planar3's own gravity)"
+  )
+  require(
+    !payload.enabled || !model.closedForm,
+    s"payload.enabled = true needs model rnea; model ${model.name} is planar3's joint-3 closed form"
+  )
+  require(
+    !payload.enabled || !robot.isPlanar3,
+    "payload.enabled = true needs a URDF robot (robot.source): the built-in planar3 has no link to carry it"
   )
   targetError.foreach(t =>
     require(!t.isNaN && t > 0 && t < 1e6, s"numeric.target-error must be positive N·m, got $t")

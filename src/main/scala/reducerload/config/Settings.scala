@@ -281,6 +281,47 @@ object Settings {
     _.robot.maxAcceleration
   )
 
+  val payloadEnabled = new Switch(
+    "payload.enabled",
+    "",
+    "the payload on the last joint as ten run-time inputs (mass, centre of mass, inertia about it in the payload " +
+      "frame) within the declared set below: one design serves every payload in it (model rnea; docs/payload.md)",
+    Nil,
+    _.payload.enabled
+  )
+
+  val payloadMaxMass = new Real(
+    "payload.max-mass",
+    "kg",
+    "heaviest payload (must be declared with payload.enabled)",
+    Nil,
+    _.payload.maxMass
+  )
+
+  val payloadComRadius = new Real(
+    "payload.com-radius",
+    "m",
+    "each coordinate of the payload's centre of mass within this distance of the payload frame's origin",
+    Nil,
+    _.payload.comRadius
+  )
+
+  val payloadMaxGyrationRadius = new Real(
+    "payload.max-gyration-radius",
+    "m",
+    "bounds every element of the payload's inertia about its centre of mass by max-mass x radius^2",
+    Nil,
+    _.payload.maxGyrationRadius
+  )
+
+  val payloadFrame = new Text(
+    "payload.frame",
+    "",
+    "URDF link the payload is stated in, fixed to the last moving joint (empty: the tip link)",
+    Nil,
+    _.payload.frame
+  )
+
   val model = new Choice(
     "model",
     "",
@@ -648,6 +689,11 @@ object Settings {
     robotBaseRpy,
     robotMaxVelocity,
     robotMaxAcceleration,
+    payloadEnabled,
+    payloadMaxMass,
+    payloadComRadius,
+    payloadMaxGyrationRadius,
+    payloadFrame,
     model,
     cordicAngleBits,
     cordicOutputBits,
@@ -781,6 +827,13 @@ object Settings {
           allowMassless = v(robotAllowMassless),
           mounting = v(robotBaseRpy)
         ),
+        payload = PayloadSettings(
+          enabled = v(payloadEnabled),
+          maxMass = v(payloadMaxMass),
+          comRadius = v(payloadComRadius),
+          maxGyrationRadius = v(payloadMaxGyrationRadius),
+          frame = v(payloadFrame)
+        ),
         model = v(model),
         cordic = CordicParams(
           angleBits = v(cordicAngleBits),
@@ -846,7 +899,7 @@ object Settings {
 
   /** A complete HOCON file for `p`, grouped by section, with units and meanings as comments. */
   def render(p: LoadParams, header: Seq[String]): String = {
-    val order = Seq("", "robot", "cordic", "datapath", "numeric", "schedule", "device", "monitor")
+    val order = Seq("", "robot", "payload", "cordic", "datapath", "numeric", "schedule", "device", "monitor")
     val body = order.flatMap { section =>
       val settings = all.filter(s => (if (s.key.contains('.')) s.key.takeWhile(_ != '.') else "") == section)
       if (settings.isEmpty) Nil

@@ -1,6 +1,6 @@
 package reducerload.dynamics
 
-import reducerload.robot.{JointKind, Mat3, SerialChain}
+import reducerload.robot.{JointKind, SerialChain}
 
 /** What one joint contributes per sample: cos and sin of its angle, its velocity and acceleration. */
 final case class JointState[T](cos: T, sin: T, velocity: T, acceleration: T)
@@ -17,7 +17,15 @@ final case class JointState[T](cos: T, sin: T, velocity: T, acceleration: T)
 object Rnea {
   import Num.NumOps
 
-  def torques[T](chain: SerialChain, state: IndexedSeq[JointState[T]])(implicit
+  /**
+   * Joint torques for `state`; `added` gives joints a body beyond their constant one (a payload, whose
+   * parameters may be run-time values of T): that joint's body is the constant one plus it.
+   */
+  def torques[T](
+      chain: SerialChain,
+      state: IndexedSeq[JointState[T]],
+      added: Map[Int, BodyInertia[T]] = Map.empty[Int, BodyInertia[T]]
+  )(implicit
       va: VectorAlgebra[T]
   ): IndexedSeq[T] = {
     implicit val n: Num[T] = va.num
@@ -59,20 +67,36 @@ object Rnea {
 
     // Each body's inertial force and moment about its joint's origin.
     final case class Wrench(f: V3[T], m: V3[T])
-    val own = joints.indices.map { j =>
+    // A body with run-time parameters: the same wrench, its matrix products over T.
+    def wrenchOf(b: BodyInertia[T], motion: Motion): Wrench = {
+      val Motion(w, dw, dv) = motion
+      val f = va.plus(va.plus(va.scale(dv, b.mass), va.cross(dw, b.h)), va.cross(w, va.cross(w, b.h)))
+      val m = va.plus(
+        va.plus(Sym3.times(b.inertia, dw), va.cross(w, Sym3.times(b.inertia, w))),
+        va.cross(b.h, dv)
+      )
+      Wrench(f, m)
+    }
+    // A constant body: its parameters fold into constant multiplies.
+    def constantWrench(j: Int): Wrench = {
       val body = joints(j).body
       val Motion(w, dw, dv) = motions(j)
       val h = va.const(body.com * body.mass)
-      val c = body.com
-      val inertiaAtOrigin =
-        body.inertia + (Mat3.identity.scale(c.dot(c)) - Mat3.tabulate((r, k) => c.toSeq(r) * c.toSeq(k)))
-          .scale(body.mass)
+      val inertiaAtOrigin = BodyInertia.inertiaAtOrigin(body)
       val f = va.plus(va.plus(va.scale(dv, n.const(body.mass)), va.cross(dw, h)), va.cross(w, va.cross(w, h)))
       val m = va.plus(
         va.plus(va.mul(inertiaAtOrigin, dw), va.cross(w, va.mul(inertiaAtOrigin, w))),
         va.cross(h, dv)
       )
       Wrench(f, m)
+    }
+
+    val own = joints.indices.map { j =>
+      added.get(j) match {
+        case Some(extra) =>
+          wrenchOf(BodyInertia.plus(BodyInertia.constant[T](joints(j).body), extra), motions(j))
+        case None => constantWrench(j)
+      }
     }
 
     // Backward pass: what joint j carries is its body's wrench plus the child's, moved to j's origin.
@@ -92,12 +116,25 @@ object Rnea {
     joints.indices.map(j => va.dot(axes(j), carried(j).m))
   }
 
-  /** Double-precision reference: joint torques (N·m) at angles `q`, velocities `qd`, accelerations `qdd`. */
-  def reference(chain: SerialChain, q: Seq[Double], qd: Seq[Double], qdd: Seq[Double]): IndexedSeq[Double] = {
+  /**
+   * Double-precision reference: joint torques (N·m) at angles `q`, velocities `qd`, accelerations `qdd`, with
+   * the bodies `added` to joints' own (see [[torques]]).
+   */
+  def reference(
+      chain: SerialChain,
+      q: Seq[Double],
+      qd: Seq[Double],
+      qdd: Seq[Double],
+      added: Map[Int, BodyInertia[Double]] = Map.empty
+  ): IndexedSeq[Double] = {
     require(
       q.size == chain.size && qd.size == chain.size && qdd.size == chain.size,
       s"Rnea.reference: ${chain.size} joints need ${chain.size} angles, velocities and accelerations"
     )
-    torques(chain, chain.joints.indices.map(j => JointState(math.cos(q(j)), math.sin(q(j)), qd(j), qdd(j))))
+    torques(
+      chain,
+      chain.joints.indices.map(j => JointState(math.cos(q(j)), math.sin(q(j)), qd(j), qdd(j))),
+      added
+    )
   }
 }

@@ -112,6 +112,12 @@ final class Analysis(
           0.5 * n.accelerationFormats(j).lsb,
           n.accelerationFormats(j)
         )
+      case Input(s: Signal.Inertial) =>
+        val f = n.parameterFormats.getOrElse(
+          s,
+          throw new IllegalArgumentException(s"graph input $s has no declared range")
+        )
+        NodeNumerics(n.parameterRanges(s), 0.5 * f.lsb, f)
       case Trig(_, angle) => NodeNumerics(Interval(-1, 1), trigError(angle), n.cordic.outputFormat)
       case Add(a, b) =>
         rotated(a, b, isSum = true, at).getOrElse(

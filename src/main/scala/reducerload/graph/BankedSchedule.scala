@@ -215,7 +215,8 @@ final class BankedSchedule(val base: Schedule) {
   )
   require(
     signals.size <= ii,
-    s"schedule.storage = memory writes the ${signals.size} velocities and accelerations into a bank one " +
+    s"schedule.storage = memory writes the ${signals.size} per-sample inputs (velocities, accelerations, " +
+      "payload) into a bank one " +
       s"per clock: it needs schedule.clocks-per-sample >= ${signals.size}, got $ii"
   )
 

@@ -11,6 +11,36 @@ sealed abstract class Signal(val symbol: String) {
 object Signal {
   final case class Velocity(joint: Int) extends Signal("qd")
   final case class Acceleration(joint: Int) extends Signal("qdd")
+
+  /**
+   * A run-time inertial parameter of a body joint `joint` carries beside its constant one (the payload on the
+   * last joint): an input like qd, held for a whole sample, within a declared interval ([[Numerics]]), so
+   * that one design serves every body in the declared set.
+   */
+  final case class Inertial(joint: Int, parameter: InertialParameter) extends Signal(parameter.symbol) {
+    override def toString: String = s"${parameter.symbol}@${joint + 1}"
+  }
+
+  /** The ten run-time parameters of the body joint `joint` carries, in [[InertialParameter.all]]'s order. */
+  def inertial(joint: Int): IndexedSeq[Inertial] = InertialParameter.all.map(Inertial(joint, _))
+}
+
+/**
+ * One of a rigid body's ten inertial parameters in its own frame, as robot controllers state load data: the
+ * mass (kg), the centre of mass (m) and the inertia about the centre of mass (kg m^2, upper triangle).
+ */
+sealed abstract class InertialParameter(val symbol: String) { override def toString: String = symbol }
+object InertialParameter {
+  case object Mass extends InertialParameter("mass")
+  final case class Com(axis: Int) extends InertialParameter("c" + "xyz" (axis))
+  final case class Inertia(row: Int, col: Int) extends InertialParameter("i" + "xyz" (row) + "xyz" (col)) {
+    require(row <= col, s"InertialParameter: inertia ($row, $col) is below the diagonal")
+    def diagonal: Boolean = row == col
+  }
+
+  /** Mass, cx, cy, cz, ixx, ixy, ixz, iyy, iyz, izz: the order of the payload columns and ports. */
+  val all: IndexedSeq[InertialParameter] =
+    Mass +: ((0 until 3).map(Com(_)) ++ (for (r <- 0 until 3; c <- r until 3) yield Inertia(r, c)))
 }
 
 /** An integer combination of joint angles: binary angles add modulo one turn, for free. */

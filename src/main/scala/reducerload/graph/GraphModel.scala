@@ -5,12 +5,13 @@ import reducerload.fixedpoint.{FixedFormat, Rounding}
 
 /**
  * One sample as the datapath sees it: binary angles and the (clamped) velocity and acceleration codes per
- * joint.
+ * joint, and the codes of the run-time inertial parameters it is computed with (the payload).
  */
 final case class SampleCodes(
     angles: IndexedSeq[BigInt],
     velocities: IndexedSeq[BigInt],
-    accelerations: IndexedSeq[BigInt]
+    accelerations: IndexedSeq[BigInt],
+    parameters: Map[Signal.Inertial, BigInt] = Map.empty
 )
 
 /**
@@ -43,6 +44,7 @@ final class GraphModel(val analysis: Analysis) {
         case Const(_)                      => analysis(id).raw.get
         case Input(Signal.Velocity(j))     => s.velocities(j)
         case Input(Signal.Acceleration(j)) => s.accelerations(j)
+        case Input(p: Signal.Inertial)     => s.parameters(p)
         case Trig(TrigFn.Cos, a)           => trig(a)._1
         case Trig(TrigFn.Sin, a)           => trig(a)._2
         case Add(a, b) => align(done(a.index), fr(a), f.fracBits) + align(done(b.index), fr(b), f.fracBits)

@@ -4,13 +4,23 @@ package reducerload.graph
 object GraphReference {
   import Op._
 
-  /** Outputs for angles `q` (rad), velocities `qd` and accelerations `qdd`, one each per joint. */
-  def outputs(graph: Graph, q: Seq[Double], qd: Seq[Double], qdd: Seq[Double]): IndexedSeq[Double] = {
+  /**
+   * Outputs for angles `q` (rad), velocities `qd` and accelerations `qdd`, one each per joint, and the
+   * run-time inertial parameters' values (SI units).
+   */
+  def outputs(
+      graph: Graph,
+      q: Seq[Double],
+      qd: Seq[Double],
+      qdd: Seq[Double],
+      parameters: Map[Signal.Inertial, Double] = Map.empty
+  ): IndexedSeq[Double] = {
     val values = graph.fold[Double] { (op, at) =>
       op match {
         case Const(v)                      => v
         case Input(Signal.Velocity(j))     => qd(j)
         case Input(Signal.Acceleration(j)) => qdd(j)
+        case Input(p: Signal.Inertial)     => parameters(p)
         case Trig(fn, angle) =>
           TrigFn.reference(fn, angle.radians(q))
         case Add(a, b) => at(a) + at(b)

@@ -36,6 +36,8 @@ object Interval {
  *   declared max |qd_j|, rad/s, one per joint (their number is the joint count)
  * @param accelerationLimits
  *   declared max |qdd_j|, rad/s^2, one per joint
+ * @param parameterRanges
+ *   the declared interval of each run-time inertial parameter (the payload's), SI units
  */
 final case class Numerics(
     velocityLimits: Seq[Double],
@@ -46,7 +48,8 @@ final case class Numerics(
     constantFracBits: Int,
     internalFracBits: Int,
     outputFracBits: Int,
-    productRounding: Rounding
+    productRounding: Rounding,
+    parameterRanges: Map[Signal.Inertial, Interval] = Map.empty
 ) {
   require(
     velocityLimits.size == accelerationLimits.size,
@@ -82,6 +85,32 @@ final case class Numerics(
     velocityLimits.zip(velocityFormats).map { case (v, f) => f.quantize(v, Rounding.HalfUp) }
   val accelerationLimitRaw: Seq[BigInt] =
     accelerationLimits.zip(accelerationFormats).map { case (a, f) => f.quantize(a, Rounding.HalfUp) }
+
+  parameterRanges.keys.foreach(s =>
+    require(s.joint < joints, s"Numerics: run-time parameter $s of a joint beyond the $joints declared")
+  )
+
+  /** The run-time parameters in port order: by joint, then as [[InertialParameter.all]]. */
+  val parameters: IndexedSeq[Signal.Inertial] =
+    (0 until joints).flatMap(Signal.inertial).filter(parameterRanges.contains)
+
+  /**
+   * Each run-time parameter's format (also its port's), from its declared range, with the products' fraction
+   * bits: the first product that reads it keeps no more.
+   */
+  val parameterFormats: Map[Signal.Inertial, FixedFormat] =
+    parameterRanges.map { case (s, r) => s -> FixedFormat.forRange(r.maxAbs, internalFracBits) }
+
+  /** The port carries every parameter in the widest parameter's format (one fraction-bit count for all). */
+  def parameterPortFormat: FixedFormat = parameterFormats.values.maxBy(_.width)
+
+  /**
+   * Each parameter's declared interval as codes (round to nearest): codes beyond it are clamped and flagged.
+   */
+  val parameterLimitRaw: Map[Signal.Inertial, (BigInt, BigInt)] = parameterRanges.map { case (s, r) =>
+    val f = parameterFormats(s)
+    s -> ((f.quantize(r.lo, Rounding.HalfUp), f.quantize(r.hi, Rounding.HalfUp)))
+  }
 
   /** Half an angle code, in radians: inputs are rounded to the nearest code. */
   val angleError: Double = math.Pi / math.pow(2.0, angleBits)

@@ -20,7 +20,8 @@ object Planar3 {
         ChainJoint("joint3", JointKind.Revolute, at(r.l2), z, RigidBody.pointMass(r.m3, Vec3(r.l3, 0, 0)))
       ),
       gravity = Vec3(r.g, 0, 0),
-      tipFrames = Map("link3" -> Transform.identity, "tip" -> at(r.l3))
+      tipFrames = Map("link3" -> Transform.identity, "tip" -> at(r.l3)),
+      tip = "tip"
     )
   }
 }

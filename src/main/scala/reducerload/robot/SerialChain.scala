@@ -89,6 +89,8 @@ final case class ChainJoint(
  * @param tipFrames
  *   the links the last moving joint carries (its child link, links fixed to it, links of joints locked off
  *   the chain after it), each with its pose in that joint's frame: where a payload can be attached
+ * @param tip
+ *   the link the chain ends at, one of [[tipFrames]] (empty: none named)
  */
 final case class SerialChain(
     name: String,
@@ -96,7 +98,8 @@ final case class SerialChain(
     gravity: Vec3,
     warnings: Seq[reducerload.util.Warning] = Nil,
     source: String = "",
-    tipFrames: Map[String, Transform] = Map.empty
+    tipFrames: Map[String, Transform] = Map.empty,
+    tip: String = ""
 ) {
   require(joints.nonEmpty, s"robot $name: the chain has no moving joint")
   require(joints.map(_.name).distinct.size == joints.size, s"robot $name: joint names repeat")
@@ -110,6 +113,10 @@ final case class SerialChain(
       s"robot $name: joint ${j.name}: negative mass ${j.body.mass}"
     )
   }
+  require(
+    tip.isEmpty || tipFrames.contains(tip),
+    s"robot $name: the tip link '$tip' is not among the carried links"
+  )
   def size: Int = joints.size
 
   /**

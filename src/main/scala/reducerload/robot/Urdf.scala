@@ -478,7 +478,8 @@ private final class UrdfChainBuilder(source: String, robot: UrdfRobot) {
       source = source,
       tipFrames = placements.collect {
         case (link, Placement(Some(k), pose)) if k == moving.size - 1 => link -> pose
-      }
+      },
+      tip = tipLink
     )
   }
 

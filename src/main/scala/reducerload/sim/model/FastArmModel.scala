@@ -45,6 +45,7 @@ final class FastArmModel(p: ArmParams) {
       case Op.Const(_)                  => kind(i) = Constant; constant(i) = analysis.nodes(i).raw.get.toLong
       case Op.Input(Signal.Velocity(j)) => kind(i) = Velocity; left(i) = j
       case Op.Input(Signal.Acceleration(j)) => kind(i) = Acceleration; left(i) = j
+      case Op.Input(s: Signal.Inertial)     => kind(i) = Parameter; left(i) = numerics.parameters.indexOf(s)
       case Op.Trig(fn, a) =>
         kind(i) = Trig; left(i) = 2 * angles.indexOf(a) + (if (fn == TrigFn.Cos) 0 else 1)
       case Op.Add(a, b) =>
@@ -69,17 +70,24 @@ final class FastArmModel(p: ArmParams) {
     }
     .toArray
   private val joints = velocityLimit.length
+  private val parameterLow = numerics.parameters.map(numerics.parameterLimitRaw(_)._1.toLong).toArray
+  private val parameterHigh = numerics.parameters.map(numerics.parameterLimitRaw(_)._2.toLong).toArray
 
   /** Torque codes per sample (the graph's outputs); then come [[joints]] out-of-range flags. */
   val torques: Int = outputs.length
 
-  /** Codes per sample in and values out of [[Runner.evaluate]], in the harness ports' order. */
-  val inputCount: Int = 3 * joints
+  /**
+   * Codes per sample in and values out of [[Runner.evaluate]], in the harness ports' order: angles,
+   * velocities, accelerations, then the run-time parameters (the payload) in `numerics.parameters`' order.
+   */
+  val inputCount: Int = 3 * joints + parameterLow.length
   val outputCount: Int = torques + joints
 
   def evaluate(in: SampleCodes): ArmOutputCodes = {
     def long(x: BigInt): Long = { require(x.isValidLong, s"input code $x does not fit 64 bits"); x.toLong }
-    val codes = (in.angles ++ in.velocities ++ in.accelerations).map(long).toArray
+    val codes = (in.angles ++ in.velocities ++ in.accelerations ++ numerics.parameters.map(in.parameters))
+      .map(long)
+      .toArray
     require(codes.length == inputCount, s"FastArmModel: ${codes.length} input codes for $joints joints")
     val out = new Array[Long](outputCount)
     runner().evaluate(codes, 0, out, 0)
@@ -96,6 +104,7 @@ final class FastArmModel(p: ArmParams) {
     private val qd = new Array[Long](joints)
     private val qdd = new Array[Long](joints)
     private val flags = new Array[Boolean](joints)
+    private val parameter = new Array[Long](FastArmModel.this.parameterLow.length)
     private val trig = new Array[Long](2 * angles.size)
     private val v = new Array[Long](size)
     private val (kind, left, right, leftShift, rightShift, drop) = (
@@ -112,6 +121,8 @@ final class FastArmModel(p: ArmParams) {
       (FastArmModel.this.angleJoints, FastArmModel.this.angleMultiples, FastArmModel.this.turnMask)
     private val (velocityLimit, accelerationLimit) =
       (FastArmModel.this.velocityLimit, FastArmModel.this.accelerationLimit)
+    private val (parameterLow, parameterHigh) =
+      (FastArmModel.this.parameterLow, FastArmModel.this.parameterHigh)
     private val outNode = outputs.map(_._1)
     private val outDrop = outputs.map(_._2)
     private val outMin = outputs.map(_._3)
@@ -133,6 +144,8 @@ final class FastArmModel(p: ArmParams) {
       val turnMask = this.turnMask
       val outNode = this.outNode; val outDrop = this.outDrop; val outMin = this.outMin;
       val outMax = this.outMax
+      val parameter = this.parameter; val parameterLow = this.parameterLow;
+      val parameterHigh = this.parameterHigh
       val n = qd.length
       var j = 0
       while (j < n) {
@@ -145,6 +158,16 @@ final class FastArmModel(p: ArmParams) {
         if (y > m || y < -m) flags(j) = true
         qdd(j) = if (y > m) m else if (y < -m) -m else y
         j += 1
+      }
+      // A clamped payload parameter changes every torque: it flags every joint.
+      var parameterOutside = false
+      var p = 0
+      while (p < parameter.length) {
+        val x = codes(at + 3 * n + p)
+        if (x < parameterLow(p) || x > parameterHigh(p)) parameterOutside = true
+        parameter(p) =
+          if (x < parameterLow(p)) parameterLow(p) else if (x > parameterHigh(p)) parameterHigh(p) else x
+        p += 1
       }
       var a = 0
       while (a < angleJoints.length) {
@@ -163,6 +186,7 @@ final class FastArmModel(p: ArmParams) {
           case Constant     => constant(i)
           case Velocity     => qd(left(i))
           case Acceleration => qdd(left(i))
+          case Parameter    => parameter(left(i))
           case Trig         => trig(left(i))
           case Add          => (v(left(i)) << leftShift(i)) + (v(right(i)) << rightShift(i))
           case Sub          => (v(left(i)) << leftShift(i)) - (v(right(i)) << rightShift(i))
@@ -182,7 +206,7 @@ final class FastArmModel(p: ArmParams) {
         v(i) = x
         i += 1
       }
-      var saturated = false
+      var saturated = parameterOutside
       var k = 0
       while (k < outNode.length) {
         val d = outDrop(k)
@@ -206,6 +230,7 @@ object FastArmModel {
   private final val Sub = 5
   private final val Neg = 6
   private final val Mul = 7
+  private final val Parameter = 8
 
   /**
    * Whether the long model can run `p`: every node, port and CORDIC format fits 62 bits, and the output
@@ -214,8 +239,7 @@ object FastArmModel {
   def supports(p: ArmParams): Boolean =
     scala.util.Try { new FastCordic(p.numerics.cordic); () }.isSuccess &&
       (p.analysis.nodes.map(_.format) ++ p.analysis.outputs.map(_.format) ++
-        Seq(p.numerics.velocityPortFormat, p.numerics.accelerationPortFormat)).forall((f: FixedFormat) =>
-        f.width <= 62
-      ) &&
+        Seq(p.numerics.velocityPortFormat, p.numerics.accelerationPortFormat) ++
+        p.numerics.parameterFormats.values).forall((f: FixedFormat) => f.width <= 62) &&
       p.graph.outputs.forall(o => p.analysis.outputDrop(o) > -62)
 }

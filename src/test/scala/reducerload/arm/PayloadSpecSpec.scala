@@ -1,0 +1,208 @@
+package reducerload.arm
+
+import org.scalatest.flatspec.AnyFlatSpec
+import reducerload.compiler.Compiler
+import reducerload.config.{LoadParams, PayloadSettings, Settings}
+import reducerload.dynamics.{RandomChains, Rnea}
+import reducerload.graph.{GraphReference, InertialParameter, Signal}
+import reducerload.robot.{Mat3, RigidBody, Vec3}
+import reducerload.sim.model.FastArmModel
+import reducerload.testutil.{ArmGolden, Seeds}
+import reducerload.util.InputError
+
+import scala.util.Random
+
+/**
+ * The run-time payload (issue 31): its ten inertial parameters are graph inputs with declared ranges. Checked
+ * with no Python: the graph's double reference equals RNEA on the chain whose last body is merged with the
+ * payload (an independent path: RigidBody.transformed and merge); the bit-accurate model is within the
+ * derived bound of it over random payloads in the declared set; payloads beyond it are clamped and flagged.
+ */
+class PayloadSpecSpec extends AnyFlatSpec {
+  behavior of "a run-time payload"
+
+  /** The robot of the golden traces, with a payload of at most `maxMass` kg. */
+  private def params(robot: String, maxMass: Double, frame: String = ""): ArmParams =
+    Compiler.arm(
+      ArmGolden
+        .of(robot)
+        .head
+        .config
+        .copy(payload = PayloadSettings(enabled = true, maxMass = maxMass, frame = frame))
+    )
+
+  /**
+   * A payload in the declared set: mass up to the maximum, centre of mass in the ball of com-radius, inertia
+   * about it a random rotation of principal moments of at most m r^2 that meet the triangle inequality.
+   */
+  private def randomPayload(rng: Random, spec: PayloadSpec, scale: Double = 1.0): RigidBody = {
+    val m = rng.nextDouble() * spec.maxMass * scale
+    def unit() = {
+      val v = Vec3(rng.nextGaussian(), rng.nextGaussian(), rng.nextGaussian()); v * (1 / v.norm)
+    }
+    val c = unit() * (spec.comRadius * scale * math.cbrt(rng.nextDouble()))
+    val top = m * spec.maxGyrationRadius * spec.maxGyrationRadius * scale
+    val a = rng.nextDouble() * top / 2
+    val b = rng.nextDouble() * top / 2
+    val moments = Vec3(a + b, a + rng.nextDouble() * b, b + rng.nextDouble() * a) // triangle inequality
+    val axis = unit()
+    val rotation = Mat3.axisAngle(axis, rng.nextDouble() * 2 * math.Pi)
+    RigidBody(m, c, rotation * Mat3.diagonal(moments) * rotation.transpose)
+  }
+
+  private def sample(rng: Random, p: ArmParams): ArmSample = {
+    val (q, qd, qdd) = RandomChains.sample(rng, p.maxVelocity, p.maxAcceleration)
+    ArmSample(q, qd, qdd)
+  }
+
+  private def check(robot: String, maxMass: Double, seed: Long): Unit = {
+    val p = params(robot, maxMass)
+    val spec = p.payload.get
+    val model = new ArmModel(p)
+    val fast = new FastArmModel(p)
+    val rng = new Random(Seeds(s"payload-$robot", seed))
+    val worstRef = Array.fill(p.chain.size)(0.0)
+    val worstHw = Array.fill(p.chain.size)(0.0)
+    (0 until 300).foreach { k =>
+      val body = if (k == 0) RigidBody.massless else randomPayload(rng, spec)
+      val s = sample(rng, p)
+      spec.ranges(p.chain).foreach { case (sig, range) =>
+        val v = spec.values(p.chain, body)(sig)
+        assert(v >= range.lo && v <= range.hi, s"$robot: test payload $sig = $v outside $range")
+      }
+      val merged = Rnea.reference(spec.merged(p.chain, body), s.q, s.qd, s.qdd)
+      val graph = GraphReference.outputs(p.graph, s.q, s.qd, s.qdd, spec.values(p.chain, body))
+      merged.indices.foreach(j => worstRef(j) = math.max(worstRef(j), math.abs(graph(j) - merged(j))))
+      val codes = model.encode(s, body)
+      val out = model.evaluate(codes)
+      assert(out == fast.evaluate(codes), s"$robot sample $k: the long model differs from the model")
+      assert(!out.outOfRange.exists(identity), s"$robot sample $k: an in-range payload was flagged")
+      model.torques(out).zip(merged).zipWithIndex.foreach { case ((h, r), j) =>
+        worstHw(j) = math.max(worstHw(j), math.abs(h - r))
+      }
+    }
+    p.chain.joints.indices.foreach { j =>
+      println(
+        f"[payload] $robot ${p.jointNames(j)}%-22s |graph reference - merged RNEA| ${worstRef(j)}%.2e, " +
+          f"|model - merged RNEA| ${worstHw(j)}%.3e N·m (bound ${p.errorBounds(j)}%.3e)"
+      )
+      assert(worstRef(j) <= 1e-9, s"$robot ${p.jointNames(j)}: graph reference off by ${worstRef(j)}")
+      assert(worstHw(j) <= p.errorBounds(j), s"$robot ${p.jointNames(j)}: ${worstHw(j)} above the bound")
+      assert(worstHw(j) <= 1e-3, s"$robot ${p.jointNames(j)}: ${worstHw(j)} above 1e-3 N·m")
+    }
+    println(
+      s"[payload] $robot: ${p.graph.counts}, bound ${p.errorBound} N·m, payload formats " +
+        p.numerics.parameters.map(s => s"$s ${p.numerics.parameterFormats(s)}").mkString(", ")
+    )
+  }
+
+  it should "give the UR5 the torques of RNEA with the payload merged into its last body, within the " +
+    "derived bound and 1e-3 N·m" in {
+      check("ur5", 5.0, 3101L)
+    }
+
+  it should "give the Panda the torques of RNEA with the payload merged into its last body, within the " +
+    "derived bound and 1e-3 N·m" in {
+      check("panda", 3.0, 3102L)
+    }
+
+  it should "clamp and flag a payload beyond the declared set, never wrap it" in {
+    val p = params("ur5", 5.0)
+    val spec = p.payload.get
+    val model = new ArmModel(p)
+    val fast = new FastArmModel(p)
+    val rng = new Random(Seeds("payload-clamp", 3103L))
+    (0 until 100).foreach { k =>
+      val s = sample(rng, p)
+      val body = randomPayload(rng, spec, scale = 3.0)
+      val values = spec.values(p.chain, body)
+      val outside = spec.ranges(p.chain).exists { case (sig, r) => values(sig) < r.lo || values(sig) > r.hi }
+      // The same payload with every parameter clamped to its interval, in range.
+      val clamped = spec.ranges(p.chain).map { case (sig, r) =>
+        sig.parameter -> math.max(r.lo, math.min(r.hi, values(sig)))
+      }
+      def at(i: InertialParameter) = clamped(i)
+      val inRange = RigidBody(
+        at(InertialParameter.Mass),
+        Vec3((0 until 3).map(a => at(InertialParameter.Com(a)))),
+        Mat3.tabulate((r, c) => at(InertialParameter.Inertia(math.min(r, c), math.max(r, c))))
+      )
+      val out = model.evaluate(model.encode(s, body))
+      assert(out == fast.evaluate(model.encode(s, body)), s"sample $k: the long model differs from the model")
+      val expected = model.evaluate(model.encode(s, inRange))
+      assert(out.tau == expected.tau, s"sample $k: an out-of-range payload is not computed clamped")
+      assert(out.outOfRange.forall(_ == outside), s"sample $k: flags ${out.outOfRange}, outside = $outside")
+    }
+    // A mass far beyond the port format saturates there, then clamps: never wraps.
+    val s = sample(rng, p)
+    val heavy = RigidBody(1e6, Vec3.zero, Mat3.zero)
+    val out = model.evaluate(model.encode(s, heavy))
+    assert(out.outOfRange.forall(identity))
+    assert(out.tau == model.evaluate(model.encode(s, RigidBody(5.0, Vec3.zero, Mat3.zero))).tau)
+    val light = model.evaluate(model.encode(s, RigidBody(-1.0, Vec3.zero, Mat3.zero)))
+    assert(light.outOfRange.forall(identity))
+    assert(light.tau == model.evaluate(model.encode(s, RigidBody.massless)).tau)
+  }
+
+  it should "state the payload in any link fixed to the last moving joint, and refuse others in one line" in {
+    val flange = params("panda", 3.0, frame = "panda_link8")
+    val hand = params("panda", 3.0)
+    assert(flange.payload.get.pose != hand.payload.get.pose, "panda_link8 and panda_hand are apart")
+    assert(hand.payload.get.frame == "panda_hand")
+    val rng = new Random(Seeds("payload-frame", 3104L))
+    val s = sample(rng, hand)
+    // The same body stated in the hand and in the flange: the same torques.
+    val inHand = randomPayload(rng, hand.payload.get)
+    val toFlange = flange.payload.get.pose
+    val flangeFromHand = reducerload.robot.Transform(
+      toFlange.rotation.transpose * hand.payload.get.pose.rotation,
+      toFlange.rotation.transpose * (hand.payload.get.pose.translation - toFlange.translation)
+    )
+    val a = GraphReference.outputs(hand.graph, s.q, s.qd, s.qdd, hand.payload.get.values(hand.chain, inHand))
+    val b = GraphReference.outputs(
+      flange.graph,
+      s.q,
+      s.qd,
+      s.qdd,
+      flange.payload.get.values(flange.chain, inHand.transformed(flangeFromHand))
+    )
+    a.zip(b).foreach { case (x, y) => assert(math.abs(x - y) <= 1e-9) }
+    def refusal(frame: String) =
+      intercept[InputError](
+        Compiler.compile(
+          ArmGolden
+            .of("panda")
+            .head
+            .config
+            .copy(payload = PayloadSettings(enabled = true, maxMass = 3.0, frame = frame)),
+          "test"
+        )
+      ).getMessage
+    val moving = refusal("panda_link3")
+    assert(moving.contains("payload.frame") && moving.contains("not fixed to the last moving joint"), moving)
+    assert(!moving.contains("\n"))
+    val unknown = refusal("no_such_link")
+    assert(
+      unknown.contains("payload.frame") && unknown.contains("'no_such_link' is not fixed") &&
+        unknown.contains("links it carries: panda_hand"),
+      unknown
+    )
+  }
+
+  it should "need a declared max-mass, and change nothing while disabled" in {
+    val undeclared = intercept[InputError](
+      Settings.withOverrides(
+        LoadParams.arm,
+        Seq(reducerload.config.Assignment(Settings.payloadEnabled, true)),
+        "flags"
+      )
+    ).getMessage
+    assert(undeclared.contains("payload.max-mass"), undeclared)
+    val plain = Compiler.arm(ArmGolden.of("ur5").head.config)
+    assert(plain.payload.isEmpty && plain.numerics.parameters.isEmpty)
+    assert(!plain.graph.signals.exists(_.isInstanceOf[Signal.Inertial]))
+    val withPayload = params("ur5", 5.0)
+    assert(withPayload.graph.signals.count(_.isInstanceOf[Signal.Inertial]) == 10)
+    assert(withPayload.moduleName != plain.moduleName)
+  }
+}
