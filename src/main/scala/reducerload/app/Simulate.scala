@@ -1,6 +1,6 @@
 package reducerload.app
 
-import reducerload.arm.{ArmParams, ArmSample}
+import reducerload.arm.{ArmParams, ArmSample, PayloadColumns}
 import reducerload.compiler.Compiled
 import reducerload.monitor.{MonitorConfig, MonitorParams, MonitorSummary, RatedReducer}
 import reducerload.sim.replay._
@@ -238,8 +238,15 @@ object Simulate {
       val r = request.rows.row(i)
       ArmSample(r.slice(0, n), r.slice(n, 2 * n), r.slice(2 * n, 3 * n))
     }
+    // With a run-time payload, each row's (the payload columns after the joints').
+    val payloads =
+      if (request.design.payloadColumns.isEmpty) Nil
+      else
+        (0 until request.rows.size).map(i =>
+          PayloadColumns.body(request.rows.row(i).slice(3 * n, 3 * n + PayloadColumns.names.size))
+        )
     val summary =
-      MonitorSummary.fromTrajectory(arm, mp, samples, rated)
+      MonitorSummary.fromTrajectory(arm, mp, samples, rated, payloads)
     OutputFile.writeString(path, summary.json)
     println(
       s"wrote $path: reducer monitor summary of ${samples.size} samples, ${n} joints (exponent ${mp.lifeExponents.distinct.mkString("/")})"

@@ -2,7 +2,9 @@ package reducerload.app
 
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.arm.{ArmModel, ArmSample, ArmTrajectory, PayloadColumns}
+import reducerload.monitor.{MonitorConfig, MonitorSummary}
 import reducerload.sim.replay.ArmReplay
+import reducerload.sim.rtl.VerilatorHarness
 import reducerload.testutil.Scratch
 import reducerload.trace.TraceCsv
 import reducerload.util.InputError
@@ -149,5 +151,54 @@ class SimulatePayloadSpec extends AnyFlatSpec {
     val (out, _) = simulate(csv(joints, 0 until 5), ur5 ++ payload :+ "--payload" :+ "9,0,0,0.05,0,0,0,0,0,0")
     val flags = TraceCsv.read(out, Seq("out_of_range")).column("out_of_range")
     assert(flags.size == 5 && flags.forall(_ == 1), flags)
+  }
+
+  it should "give the reducer monitor's summary the loads with each row's payload" in {
+    val arm = compiled.arm
+    val m = MonitorConfig(arm, compiled.config.monitor)
+    val samples = (0 until trace.size).map(r => ArmSample.fromRow(trace.row(r).take(3 * n)))
+    val payloads = (0 until trace.size).map(r =>
+      PayloadColumns.body(
+        PayloadColumns.names.map(c => trace.values(r * trace.width + trace.header.indexOf(c)))
+      )
+    )
+    val summary = MonitorSummary.fromTrajectory(arm, m, samples, Nil, payloads)
+    assert(summary.violations.isEmpty, summary.violations.mkString("\n"))
+    val unloaded = MonitorSummary.fromTrajectory(arm, m, samples)
+    val peaks = (0 until n).map { j =>
+      val pinocchio = trace.column(s"tau${j + 1}").map(math.abs).max
+      val (hw, ref) = (summary.hardware(j).peakAbsNm.get, summary.reference(j).peakAbsNm.get)
+      assert(
+        math.abs(ref - pinocchio) <= 1e-9,
+        s"joint ${j + 1}: reference peak $ref, Pinocchio's $pinocchio"
+      )
+      assert(math.abs(hw - pinocchio) <= 1e-3, s"joint ${j + 1}: monitored peak $hw, Pinocchio's $pinocchio")
+      (hw, unloaded.hardware(j).peakAbsNm.get)
+    }
+    assert(peaks.exists { case (loaded, bare) => loaded > bare + 1 }, s"the payload changes no peak: $peaks")
+    info(
+      s"[payload monitor] peaks with / without the payload: ${peaks.map { case (a, b) => f"$a%.2f/$b%.2f" }.mkString(", ")} N·m"
+    )
+  }
+
+  it should "write on the rtl engine the model engine's file, bit for bit, across a payload change" in {
+    assume(VerilatorHarness.available, "verilator is not installed")
+    // Rows 90..129: at rest with no payload, then part A (5 kg) from row 100 on. The harness build is
+    // cached per design (about 45 s on 2 cores the first time).
+    val slice = csv(ArmTrajectory.columns(n) ++ PayloadColumns.names, 90 until 130)
+    val (model, _) = simulate(slice, ur5 ++ payload)
+    val rtl = Scratch.dir("sim-payload-rtl-").resolve("loads.csv")
+    Main.run(
+      Seq(
+        "simulate",
+        "--input",
+        slice.toString,
+        "--output",
+        rtl.toString,
+        "--engine",
+        "rtl"
+      ) ++ ur5 ++ payload
+    )
+    assert(Files.readString(rtl) == Files.readString(model))
   }
 }
