@@ -113,12 +113,11 @@ object Simulate {
       if (table.header == d.columns) table.values
       else {
         val at = d.columns.map(table.header.indexOf).toArray
+        // A column not in the file (at -1) is a constant payload's.
         val constant = new Array[Double](width)
         payload match {
           case ReplayPayload.Constant(v) =>
-            d.payloadColumns.zip(v).foreach { case (c, x) =>
-              at(d.columns.indexOf(c)) = -1; constant(d.columns.indexOf(c)) = x
-            }
+            d.payloadColumns.zip(v).foreach { case (c, x) => constant(d.columns.indexOf(c)) = x }
           case ReplayPayload.Columns | ReplayPayload.Absent =>
         }
         val picked = new Array[Double](table.size * width)
