@@ -1,6 +1,6 @@
 package reducerload.app
 
-import reducerload.arm.{ArmParams, ArmSample}
+import reducerload.arm.{ArmParams, ArmSample, PayloadColumns}
 import reducerload.compiler.Compiled
 import reducerload.monitor.{MonitorConfig, MonitorParams, MonitorSummary, RatedReducer}
 import reducerload.sim.replay._
@@ -24,7 +24,7 @@ object Simulate {
     Opt(
       "input",
       "FILE",
-      "trajectory CSV: header t1,t2,t3,d1,d2,d3,dd1,dd2,dd3 (joint 3), or q1..qN,qd1..qdN,qdd1..qddN (model rnea); rad, rad/s, rad/s^2"
+      "trajectory CSV: header t1,t2,t3,d1,d2,d3,dd1,dd2,dd3 (joint 3), or q1..qN,qd1..qdN,qdd1..qddN (model rnea; with payload.enabled optionally the ten payload columns, see --payload); rad, rad/s, rad/s^2"
     ),
     Opt(
       "output",
@@ -43,6 +43,7 @@ object Simulate {
       "chunks of the trajectory run in parallel (harness processes or model threads)",
       "the number of processors"
     ),
+    ReplayPayload.option,
     Opt(
       "summary",
       "FILE",
@@ -101,20 +102,32 @@ object Simulate {
     val jobCount = jobs(cli)
     OutputFile.check(output)
     val d = design(compiled)
-    val table = TraceCsv.read(input, d.columns)
-    TraceCsv.checkJointColumns(table, d.columns)
+    val fileColumns = d.columns.filterNot(d.payloadColumns.contains)
+    val table = TraceCsv.read(input, fileColumns)
+    TraceCsv.checkJointColumns(table, fileColumns)
+    val payload = ReplayPayload.resolve(table, d.payloadColumns, cli.get(ReplayPayload.option.name))
     // The values as they are when the header is exactly the columns (the usual case): no copy.
-    // Otherwise the design's columns picked out, still flat (no object per row).
+    // Otherwise the design's columns picked out (a constant payload filled in), still flat.
     val width = d.columns.size
     val values =
       if (table.header == d.columns) table.values
       else {
         val at = d.columns.map(table.header.indexOf).toArray
+        // A column not in the file (at -1) is a constant payload's.
+        val constant = new Array[Double](width)
+        payload match {
+          case ReplayPayload.Constant(v) =>
+            d.payloadColumns.zip(v).foreach { case (c, x) => constant(d.columns.indexOf(c)) = x }
+          case ReplayPayload.Columns | ReplayPayload.Absent =>
+        }
         val picked = new Array[Double](table.size * width)
         var r = 0
         while (r < table.size) {
           var c = 0
-          while (c < width) { picked(r * width + c) = table.values(r * table.width + at(c)); c += 1 }
+          while (c < width) {
+            picked(r * width + c) = if (at(c) < 0) constant(c) else table.values(r * table.width + at(c))
+            c += 1
+          }
           r += 1
         }
         picked
@@ -224,8 +237,15 @@ object Simulate {
       val r = request.rows.row(i)
       ArmSample(r.slice(0, n), r.slice(n, 2 * n), r.slice(2 * n, 3 * n))
     }
+    // With a run-time payload, each row's (the payload columns after the joints').
+    val payloads =
+      if (request.design.payloadColumns.isEmpty) Nil
+      else
+        (0 until request.rows.size).map(i =>
+          PayloadColumns.body(request.rows.row(i).slice(3 * n, 3 * n + PayloadColumns.names.size))
+        )
     val summary =
-      MonitorSummary.fromTrajectory(arm, mp, samples, rated)
+      MonitorSummary.fromTrajectory(arm, mp, samples, rated, payloads)
     OutputFile.writeString(path, summary.json)
     println(
       s"wrote $path: reducer monitor summary of ${samples.size} samples, ${n} joints (exponent ${mp.lifeExponents.distinct.mkString("/")})"

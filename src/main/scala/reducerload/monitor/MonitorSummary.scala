@@ -203,8 +203,9 @@ object MonitorSummary {
       arm: reducerload.arm.ArmParams,
       p: MonitorParams,
       samples: Seq[reducerload.arm.ArmSample],
-      rated: Seq[Option[RatedReducer]] = Nil
-  ): TrajectorySummary = TrajectorySummary.of(arm, p, samples, rated)
+      rated: Seq[Option[RatedReducer]] = Nil,
+      payloads: Seq[reducerload.robot.RigidBody] = Nil
+  ): TrajectorySummary = TrajectorySummary.of(arm, p, samples, rated, payloads)
 
   /**
    * `{"joints": [...]}`, with the reference's figures, the differences and their derived bounds when given.

@@ -3,6 +3,7 @@ package reducerload.monitor
 import reducerload.arm.{ArmModel, ArmParams, ArmSample}
 import reducerload.dynamics.Rnea
 import reducerload.graph.SampleCodes
+import reducerload.robot.RigidBody
 
 /**
  * Derived bounds on |hardware figure - reference figure| for one joint, where the hardware figures come from
@@ -55,15 +56,21 @@ object TrajectorySummary {
       arm: ArmParams,
       m: MonitorParams,
       samples: Seq[ArmSample],
-      fed: Seq[MonitorSampleCodes]
+      fed: Seq[MonitorSampleCodes],
+      payloads: Seq[RigidBody] = Nil
   ): Seq[MonitorSampleValues] =
-    samples.zip(fed).map { case (s, f) =>
+    samples.zip(fed).zip(padded(payloads, samples.size)).map { case ((s, f), carried) =>
+      val chain = arm.payload.zip(carried).fold(arm.chain) { case (spec, b) => spec.merged(arm.chain, b) }
       MonitorSampleValues(
-        Rnea.reference(arm.chain, s.q, s.qd, s.qdd),
+        Rnea.reference(chain, s.q, s.qd, s.qdd),
         f.velocity.indices.map(j => m.velocityFormats(j).toDouble(f.velocity(j))),
         f.outOfRange
       )
     }
+
+  /** Each sample's payload (`payloads` per sample, none beyond them: a design without payload gets Nil). */
+  private def padded(payloads: Seq[RigidBody], samples: Int): Seq[Option[RigidBody]] =
+    payloads.map(Some(_)) ++ Seq.fill(samples - payloads.size)(None)
 
   /** What the monitor receives for each sample, by the datapath's bit-accurate model. */
   def monitorInputs(arm: ArmParams, codes: Seq[SampleCodes]): Seq[MonitorSampleCodes] = {
@@ -153,21 +160,27 @@ object TrajectorySummary {
   /**
    * A whole trajectory, one sample per sample period, from a cleared monitor: the datapath's model feeds the
    * monitor's model (the figures the hardware's registers would hold), and the double reference gets the
-   * exact RNEA torques.
+   * exact RNEA torques (with `payloads`, one per sample, each sample's payload merged into the last body).
    */
   def of(
       arm: ArmParams,
       m: MonitorParams,
       samples: Seq[ArmSample],
-      rated: Seq[Option[RatedReducer]] = Nil
+      rated: Seq[Option[RatedReducer]] = Nil,
+      payloads: Seq[RigidBody] = Nil
   ): TrajectorySummary = {
     MonitoredArm.check(arm, m)
     val model = new ArmModel(arm)
-    val fed = monitorInputs(arm, samples.map(model.encode))
+    val fed = monitorInputs(
+      arm,
+      samples.zip(padded(payloads, samples.size)).map { case (s, b) =>
+        model.encode(s, b.getOrElse(RigidBody.massless))
+      }
+    )
     val monitorModel = new MonitorModel(m)
     val live = fed.foldLeft(monitorModel.initial)((s, x) => monitorModel.step(s, MonitorCycle(Some(x)))).live
     val snap = MonitorSnapshot(0, live)
-    val values = referenceValues(arm, m, samples, fed)
+    val values = referenceValues(arm, m, samples, fed, payloads)
     val ref = MonitorReference.summarize(m, values, rated)
     TrajectorySummary(m, MonitorSummary.fromSnapshot(m, snap, rated), ref, bounds(arm, m, snap, ref, values))
   }

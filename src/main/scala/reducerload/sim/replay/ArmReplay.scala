@@ -1,19 +1,30 @@
 package reducerload.sim.replay
 
-import reducerload.arm.{ArmIO, ArmModel, ArmOutputCodes, ArmParams, ArmSample, ArmTrajectory, LoadReference}
+import reducerload.arm.{
+  ArmIO,
+  ArmModel,
+  ArmOutputCodes,
+  ArmParams,
+  ArmSample,
+  ArmTrajectory,
+  LoadReference,
+  PayloadColumns
+}
 import reducerload.config.LoadParams
 import reducerload.dynamics.Rnea
-import reducerload.graph.SampleCodes
+import reducerload.graph.{SampleCodes, Signal}
 import reducerload.load.Joint3Columns
 import reducerload.monitor.{MonitorParams, MonitoredArmIO}
+import reducerload.robot.RigidBody
 import reducerload.sim.model.{FastArmModel, FastFixed, ReferenceTape}
 import reducerload.sim.rtl.{ArmHarnessPorts, HarnessPorts}
 import reducerload.sim.text.{DoubleText, FixedDecimal}
 
 /**
  * Every joint of an arm (`ArmDatapath`, or `MonitoredArm` with `monitor`, model rnea) as `run simulate`
- * replays it: columns q1..qN,qd1..qdN,qdd1..qddN, result `idx,tau1_hw,tau1_ref,tau1_error,...,out_of_range`.
- * [[LoadReplay]] changes the columns and the reference for the joint-3 closed forms.
+ * replays it: columns q1..qN,qd1..qdN,qdd1..qddN (then the ten [[PayloadColumns]] with a run-time payload),
+ * result `idx,tau1_hw,tau1_ref,tau1_error,...,out_of_range`. [[LoadReplay]] changes the columns and the
+ * reference for the joint-3 closed forms.
  */
 class ArmReplay(val p: ArmParams, monitor: Option[MonitorParams] = None)
     extends ReplayDesign[SampleCodes, ArmOutputCodes] {
@@ -24,27 +35,38 @@ class ArmReplay(val p: ArmParams, monitor: Option[MonitorParams] = None)
   protected val joints: Int = p.chain.size
   private val angleFormat = FastFixed.angleFormat(p.numerics.angleBits)
 
-  def columns: Seq[String] = ArmTrajectory.columns(joints)
+  def columns: Seq[String] = ArmTrajectory.columns(joints) ++ payloadColumns
+  override def payloadColumns: Seq[String] = if (p.payload.isDefined) PayloadColumns.names else Nil
   val limits: Seq[(Int, Double)] =
     (0 until joints).map(j => (joints + j, p.numerics.velocityLimits(j))) ++
       (0 until joints).map(j => (2 * joints + j, p.numerics.accelerationLimits(j)))
 
-  protected def sample(row: IndexedSeq[Double]): ArmSample = ArmSample.fromRow(row)
+  protected def sample(row: IndexedSeq[Double]): ArmSample = ArmSample.fromRow(row.take(3 * joints))
 
-  /** `model.encode` of the row's sample, in fast exact arithmetic (tested equal). */
+  /** The payload of a row (its payload columns), when the design has one. */
+  private def payload(row: IndexedSeq[Double]): Option[RigidBody] =
+    Option.when(p.payload.isDefined)(
+      PayloadColumns.body(row.slice(3 * joints, 3 * joints + PayloadColumns.names.size))
+    )
+
+  /** `model.encode(sample, payload)` of the row, in fast exact arithmetic (tested equal). */
   def encode(row: IndexedSeq[Double]): SampleCodes = {
     val n = p.numerics
     SampleCodes(
       (0 until joints).map(j => FastFixed.angleCode(row(j), angleFormat)),
       (0 until joints).map(j => FastFixed.codeHalfUp(row(joints + j), n.velocityPortFormat)),
-      (0 until joints).map(j => FastFixed.codeHalfUp(row(2 * joints + j), n.accelerationPortFormat))
+      (0 until joints).map(j => FastFixed.codeHalfUp(row(2 * joints + j), n.accelerationPortFormat)),
+      p.payload.zip(payload(row)).fold(Map.empty[Signal.Inertial, BigInt]) { case (spec, body) =>
+        spec.values(p.chain, body).map { case (s, v) => s -> FastFixed.codeHalfUp(v, n.parameterFormats(s)) }
+      }
     )
   }
   def evaluate(in: SampleCodes): ArmOutputCodes = fast.fold(model.evaluate(in))(_.evaluate(in))
 
   lazy val ports: HarnessPorts =
     ArmHarnessPorts(monitor.fold(new ArmIO(p))(m => new MonitoredArmIO(p, m)))
-  def harnessValues(in: SampleCodes): Seq[BigInt] = ArmHarnessPorts.values(in)
+  def harnessValues(in: SampleCodes): Seq[BigInt] =
+    ArmHarnessPorts.values(in) ++ p.numerics.parameters.map(in.parameters)
   def fromHarness(values: IndexedSeq[BigInt]): ArmOutputCodes =
     ArmHarnessPorts.codes(values, p.graph.outputs.size)
 
@@ -65,7 +87,9 @@ class ArmReplay(val p: ArmParams, monitor: Option[MonitorParams] = None)
   ): Boolean = {
     val s = sample(row)
     val hw = out.tau.map(FastFixed.toDouble(_, p.analysis.outputPortFormat.fracBits)) // model.torques, fast
-    val ref = Rnea.reference(p.chain, s.q, s.qd, s.qdd)
+    // With a payload: RNEA on the chain whose last body carries the row's payload.
+    val chain = p.payload.zip(payload(row)).fold(p.chain) { case (spec, body) => spec.merged(p.chain, body) }
+    val ref = Rnea.reference(chain, s.q, s.qd, s.qdd)
     val outOfRange = out.outOfRange.exists(identity)
     text.append(index)
     // The hardware's value as its exact decimal (FixedDecimal), the reference and the error by DoubleText
@@ -81,7 +105,8 @@ class ArmReplay(val p: ArmParams, monitor: Option[MonitorParams] = None)
   /** The reference as a tape (bit-identical to [[result]]'s, see ReplayArraysSpec). */
   protected def referenceTape(): ReferenceTape = ReferenceTape.rnea(p.chain)
 
-  override lazy val arrays: Option[ArrayReplay] = fast.map { model =>
+  // With a payload, the general path (the arrays' reference tape has no payload inputs).
+  override lazy val arrays: Option[ArrayReplay] = fast.filter(_ => p.payload.isEmpty).map { model =>
     val reference = referenceTape()
     require(
       reference.outputs == model.torques,

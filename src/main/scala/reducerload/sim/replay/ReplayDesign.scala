@@ -16,6 +16,12 @@ trait ReplayDesign[In, Out] {
   /** Required trajectory columns, in the order a row is given. */
   def columns: Seq[String]
 
+  /**
+   * The columns of `columns` that give the run-time payload (all or none from the file; `--payload` gives
+   * them for a whole replay); none for a design without a payload.
+   */
+  def payloadColumns: Seq[String] = Nil
+
   /** (index into `columns`, declared max |value|) of every range-checked column. */
   def limits: Seq[(Int, Double)]
 
