@@ -118,7 +118,7 @@ class PayloadSpecSpec extends AnyFlatSpec {
       val values = spec.values(p.chain, body)
       val outside = spec.ranges(p.chain).exists { case (sig, r) => values(sig) < r.lo || values(sig) > r.hi }
       // The same payload with every parameter clamped to its interval, in range.
-      val clamped = spec.ranges(p.chain).map { case (sig, r) =>
+      val clamped = spec.ranges(p.chain).collect { case (sig: Signal.Inertial, r) =>
         sig.parameter -> math.max(r.lo, math.min(r.hi, values(sig)))
       }
       def at(i: InertialParameter) = clamped(i)
