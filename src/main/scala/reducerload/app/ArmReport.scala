@@ -146,7 +146,8 @@ final case class ArmReport(
 
   def summaryLines: Seq[String] = estimate.toSeq.flatMap(_.lines) ++ Seq(
     s"Computes: ${p.dynamics.description}",
-    s"Robot: ${p.chain.name}, ${joints.size} moving joints (numbered from the base), gravity ${p.chain.gravity.toSeq.mkString("(", ", ", ")")} m/s^2",
+    s"Robot: ${p.chain.name}, ${joints.size} moving joints (numbered from the base), gravity ${p.chain.gravity.toSeq.mkString("(", ", ", ")")} m/s^2" +
+      p.gravity.fold("")(g => s" at reset; run-time gravity, each component within ±${g.maxMagnitude} m/s^2"),
     "Joints kept:"
   ) ++ jointLines ++ Seq(
     s"Operations after constant folding and sharing: ${counts.multiplications} multiplications (${counts.constantMultiplications} by a constant), " +
