@@ -187,4 +187,26 @@ class PayloadedArmSpec extends AnyFlatSpec with ChiselScalatestTester {
         assert(expected.exists(_._2.parameters == reset), "no sample with the reset gravity and no payload")
       }
     }
+
+  it should "take the run-time gravity alone (no payload): three registers reset to the elaboration gravity" in {
+    val config = ArmGolden.of("ur5").head.config
+    val p = Compiler.arm(
+      config.copy(
+        robot = config.robot.copy(mounting = reducerload.robot.Mounting.ceiling),
+        gravity = GravitySettings(runtime = true),
+        schedule = ScheduleRequest(clocksPerSample = Some(88), storage = Some(Storage.Memory))
+      )
+    )
+    assert(p.payload.isEmpty && p.numerics.parameters == Signal.gravity)
+    // Reset: the ceiling-mounted UR5's folded gravity, (0, 0, +9.81).
+    val reset = PayloadedArm.resetCodes(p).map(p.numerics.parameterPortFormat.toDouble)
+    assert(reset.zip(Seq(0.0, 0.0, 9.81)).forall { case (a, b) =>
+      math.abs(a - b) <= p.numerics.parameterPortFormat.lsb
+    })
+    val model = new ArmModel(p)
+    val s = ArmSample(IndexedSeq.fill(6)(0.3), IndexedSeq.fill(6)(0.1), IndexedSeq.fill(6)(0.2))
+    val withReset = model.encode(s).copy(parameters = Signal.gravity.zip(PayloadedArm.resetCodes(p)).toMap)
+    assert(model.evaluate(withReset) == model.evaluate(model.encode(s)))
+    circt.stage.ChiselStage.convert(new PayloadedArm(p)) // elaborates with three gravity registers
+  }
 }
