@@ -6,7 +6,7 @@ import reducerload.arm.{ArmIO, ArmParams}
 import reducerload.compiler.{DeviceFit, Fitted, Resource}
 import reducerload.monitor.MonitoredArmIO
 import reducerload.fixedpoint.FixedFormat
-import reducerload.graph.InertialParameter
+import reducerload.graph.{InertialParameter, Signal}
 import reducerload.monitor.{JointField, MonitorParams}
 import reducerload.sim.rtl.ModulePorts
 
@@ -72,16 +72,20 @@ final case class ArmReport(
         )
       ) ++
       io.in.bits.payload.toSeq.flatMap(_.zip(n.parameters).map { case (port, s) =>
-        val unit = s.parameter match {
-          case InertialParameter.Mass       => "kg"
-          case InertialParameter.Com(_)     => "m"
-          case _: InertialParameter.Inertia => "kg m^2"
+        val what = s match {
+          case Signal.Inertial(_, parameter) =>
+            val unit = parameter match {
+              case InertialParameter.Mass       => "kg"
+              case InertialParameter.Com(_)     => "m"
+              case _: InertialParameter.Inertia => "kg m^2"
+            }
+            s"$unit, payload $parameter in the frame of ${p.payload.fold("")(_.frame)}"
+          case g: Signal.Gravity => s"m/s^2, gravity $g in base coordinates"
         }
         val r = n.parameterRanges(s)
         at(
           port,
-          s"${n.parameterPortFormat.describe}, $unit, payload ${s.parameter} in the frame of " +
-            s"${p.payload.fold("")(_.frame)}, declared in [${r.lo}, ${r.hi}] (beyond: clamped, every joint flagged)"
+          s"${n.parameterPortFormat.describe}, $what, declared in [${r.lo}, ${r.hi}] (beyond: clamped, every joint flagged)"
         )
       }) ++
       Seq(at(io.out.valid, s"1 bit: the torques of the sample given ${p.latency} cycles earlier")) ++
@@ -142,7 +146,8 @@ final case class ArmReport(
 
   def summaryLines: Seq[String] = estimate.toSeq.flatMap(_.lines) ++ Seq(
     s"Computes: ${p.dynamics.description}",
-    s"Robot: ${p.chain.name}, ${joints.size} moving joints (numbered from the base), gravity ${p.chain.gravity.toSeq.mkString("(", ", ", ")")} m/s^2",
+    s"Robot: ${p.chain.name}, ${joints.size} moving joints (numbered from the base), gravity ${p.chain.gravity.toSeq.mkString("(", ", ", ")")} m/s^2" +
+      p.gravity.fold("")(g => s" at reset; run-time gravity, each component within ±${g.maxMagnitude} m/s^2"),
     "Joints kept:"
   ) ++ jointLines ++ Seq(
     s"Operations after constant folding and sharing: ${counts.multiplications} multiplications (${counts.constantMultiplications} by a constant), " +

@@ -14,9 +14,9 @@ class ArmInput(p: ArmParams) extends Bundle {
   val qdd = Vec(p.chain.size, SInt(p.numerics.accelerationPortFormat.width.W))
 
   /**
-   * With a run-time payload: the codes of its parameters this sample is computed with, in
-   * `numerics.parameters`' order, every one in the widest parameter's format (all have the same fraction
-   * bits); none otherwise.
+   * With a run-time payload or gravity: the codes of the run-time parameters this sample is computed with
+   * (the payload's, then the gravity's), in `numerics.parameters`' order, every one in the widest parameter's
+   * format (all have the same fraction bits); none otherwise.
    */
   val payload = Option.when(p.numerics.parameters.nonEmpty)(
     Vec(p.numerics.parameters.size, SInt(p.numerics.parameterPortFormat.width.W))

@@ -153,7 +153,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     clamp(io.in.bits.qdd(j), numerics.accelerationLimitRaw(j), numerics.accelerationFormats(j).width)
   )
   // The payload's parameters, each clamped to its declared interval like the velocities: with the sample.
-  private val parameters: Map[Signal.Inertial, (SInt, Bool)] = numerics.parameters.zipWithIndex.map {
+  private val parameters: Map[Signal.Parameter, (SInt, Bool)] = numerics.parameters.zipWithIndex.map {
     case (s, k) =>
       val (lo, hi) = numerics.parameterLimitRaw(s)
       s -> clampTo(io.in.bits.payload.get(k), lo, hi, numerics.parameterFormats(s).width)
@@ -193,7 +193,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   private def signal(s: Signal): SInt = s match {
     case Signal.Velocity(j)     => velocities(j)._1
     case Signal.Acceleration(j) => accelerations(j)._1
-    case s: Signal.Inertial     => parameters(s)._1
+    case s: Signal.Parameter    => parameters(s)._1
   }
 
   private val outAt = p.outputsReady
@@ -234,7 +234,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
         case Const(_)                      => Map.empty
         case Input(Signal.Velocity(j))     => kept(velocities(j)._1)
         case Input(Signal.Acceleration(j)) => kept(accelerations(j)._1)
-        case Input(s: Signal.Inertial)     => kept(parameters(s)._1)
+        case Input(s: Signal.Parameter)    => kept(parameters(s)._1)
         case Trig(fn, a) =>
           val out = cordicOutputs(schedule.angleSlot(a).unit.get)
           val v = if (fn == TrigFn.Cos) out.cos else out.sin

@@ -2,7 +2,7 @@ package reducerload.arm
 
 import reducerload.fixedpoint.{FixedFormat, Rounding}
 import reducerload.graph.{GraphModel, SampleCodes, Signal}
-import reducerload.robot.RigidBody
+import reducerload.robot.{RigidBody, Vec3}
 
 /**
  * One sample of joint state in SI units: angles (rad), velocities (rad/s), accelerations (rad/s^2), one each
@@ -55,7 +55,7 @@ final class ArmModel(val p: ArmParams) {
       (s -> v, outside)
     }.unzip
     val out = graphModel.outputs(SampleCodes(in.angles, qd, qdd, parameters.toMap))
-    // A clamped payload parameter changes every torque: every joint is flagged.
+    // A clamped run-time parameter (payload, gravity) changes every torque: every joint is flagged.
     val saturated = out.exists(_._2) || parameterFlags.exists(identity)
     ArmOutputCodes(out.map(_._1), qdFlags.zip(qddFlags).map { case (a, b) => a || b || saturated })
   }
@@ -74,7 +74,13 @@ final class ArmModel(val p: ArmParams) {
    * Port codes of a sample (round to nearest) computed with `payload` (in the payload frame; ignored by a
    * design without one); values beyond a port's format saturate at it.
    */
-  def encode(s: ArmSample, payload: RigidBody): SampleCodes = {
+  def encode(s: ArmSample, payload: RigidBody): SampleCodes = encode(s, payload, p.chain.gravity)
+
+  /**
+   * Port codes of a sample computed with `payload` and the gravity `gravity` (m/s^2, base coordinates;
+   * ignored by a design whose gravity is folded).
+   */
+  def encode(s: ArmSample, payload: RigidBody, gravity: Vec3): SampleCodes = {
     require(
       s.q.size == p.chain.size,
       s"a sample of ${s.q.size} joints for the ${p.chain.size}-joint ${p.chain.name}"
@@ -84,9 +90,10 @@ final class ArmModel(val p: ArmParams) {
       s.q.map(angleCode),
       s.qd.map(code(_, numerics.velocityPortFormat)),
       s.qdd.map(code(_, numerics.accelerationPortFormat)),
-      p.payload.fold(Map.empty[Signal.Inertial, BigInt])(spec =>
-        spec.values(p.chain, payload).map { case (sig, v) => sig -> code(v, numerics.parameterFormats(sig)) }
-      )
+      (p.payload.fold(Map.empty[Signal.Parameter, Double])(_.values(p.chain, payload)) ++
+        p.gravity.fold(Map.empty[Signal.Parameter, Double])(_.values(gravity))).map { case (sig, v) =>
+        sig -> code(v, numerics.parameterFormats(sig))
+      }
     )
   }
 

@@ -38,6 +38,8 @@ object Dynamics {
  *   per-node caps below the kinds' fraction bits (chosen by [[reducerload.compiler.TargetFit]])
  * @param payload
  *   a payload on the last joint whose inertial parameters are run-time inputs (None: no payload, no inputs)
+ * @param gravity
+ *   the gravity vector as three run-time inputs (None: the chain's gravity, folded at elaboration)
  */
 final case class ArmParams(
     chain: SerialChain,
@@ -48,11 +50,22 @@ final case class ArmParams(
     scheduleRequest: ScheduleRequest = ScheduleRequest(),
     dynamics: Dynamics = Dynamics.Rnea,
     fracBitLimits: FracBitLimits = FracBitLimits.none,
-    payload: Option[PayloadSpec] = None
+    payload: Option[PayloadSpec] = None,
+    gravity: Option[GravitySpec] = None
 ) {
   require(
     payload.isEmpty || dynamics == Dynamics.Rnea,
     s"payload.enabled = true needs model rnea (the ${dynamics.name} closed form has no payload)"
+  )
+  require(
+    gravity.isEmpty || dynamics == Dynamics.Rnea,
+    s"gravity.runtime = true needs model rnea (the ${dynamics.name} closed form has its gravity folded)"
+  )
+  gravity.foreach(g =>
+    require(
+      chain.gravity.norm <= g.maxMagnitude,
+      s"gravity.max-magnitude (${g.maxMagnitude} m/s^2) is below the robot's own gravity (${chain.gravity.norm} m/s^2), the reset value"
+    )
   )
 
   require(
@@ -84,7 +97,8 @@ final case class ArmParams(
     internalFracBits,
     outputFracBits,
     productRounding,
-    payload.fold(Map.empty[Signal.Inertial, Interval])(_.ranges(chain))
+    payload.fold(Map.empty[Signal.Parameter, Interval])(_.ranges(chain)) ++
+      gravity.fold(Map.empty[Signal.Parameter, Interval])(_.ranges)
   )
 
   /**
@@ -92,7 +106,7 @@ final case class ArmParams(
    * while building it.
    */
   private lazy val built: (Graph, RangeHints) = dynamics match {
-    case Dynamics.Rnea             => ArmParams.rneaGraph(chain, maxVelocity, maxAcceleration, payload)
+    case Dynamics.Rnea => ArmParams.rneaGraph(chain, maxVelocity, maxAcceleration, payload, gravity)
     case Dynamics.Joint3(model, r) => (ArmParams.joint3Graph(chain, model, r), RangeHints.none)
   }
   lazy val graph: Graph = built._1
@@ -155,11 +169,12 @@ final case class ArmParams(
   def tag: String = (dynamics match {
     case Dynamics.Rnea => s"${chain.name.replaceAll("[^A-Za-z0-9]", "_")}_${chain.size}dof"
     case d             => d.name
-  }) + (if (payload.isDefined) "_payload" else "") + (if (schedule.clocksPerSample > 1)
-                                                        s"_ii${schedule.clocksPerSample}"
-                                                      else "") + (if (banked.isDefined)
-                                                                    "_mem"
-                                                                  else "")
+  }) + (if (payload.isDefined) "_payload" else "") +
+    (if (gravity.isDefined) "_gravity" else "") + (if (schedule.clocksPerSample > 1)
+                                                     s"_ii${schedule.clocksPerSample}"
+                                                   else "") + (if (banked.isDefined)
+                                                                 "_mem"
+                                                               else "")
 
   /**
    * The top module's name: `LoadDatapath_<model>` for the joint-3 closed forms (the name their users know),
@@ -187,7 +202,8 @@ object ArmParams {
       chain: SerialChain,
       maxVelocity: Seq[Double],
       maxAcceleration: Seq[Double],
-      payload: Option[PayloadSpec] = None
+      payload: Option[PayloadSpec] = None,
+      gravity: Option[GravitySpec] = None
   ): (Graph, RangeHints) =
     GraphBuilder.buildWithBounds { b =>
       val va = new TrackingAlgebra(b)
@@ -213,7 +229,12 @@ object ArmParams {
           Sym3.tabulate((r, c) => in(InertialParameter.Inertia(r, c)))
         )(va)
       }
-      val torques = Rnea.torques(chain, state, added.toMap)(va)
+      // The run-time gravity's three components as inputs, each within the declared magnitude.
+      val runtimeGravity = gravity.map { spec =>
+        val g = Signal.gravity.map(s => va.leaf(b.input(s), spec.maxMagnitude))
+        V3(g(0), g(1), g(2))
+      }
+      val torques = Rnea.torques(chain, state, added.toMap, runtimeGravity)(va)
       (chain.joints.map(_.name).zip(torques.map(_.node)), va.hints)
     }
 

@@ -44,11 +44,11 @@ final case class PayloadSpec(
   def joint(chain: SerialChain): Int = chain.size - 1
 
   /** Every parameter's signal with its declared interval. */
-  def ranges(chain: SerialChain): Map[Signal.Inertial, Interval] =
+  def ranges(chain: SerialChain): Map[Signal.Parameter, Interval] =
     Signal.inertial(joint(chain)).map(s => s -> range(s.parameter)).toMap
 
   /** A body's parameters in the payload frame, by signal (SI units). */
-  def values(chain: SerialChain, body: RigidBody): Map[Signal.Inertial, Double] =
+  def values(chain: SerialChain, body: RigidBody): Map[Signal.Parameter, Double] =
     Signal.inertial(joint(chain)).map(s => s -> PayloadSpec.value(body, s.parameter)).toMap
 
   /** What the payload adds at the last joint's origin, from its parameters as values of T. */

@@ -2,6 +2,8 @@ package reducerload.arm
 
 import chisel3._
 import chisel3.util._
+import reducerload.fixedpoint.Rounding
+import reducerload.graph.Signal
 import reducerload.pipeline.MultiplierImpl
 
 /** One sample's joint state: [[ArmInput]] without the payload, which comes from the payload registers. */
@@ -13,8 +15,9 @@ class JointSample(p: ArmParams) extends Bundle {
 
 /**
  * The host's side of the payload registers: `write` sets one staged parameter (`index` in
- * `numerics.parameters`' order, a code of the parameter port format); `commit` makes the staged payload the
- * one samples are computed with, from the next sample on, and counts the sequence number up.
+ * `numerics.parameters`' order: the payload's ten, then the run-time gravity's x, y, z; a code of the
+ * parameter port format); `commit` makes the staged parameters the ones samples are computed with, from the
+ * next sample on, and counts the sequence number up.
  */
 class PayloadHostIO(p: ArmParams) extends Bundle {
   val write = Flipped(Valid(new Bundle {
@@ -34,12 +37,12 @@ class PayloadedOutput(p: ArmParams) extends Bundle {
  * [[ArmDatapath]] with host-written payload registers. The datapath takes a sample's payload with its joint
  * state, like qd, so a commit between two samples is at a sample boundary by construction: every sample is
  * computed with the payload committed when it was taken. The committed payload's sequence number (counted
- * modulo 2^sequenceBits from 0 at reset, when the payload is none: every parameter 0) leaves beside its
- * sample's torques, through a queue as deep as the samples in flight. Out-of-range parameters are clamped and
- * flagged by the datapath.
+ * modulo 2^sequenceBits from 0 at reset, when the payload is none and the gravity the elaboration one) leaves
+ * beside its sample's torques, through a queue as deep as the samples in flight. Out-of-range parameters are
+ * clamped and flagged by the datapath.
  */
 class PayloadedArm(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
-  require(p.payload.isDefined, s"PayloadedArm: ${p.moduleName} has no run-time payload")
+  require(p.numerics.parameters.nonEmpty, s"PayloadedArm: ${p.moduleName} has no run-time payload or gravity")
   override def desiredName = s"Payloaded${p.moduleName}"
   private val parameters = p.numerics.parameters.size
   val io = IO(new Bundle {
@@ -48,9 +51,12 @@ class PayloadedArm(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ex
     val out = Valid(new PayloadedOutput(p))
   })
 
-  private val zero = 0.S(p.numerics.parameterPortFormat.width.W)
-  private val staged = RegInit(VecInit(Seq.fill(parameters)(zero)))
-  private val active = RegInit(VecInit(Seq.fill(parameters)(zero)))
+  private val staged = RegInit(
+    VecInit(PayloadedArm.resetCodes(p).map(_.S(p.numerics.parameterPortFormat.width.W)))
+  )
+  private val active = RegInit(
+    VecInit(PayloadedArm.resetCodes(p).map(_.S(p.numerics.parameterPortFormat.width.W)))
+  )
   private val sequence = RegInit(0.U(PayloadedArm.sequenceBits.W))
   when(io.host.write.valid)(staged(io.host.write.bits.index) := io.host.write.bits.value)
   // The staged payload before this cycle's write: a write and a commit in one cycle commit the older value.
@@ -82,4 +88,14 @@ object PayloadedArm {
 
   /** Width of the payload sequence number. */
   val sequenceBits: Int = 8
+
+  /**
+   * The parameter registers' reset codes in `numerics.parameters`' order: no payload (every inertial
+   * parameter 0), the chain's own gravity (folded with the mounting).
+   */
+  def resetCodes(p: ArmParams): IndexedSeq[BigInt] = p.numerics.parameters.map {
+    case _: Signal.Inertial => BigInt(0)
+    case g: Signal.Gravity =>
+      p.numerics.parameterFormats(g).fromDouble(p.chain.gravity.toSeq(g.axis), Rounding.HalfUp)._1
+  }
 }

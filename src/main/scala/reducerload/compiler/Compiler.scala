@@ -1,6 +1,6 @@
 package reducerload.compiler
 
-import reducerload.arm.{ArmParams, Dynamics, PayloadSpec}
+import reducerload.arm.{ArmParams, Dynamics, GravitySpec, PayloadSpec}
 import reducerload.config.LoadParams
 import reducerload.graph.BankedSchedule
 import reducerload.monitor.{MonitorConfig, MonitorParams, RatedReducer}
@@ -113,6 +113,17 @@ object Compiler {
     PayloadSpec(frame, pose, p.payload.maxMass, p.payload.comRadius, p.payload.maxGyrationRadius)
   }
 
+  /** The run-time gravity's declared bound, which must hold the chain's own gravity (its reset value). */
+  private def gravity(p: LoadParams, chain: SerialChain): GravitySpec = {
+    val g = chain.gravity.norm
+    if (g > p.gravity.maxMagnitude)
+      throw new InputError(
+        s"${chain.label}: gravity.max-magnitude: ${p.gravity.maxMagnitude} m/s^2 is below the robot's own " +
+          s"gravity ($g m/s^2), the run-time gravity's reset value"
+      )
+    GravitySpec(p.gravity.maxMagnitude)
+  }
+
   private def configured(p: LoadParams): ArmParams = {
     val c = p.robot.chain
     ArmParams(
@@ -123,7 +134,8 @@ object Compiler {
       datapath = p.datapath,
       scheduleRequest = p.schedule,
       dynamics = if (p.model.closedForm) Dynamics.Joint3(p.model, p.robot) else Dynamics.Rnea,
-      payload = Option.when(p.payload.enabled)(payload(p, c))
+      payload = Option.when(p.payload.enabled)(payload(p, c)),
+      gravity = Option.when(p.gravity.runtime)(gravity(p, c))
     )
   }
 }

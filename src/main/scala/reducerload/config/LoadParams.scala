@@ -13,6 +13,8 @@ import reducerload.robot.RobotParams
  *
  * @param payload
  *   the run-time payload's declared set and frame (`payload.*` keys)
+ * @param gravity
+ *   the gravity vector as run-time inputs, and its declared bound (`gravity.*` keys)
  * @param datapath
  *   fraction bits, product rounding, multiplier latency, block-RAM delays (`datapath.*` keys)
  * @param monitor
@@ -29,6 +31,7 @@ import reducerload.robot.RobotParams
 final case class LoadParams(
     robot: RobotParams = RobotParams(),
     payload: PayloadSettings = PayloadSettings(),
+    gravity: GravitySettings = GravitySettings(),
     model: LoadModel = LoadModel.Exact,
     cordic: CordicParams = CordicParams.tableResidual,
     datapath: DatapathParams = DatapathParams(),
@@ -53,6 +56,10 @@ final case class LoadParams(
   require(
     !payload.enabled || !robot.isPlanar3,
     "payload.enabled = true needs a URDF robot (robot.source): the built-in planar3 has no link to carry it"
+  )
+  require(
+    !gravity.runtime || !model.closedForm,
+    s"gravity.runtime = true needs model rnea; model ${model.name} is planar3's joint-3 closed form"
   )
   targetError.foreach(t =>
     require(!t.isNaN && t > 0 && t < 1e6, s"numeric.target-error must be positive N·m, got $t")

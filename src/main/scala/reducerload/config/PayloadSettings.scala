@@ -44,3 +44,30 @@ object PayloadSettings {
   val largestMass: Double = 1e4
   val largestRadius: Double = 10.0
 }
+
+/**
+ * The gravity keys (`gravity.*`): with `runtime`, the gravity vector (base coordinates) is three run-time
+ * inputs of the datapath, each within [-maxMagnitude, maxMagnitude], committed like the payload (arms on
+ * moving platforms); its reset value is the elaboration gravity (the robot's, rotated by robot.base-rpy).
+ *
+ * @param maxMagnitude
+ *   the declared bound on the gravity's magnitude, m/s^2 (each component within it)
+ */
+final case class GravitySettings(
+    runtime: Boolean = false,
+    maxMagnitude: Double = GravitySettings.defaultMax
+) {
+  require(
+    !maxMagnitude.isNaN && maxMagnitude > 0 && maxMagnitude <= GravitySettings.largestMagnitude,
+    s"gravity.max-magnitude must be in (0, ${GravitySettings.largestMagnitude}] m/s^2, got $maxMagnitude"
+  )
+}
+
+object GravitySettings {
+
+  /** 1.5 g: the standard gravity with the accelerations of a slowly moving platform. */
+  val defaultMax: Double = 1.5 * 9.80665
+
+  /** Largest max-magnitude accepted (m/s^2): beyond any platform, within the formats' reach. */
+  val largestMagnitude: Double = 1e3
+}

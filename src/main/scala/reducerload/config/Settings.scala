@@ -322,6 +322,24 @@ object Settings {
     _.payload.frame
   )
 
+  val gravityRuntime = new Switch(
+    "gravity.runtime",
+    "",
+    "the gravity vector (base coordinates) as three run-time inputs within gravity.max-magnitude, host-written and " +
+      "committed like the payload (arms on moving platforms); reset: the robot's gravity rotated by robot.base-rpy " +
+      "(model rnea; docs/payload.md)",
+    Nil,
+    _.gravity.runtime
+  )
+
+  val gravityMaxMagnitude = new Real(
+    "gravity.max-magnitude",
+    "m/s^2",
+    "bound on the run-time gravity: each component within [-bound, bound] (default 1.5 g)",
+    Nil,
+    _.gravity.maxMagnitude
+  )
+
   val model = new Choice(
     "model",
     "",
@@ -694,6 +712,8 @@ object Settings {
     payloadComRadius,
     payloadMaxGyrationRadius,
     payloadFrame,
+    gravityRuntime,
+    gravityMaxMagnitude,
     model,
     cordicAngleBits,
     cordicOutputBits,
@@ -834,6 +854,7 @@ object Settings {
           maxGyrationRadius = v(payloadMaxGyrationRadius),
           frame = v(payloadFrame)
         ),
+        gravity = GravitySettings(runtime = v(gravityRuntime), maxMagnitude = v(gravityMaxMagnitude)),
         model = v(model),
         cordic = CordicParams(
           angleBits = v(cordicAngleBits),
@@ -899,7 +920,8 @@ object Settings {
 
   /** A complete HOCON file for `p`, grouped by section, with units and meanings as comments. */
   def render(p: LoadParams, header: Seq[String]): String = {
-    val order = Seq("", "robot", "payload", "cordic", "datapath", "numeric", "schedule", "device", "monitor")
+    val order =
+      Seq("", "robot", "payload", "gravity", "cordic", "datapath", "numeric", "schedule", "device", "monitor")
     val body = order.flatMap { section =>
       val settings = all.filter(s => (if (s.key.contains('.')) s.key.takeWhile(_ != '.') else "") == section)
       if (settings.isEmpty) Nil

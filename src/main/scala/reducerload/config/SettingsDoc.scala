@@ -9,6 +9,7 @@ object SettingsDoc {
   private val sections: Seq[(String, String)] = Seq(
     "robot" -> "The arm: the built-in planar3 or a URDF file, and the declared input ranges the formats come from.",
     "payload" -> "A payload on the last joint whose ten inertial parameters are run-time inputs within a declared set (docs/payload.md).",
+    "gravity" -> "The gravity vector as three run-time inputs within a declared magnitude (docs/payload.md).",
     "" -> "What the datapath computes.",
     "cordic" -> "The sin/cos unit.",
     "datapath" -> "Fraction bits of each kind of value, product rounding, multiplier registers, block-RAM delays.",

@@ -19,12 +19,14 @@ object Rnea {
 
   /**
    * Joint torques for `state`; `added` gives joints a body beyond their constant one (a payload, whose
-   * parameters may be run-time values of T): that joint's body is the constant one plus it.
+   * parameters may be run-time values of T): that joint's body is the constant one plus it. `gravity`, when
+   * given, replaces the chain's constant gravity (base coordinates; run-time values of T).
    */
   def torques[T](
       chain: SerialChain,
       state: IndexedSeq[JointState[T]],
-      added: Map[Int, BodyInertia[T]] = Map.empty[Int, BodyInertia[T]]
+      added: Map[Int, BodyInertia[T]] = Map.empty[Int, BodyInertia[T]],
+      gravity: Option[V3[T]] = None
   )(implicit
       va: VectorAlgebra[T]
   ): IndexedSeq[T] = {
@@ -48,7 +50,8 @@ object Rnea {
 
     // Forward pass: angular velocity w, angular acceleration dw, linear acceleration dv of each joint origin.
     final case class Motion(w: V3[T], dw: V3[T], dv: V3[T])
-    val base = Motion(V3.zero[T], V3.zero[T], va.const(chain.gravity * -1.0))
+    val baseAcceleration = gravity.fold(va.const(chain.gravity * -1.0))(g => V3(-g.x, -g.y, -g.z))
+    val base = Motion(V3.zero[T], V3.zero[T], baseAcceleration)
     val motions = joints.indices
       .scanLeft(base) { (parent, j) =>
         val p = va.const(joints(j).origin.translation)

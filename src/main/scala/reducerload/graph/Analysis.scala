@@ -112,7 +112,7 @@ final class Analysis(
           0.5 * n.accelerationFormats(j).lsb,
           n.accelerationFormats(j)
         )
-      case Input(s: Signal.Inertial) =>
+      case Input(s: Signal.Parameter) =>
         val f = n.parameterFormats.getOrElse(
           s,
           throw new IllegalArgumentException(s"graph input $s has no declared range")

@@ -13,13 +13,32 @@ object Signal {
   final case class Acceleration(joint: Int) extends Signal("qdd")
 
   /**
-   * A run-time inertial parameter of a body joint `joint` carries beside its constant one (the payload on the
-   * last joint): an input like qd, held for a whole sample, within a declared interval ([[Numerics]]), so
-   * that one design serves every body in the declared set.
+   * A run-time parameter of the model: an input like qd, held for a whole sample, within a declared interval
+   * ([[Numerics]]), so that one design serves every value in the declared set. Host-written and committed at
+   * a sample boundary in hardware.
    */
-  final case class Inertial(joint: Int, parameter: InertialParameter) extends Signal(parameter.symbol) {
+  sealed abstract class Parameter(symbol: String) extends Signal(symbol)
+
+  /**
+   * A run-time inertial parameter of a body joint `joint` carries beside its constant one (the payload on the
+   * last joint).
+   */
+  final case class Inertial(joint: Int, parameter: InertialParameter) extends Parameter(parameter.symbol) {
     override def toString: String = s"${parameter.symbol}@${joint + 1}"
   }
+
+  /**
+   * One component of the gravity vector in base coordinates (m/s^2; arms on moving platforms): the base's
+   * acceleration, which enters the dynamics at the first joint (its `joint`).
+   */
+  final case class Gravity(axis: Int) extends Parameter("g" + "xyz" (axis)) {
+    require(axis >= 0 && axis < 3, s"Signal.Gravity: axis $axis is not 0, 1 or 2")
+    def joint: Int = 0
+    override def toString: String = symbol
+  }
+
+  /** The three gravity components, x, y, z. */
+  val gravity: IndexedSeq[Gravity] = (0 until 3).map(Gravity(_))
 
   /** The ten run-time parameters of the body joint `joint` carries, in [[InertialParameter.all]]'s order. */
   def inertial(joint: Int): IndexedSeq[Inertial] = InertialParameter.all.map(Inertial(joint, _))

@@ -11,7 +11,7 @@ final case class SampleCodes(
     angles: IndexedSeq[BigInt],
     velocities: IndexedSeq[BigInt],
     accelerations: IndexedSeq[BigInt],
-    parameters: Map[Signal.Inertial, BigInt] = Map.empty
+    parameters: Map[Signal.Parameter, BigInt] = Map.empty
 )
 
 /**
@@ -44,7 +44,7 @@ final class GraphModel(val analysis: Analysis) {
         case Const(_)                      => analysis(id).raw.get
         case Input(Signal.Velocity(j))     => s.velocities(j)
         case Input(Signal.Acceleration(j)) => s.accelerations(j)
-        case Input(p: Signal.Inertial)     => s.parameters(p)
+        case Input(p: Signal.Parameter)    => s.parameters(p)
         case Trig(TrigFn.Cos, a)           => trig(a)._1
         case Trig(TrigFn.Sin, a)           => trig(a)._2
         case Add(a, b) => align(done(a.index), fr(a), f.fracBits) + align(done(b.index), fr(b), f.fracBits)

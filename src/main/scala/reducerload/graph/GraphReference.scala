@@ -13,14 +13,14 @@ object GraphReference {
       q: Seq[Double],
       qd: Seq[Double],
       qdd: Seq[Double],
-      parameters: Map[Signal.Inertial, Double] = Map.empty
+      parameters: Map[Signal.Parameter, Double] = Map.empty
   ): IndexedSeq[Double] = {
     val values = graph.fold[Double] { (op, at) =>
       op match {
         case Const(v)                      => v
         case Input(Signal.Velocity(j))     => qd(j)
         case Input(Signal.Acceleration(j)) => qdd(j)
-        case Input(p: Signal.Inertial)     => parameters(p)
+        case Input(p: Signal.Parameter)    => parameters(p)
         case Trig(fn, angle) =>
           TrigFn.reference(fn, angle.radians(q))
         case Add(a, b) => at(a) + at(b)

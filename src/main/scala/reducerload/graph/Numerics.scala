@@ -49,7 +49,7 @@ final case class Numerics(
     internalFracBits: Int,
     outputFracBits: Int,
     productRounding: Rounding,
-    parameterRanges: Map[Signal.Inertial, Interval] = Map.empty
+    parameterRanges: Map[Signal.Parameter, Interval] = Map.empty
 ) {
   require(
     velocityLimits.size == accelerationLimits.size,
@@ -90,15 +90,18 @@ final case class Numerics(
     require(s.joint < joints, s"Numerics: run-time parameter $s of a joint beyond the $joints declared")
   )
 
-  /** The run-time parameters in port order: by joint, then as [[InertialParameter.all]]. */
-  val parameters: IndexedSeq[Signal.Inertial] =
-    (0 until joints).flatMap(Signal.inertial).filter(parameterRanges.contains)
+  /**
+   * The run-time parameters in port order: the inertial ones by joint, then as [[InertialParameter.all]];
+   * then the gravity's x, y, z.
+   */
+  val parameters: IndexedSeq[Signal.Parameter] =
+    ((0 until joints).flatMap(Signal.inertial) ++ Signal.gravity).filter(parameterRanges.contains)
 
   /**
    * Each run-time parameter's format (also its port's), from its declared range, with the products' fraction
    * bits: the first product that reads it keeps no more.
    */
-  val parameterFormats: Map[Signal.Inertial, FixedFormat] =
+  val parameterFormats: Map[Signal.Parameter, FixedFormat] =
     parameterRanges.map { case (s, r) => s -> FixedFormat.forRange(r.maxAbs, internalFracBits) }
 
   /** The port carries every parameter in the widest parameter's format (one fraction-bit count for all). */
@@ -107,7 +110,7 @@ final case class Numerics(
   /**
    * Each parameter's declared interval as codes (round to nearest): codes beyond it are clamped and flagged.
    */
-  val parameterLimitRaw: Map[Signal.Inertial, (BigInt, BigInt)] = parameterRanges.map { case (s, r) =>
+  val parameterLimitRaw: Map[Signal.Parameter, (BigInt, BigInt)] = parameterRanges.map { case (s, r) =>
     val f = parameterFormats(s)
     s -> ((f.quantize(r.lo, Rounding.HalfUp), f.quantize(r.hi, Rounding.HalfUp)))
   }

@@ -99,6 +99,74 @@ class GoldenPayloadMountingSpec extends AnyFlatSpec {
     }
   }
 
+  it should "compute the ceiling and tilted UR5 on the floor-mounted design with gravity.runtime, fed their gravity vectors (the model within its bound and 1e-3 N·m of Pinocchio, the graph reference within 1e-9)" in {
+    val traces = ArmGolden.mounted("ur5")
+    val floor = traces.head.config.copy(
+      robot = traces.head.config.robot.copy(mounting = Mounting.floor),
+      gravity = reducerload.config.GravitySettings(runtime = true)
+    )
+    val p = Compiler.arm(floor)
+    assert(p.chain.gravity == Vec3(0, 0, -9.81), s"the design's reset gravity ${p.chain.gravity}")
+    assert(p.numerics.parameters == reducerload.graph.Signal.gravity)
+    println(s"[golden] ur5 gravity.runtime: ${p.graph.counts}, derived bound ${p.errorBound}")
+    assert(p.errorBound <= ArmChecks.target, s"derived bound ${p.errorBound}")
+    val model = new ArmModel(p)
+    val fast = new reducerload.sim.model.FastArmModel(p)
+    traces.foreach { t =>
+      val g = t.chain.gravity
+      val codes = t.samples.map(s => model.encode(s, RigidBody.massless, g))
+      val out = codes.map(model.evaluate)
+      assert(
+        codes.zip(out).forall { case (c, o) => fast.evaluate(c) == o },
+        s"${t.name}: FastArmModel differs"
+      )
+      assert(out.forall(!_.outOfRange.exists(identity)), s"${t.name}: a sample flagged")
+      val hw = out.map(model.torques)
+      val graphRef = t.samples.map(s =>
+        reducerload.graph.GraphReference.outputs(p.graph, s.q, s.qd, s.qdd, p.gravity.get.values(g))
+      )
+      val dbl = worst(graphRef, t.torques)
+      assert(dbl < tolerance, s"${t.name}: the graph reference is $dbl N·m from Pinocchio")
+      p.graph.outputs.indices.foreach { j =>
+        val vsPin = hw.zip(t.torques).map { case (h, r) => math.abs(h(j) - r(j)) }.max
+        val vsRef = hw.zip(graphRef).map { case (h, r) => math.abs(h(j) - r(j)) }.max
+        println(
+          f"[golden] ${t.name} on gravity.runtime ${p.graph.outputs(j).name}%-20s max |model - pinocchio| " +
+            f"$vsPin%.3e N·m (bound ${p.errorBounds(j)}%.3e; graph reference $dbl%.1e)"
+        )
+        assert(
+          vsRef <= p.errorBounds(j),
+          s"${t.name} joint ${j + 1}: $vsRef above the bound ${p.errorBounds(j)}"
+        )
+        assert(
+          vsPin <= p.errorBounds(j) + 1e-9 && vsPin <= ArmChecks.target,
+          s"${t.name} joint ${j + 1}: $vsPin"
+        )
+      }
+      // The reset (floor) gravity is far off: the check sees the fed gravity.
+      val asFloor = t.samples.map(s => model.torques(model.evaluate(model.encode(s))))
+      assert(worst(asFloor, t.torques) > 1.0, s"${t.name}: the floor gravity is as good")
+    }
+  }
+
+  it should "leave the graph unchanged with gravity.runtime off, and take three gravity inputs with it" in {
+    val config = ArmGolden.of("ur5").head.config
+    val plain = Compiler.arm(config)
+    val off = Compiler.arm(config.copy(gravity = reducerload.config.GravitySettings(maxMagnitude = 20.0)))
+    assert(plain.graph == off.graph && plain.numerics == off.numerics && plain.moduleName == off.moduleName)
+    val on = Compiler.arm(config.copy(gravity = reducerload.config.GravitySettings(runtime = true)))
+    assert(on.graph.signals.collect { case g: reducerload.graph.Signal.Gravity => g }.size == 3)
+    assert(
+      on.numerics.parameterRanges.values.forall(_ == reducerload.graph.Interval.symmetric(1.5 * 9.80665))
+    )
+    val low = intercept[reducerload.util.InputError](
+      Compiler.arm(
+        config.copy(gravity = reducerload.config.GravitySettings(runtime = true, maxMagnitude = 5.0))
+      )
+    )
+    assert(low.getMessage.contains("gravity.max-magnitude"), low.getMessage)
+  }
+
   for (robot <- Seq("ur5", "panda"))
     it should s"match Pinocchio on the $robot carrying payloads (the last body merged with the payload, within 1e-9 N·m)" in {
       val traces = ArmGolden.withPayload(robot)

@@ -118,7 +118,7 @@ class PayloadSpecSpec extends AnyFlatSpec {
       val values = spec.values(p.chain, body)
       val outside = spec.ranges(p.chain).exists { case (sig, r) => values(sig) < r.lo || values(sig) > r.hi }
       // The same payload with every parameter clamped to its interval, in range.
-      val clamped = spec.ranges(p.chain).map { case (sig, r) =>
+      val clamped = spec.ranges(p.chain).collect { case (sig: Signal.Inertial, r) =>
         sig.parameter -> math.max(r.lo, math.min(r.hi, values(sig)))
       }
       def at(i: InertialParameter) = clamped(i)
@@ -204,5 +204,58 @@ class PayloadSpecSpec extends AnyFlatSpec {
     val withPayload = params("ur5", 5.0)
     assert(withPayload.graph.signals.count(_.isInstanceOf[Signal.Inertial]) == 10)
     assert(withPayload.moduleName != plain.moduleName)
+  }
+
+  it should "take a run-time gravity with and without the payload: within the bound of RNEA under that gravity, clamped and flagged beyond it" in {
+    val config =
+      ArmGolden.of("ur5").head.config.copy(gravity = reducerload.config.GravitySettings(runtime = true))
+    for (withPayload <- Seq(false, true)) {
+      val p = Compiler.arm(
+        if (withPayload) config.copy(payload = PayloadSettings(enabled = true, maxMass = 5.0)) else config
+      )
+      val bound = p.gravity.get.maxMagnitude
+      val model = new ArmModel(p)
+      val fast = new FastArmModel(p)
+      val rng = new Random(Seeds(s"gravity-runtime-$withPayload", 3106L))
+      var worst = 0.0
+      (0 until 200).foreach { k =>
+        val s = sample(rng, p)
+        val body = p.payload.fold(RigidBody.massless)(randomPayload(rng, _))
+        val scale = if (k % 2 == 0) 1.0 else 1.8 // every other one may lie beyond the box
+        val g = Vec3(rng.nextGaussian(), rng.nextGaussian(), rng.nextGaussian()) * (bound / 2 * scale)
+        val clamped = Vec3(g.toSeq.map(x => math.max(-bound, math.min(bound, x))))
+        val outside = clamped != g
+        val out = model.evaluate(model.encode(s, body, g))
+        assert(out == fast.evaluate(model.encode(s, body, g)), s"sample $k: the long model differs")
+        assert(out.outOfRange.forall(_ == outside), s"sample $k: flags ${out.outOfRange}, outside = $outside")
+        if (outside)
+          assert(out.tau == model.evaluate(model.encode(s, body, clamped)).tau, s"sample $k: not clamped")
+        else {
+          val chain = p.payload.fold(p.chain)(_.merged(p.chain, body)).copy(gravity = g)
+          val ref = Rnea.reference(chain, s.q, s.qd, s.qdd)
+          val graph = GraphReference.outputs(
+            p.graph,
+            s.q,
+            s.qd,
+            s.qdd,
+            p.gravity.get.values(g) ++ p.payload.fold(Map.empty[Signal.Parameter, Double])(
+              _.values(p.chain, body)
+            )
+          )
+          graph.zip(ref).foreach { case (a, b) =>
+            assert(math.abs(a - b) < 1e-9, s"sample $k: graph reference")
+          }
+          model.evaluate(model.encode(s, body, g)).tau.indices.foreach { j =>
+            val e = math.abs(model.torques(out)(j) - ref(j))
+            assert(e <= p.errorBounds(j), s"sample $k joint ${j + 1}: $e above ${p.errorBounds(j)}")
+            worst = math.max(worst, e)
+          }
+        }
+      }
+      println(
+        f"[gravity] ur5 gravity.runtime, payload $withPayload: worst |model - RNEA| $worst%.3e N·m, bound " +
+          f"${p.errorBound}%.3e, ${p.graph.counts}"
+      )
+    }
   }
 }

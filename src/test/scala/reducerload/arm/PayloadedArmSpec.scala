@@ -4,10 +4,10 @@ import chisel3._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.compiler.Compiler
-import reducerload.config.PayloadSettings
+import reducerload.config.{GravitySettings, PayloadSettings}
 import reducerload.dynamics.{RandomChains, Rnea}
 import reducerload.fixedpoint.Rounding
-import reducerload.graph.{InertialParameter, SampleCodes, ScheduleRequest, Storage}
+import reducerload.graph.{InertialParameter, SampleCodes, ScheduleRequest, Signal, Storage}
 import reducerload.robot.{Mat3, RigidBody, Vec3}
 import reducerload.testutil.{ArmGolden, Seeds, SimBackend}
 
@@ -16,17 +16,18 @@ import scala.util.Random
 import reducerload.testutil.SimBackend.multiplierImpl // the JVM simulator builds the multipliers' Chisel twin
 
 /**
- * The UR5 with a run-time payload at a shared block-RAM schedule, through its payload registers: the host
- * writes payloads (some beyond the declared set) and commits them at random times while samples stream with
- * bubbles, back-pressure and resets. Checked cycle by cycle: every sample's torques and flags bit-exact with
- * the model for the payload committed when it was taken, at exactly the latency, with that payload's sequence
- * number; in-range torques within the derived bound of RNEA with the payload merged into the last body.
+ * The UR5 with a run-time payload and run-time gravity at a shared block-RAM schedule, through its parameter
+ * registers: the host writes payloads and gravity vectors (some beyond the declared sets) and commits them at
+ * random times while samples stream with bubbles, back-pressure and resets. Checked cycle by cycle: every
+ * sample's torques and flags bit-exact with the model for the payload and gravity committed when it was
+ * taken, at exactly the latency, with their sequence number; in-range torques within the derived bound of
+ * RNEA with the payload merged into the last body and the committed gravity. One Verilator design for both.
  */
 class PayloadedArmSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "PayloadedArm"
 
-  it should "compute every UR5 sample with the payload committed when it was taken, bit-exact with the " +
-    "model, and say which" in {
+  it should "compute every UR5 sample with the payload and gravity committed when it was taken, bit-exact " +
+    "with the model, and say which" in {
       val p = Compiler.arm(
         ArmGolden
           .of("ur5")
@@ -34,10 +35,12 @@ class PayloadedArmSpec extends AnyFlatSpec with ChiselScalatestTester {
           .config
           .copy(
             payload = PayloadSettings(enabled = true, maxMass = 5.0),
+            gravity = GravitySettings(runtime = true),
             schedule = ScheduleRequest(clocksPerSample = Some(88), storage = Some(Storage.Memory))
           )
       )
       val spec = p.payload.get
+      val gravitySpec = p.gravity.get
       val model = new ArmModel(p)
       val params = p.numerics.parameters
       val port = p.numerics.parameterPortFormat
@@ -50,10 +53,19 @@ class PayloadedArmSpec extends AnyFlatSpec with ChiselScalatestTester {
         val d = Vec3(rng.nextDouble() * top, rng.nextDouble() * top, rng.nextDouble() * top) * 0.5
         RigidBody(m, Vec3(coord(), coord(), coord()), Mat3.diagonal(d))
       }
-      def codesOf(body: RigidBody): IndexedSeq[BigInt] =
-        params.map(s => port.fromDouble(spec.values(p.chain, body)(s), Rounding.HalfUp)._1)
+      // A gravity of random direction, mostly within the declared magnitude, some components beyond it.
+      def gravity(): Vec3 = {
+        val scale = if (rng.nextDouble() < 0.2) 1.6 else 1.0
+        val d = Vec3(rng.nextGaussian(), rng.nextGaussian(), rng.nextGaussian())
+        d * (rng.nextDouble() * gravitySpec.maxMagnitude * scale / d.norm)
+      }
+      def code(x: Double) = port.fromDouble(x, Rounding.HalfUp)._1
+      // The writes of a payload or of a gravity vector, (register index, code) each.
+      def writesOf(values: Map[Signal.Parameter, Double]): List[(Int, BigInt)] =
+        params.zipWithIndex.collect { case (s, k) if values.contains(s) => (k, code(values(s))) }.toList
+      val inertial = params.collect { case s: Signal.Inertial => s }
       def bodyOf(codes: IndexedSeq[BigInt]): RigidBody = {
-        val v = params.map(_.parameter).zip(codes.map(port.toDouble)).toMap
+        val v = inertial.map(_.parameter).zip(codes.map(port.toDouble)).toMap
         RigidBody(
           v(InertialParameter.Mass),
           Vec3((0 until 3).map(a => v(InertialParameter.Com(a)))),
@@ -66,7 +78,7 @@ class PayloadedArmSpec extends AnyFlatSpec with ChiselScalatestTester {
 
       test(new PayloadedArm(p)).withAnnotations(SimBackend.annotations) { dut =>
         // The registers' model: staged, active, sequence.
-        var staged = IndexedSeq.fill(params.size)(BigInt(0))
+        var staged = PayloadedArm.resetCodes(p)
         var active = staged
         var sequence = 0
         var writes = List.empty[(Int, BigInt)] // a payload being written, one parameter per cycle
@@ -78,14 +90,14 @@ class PayloadedArmSpec extends AnyFlatSpec with ChiselScalatestTester {
           val doReset = resetAt(t)
           dut.reset.poke(doReset.B)
           if (doReset) {
-            staged = IndexedSeq.fill(params.size)(BigInt(0)); active = staged; sequence = 0; writes = Nil
+            staged = PayloadedArm.resetCodes(p); active = staged; sequence = 0; writes = Nil
             lastReset = t
           }
-          // Host: write a fresh payload parameter by parameter, commit at random times.
-          if (!doReset && writes.isEmpty && rng.nextDouble() < 0.02)
-            writes = codesOf(payload()).zipWithIndex.map { case (c, k) =>
-              (k, c)
-            }.toList
+          // Host: write a fresh payload or gravity parameter by parameter, commit at random times.
+          if (!doReset && writes.isEmpty && rng.nextDouble() < 0.03)
+            writes =
+              if (rng.nextBoolean()) writesOf(spec.values(p.chain, payload()))
+              else writesOf(gravitySpec.values(gravity()))
           val write = if (doReset) None else writes.headOption
           writes = if (doReset) Nil else writes.drop(1)
           val commit = !doReset && rng.nextDouble() < 0.03
@@ -149,8 +161,9 @@ class PayloadedArmSpec extends AnyFlatSpec with ChiselScalatestTester {
               codes.velocities.map(p.numerics.velocityPortFormat.toDouble),
               codes.accelerations.map(p.numerics.accelerationPortFormat.toDouble)
             )
-            val body = bodyOf(params.map(codes.parameters))
-            val ref = Rnea.reference(spec.merged(p.chain, body), s.q, s.qd, s.qdd)
+            val body = bodyOf(inertial.map(codes.parameters))
+            val g = Vec3(Signal.gravity.map(a => port.toDouble(codes.parameters(a))))
+            val ref = Rnea.reference(spec.merged(p.chain, body).copy(gravity = g), s.q, s.qd, s.qdd)
             model.torques(out).zip(ref).zipWithIndex.foreach { case ((h, r), j) =>
               assert(math.abs(h - r) <= p.errorBounds(j), s"cycle $t joint ${j + 1}: ${math.abs(h - r)}")
               worst = math.max(worst, math.abs(h - r))
@@ -159,13 +172,41 @@ class PayloadedArmSpec extends AnyFlatSpec with ChiselScalatestTester {
         }
         val commits = expected.map(_._3).distinct.size
         println(
-          s"[payload] UR5 II=${p.schedule.clocksPerSample} memory: ${expected.size} samples bit-exact " +
+          s"[payload+gravity] UR5 II=${p.schedule.clocksPerSample} memory: ${expected.size} samples bit-exact " +
             s"with the model over $cycles cycles ($commits payload sequence numbers, $inRange in range, " +
             f"worst |hw - merged RNEA| $worst%.3e N·m, bound ${p.errorBound}%.3e), latency ${p.latency}, " +
             s"${p.schedule.multiplierBlocks} multiplier blocks"
         )
         assert(commits >= 3, s"only $commits payloads seen")
-        assert(expected.exists(_._2.parameters.values.exists(_ != 0)), "no sample with a payload")
+        assert(expected.exists(e => inertial.exists(e._2.parameters(_) != 0)), "no sample with a payload")
+        val reset = params.zip(PayloadedArm.resetCodes(p)).toMap
+        assert(
+          expected.exists(e => Signal.gravity.exists(a => e._2.parameters(a) != reset(a))),
+          "no sample with a committed gravity"
+        )
+        assert(expected.exists(_._2.parameters == reset), "no sample with the reset gravity and no payload")
       }
     }
+
+  it should "take the run-time gravity alone (no payload): three registers reset to the elaboration gravity" in {
+    val config = ArmGolden.of("ur5").head.config
+    val p = Compiler.arm(
+      config.copy(
+        robot = config.robot.copy(mounting = reducerload.robot.Mounting.ceiling),
+        gravity = GravitySettings(runtime = true),
+        schedule = ScheduleRequest(clocksPerSample = Some(88), storage = Some(Storage.Memory))
+      )
+    )
+    assert(p.payload.isEmpty && p.numerics.parameters == Signal.gravity)
+    // Reset: the ceiling-mounted UR5's folded gravity, (0, 0, +9.81).
+    val reset = PayloadedArm.resetCodes(p).map(p.numerics.parameterPortFormat.toDouble)
+    assert(reset.zip(Seq(0.0, 0.0, 9.81)).forall { case (a, b) =>
+      math.abs(a - b) <= p.numerics.parameterPortFormat.lsb
+    })
+    val model = new ArmModel(p)
+    val s = ArmSample(IndexedSeq.fill(6)(0.3), IndexedSeq.fill(6)(0.1), IndexedSeq.fill(6)(0.2))
+    val withReset = model.encode(s).copy(parameters = Signal.gravity.zip(PayloadedArm.resetCodes(p)).toMap)
+    assert(model.evaluate(withReset) == model.evaluate(model.encode(s)))
+    circt.stage.ChiselStage.convert(new PayloadedArm(p)) // elaborates with three gravity registers
+  }
 }

@@ -45,7 +45,7 @@ final class FastArmModel(p: ArmParams) {
       case Op.Const(_)                  => kind(i) = Constant; constant(i) = analysis.nodes(i).raw.get.toLong
       case Op.Input(Signal.Velocity(j)) => kind(i) = Velocity; left(i) = j
       case Op.Input(Signal.Acceleration(j)) => kind(i) = Acceleration; left(i) = j
-      case Op.Input(s: Signal.Inertial)     => kind(i) = Parameter; left(i) = numerics.parameters.indexOf(s)
+      case Op.Input(s: Signal.Parameter)    => kind(i) = Parameter; left(i) = numerics.parameters.indexOf(s)
       case Op.Trig(fn, a) =>
         kind(i) = Trig; left(i) = 2 * angles.indexOf(a) + (if (fn == TrigFn.Cos) 0 else 1)
       case Op.Add(a, b) =>

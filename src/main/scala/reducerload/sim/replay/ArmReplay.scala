@@ -56,8 +56,12 @@ class ArmReplay(val p: ArmParams, monitor: Option[MonitorParams] = None)
       (0 until joints).map(j => FastFixed.angleCode(row(j), angleFormat)),
       (0 until joints).map(j => FastFixed.codeHalfUp(row(joints + j), n.velocityPortFormat)),
       (0 until joints).map(j => FastFixed.codeHalfUp(row(2 * joints + j), n.accelerationPortFormat)),
-      p.payload.zip(payload(row)).fold(Map.empty[Signal.Inertial, BigInt]) { case (spec, body) =>
-        spec.values(p.chain, body).map { case (s, v) => s -> FastFixed.codeHalfUp(v, n.parameterFormats(s)) }
+      // A run-time gravity replays at its reset value, the chain's gravity (the reference's too).
+      (p.payload.zip(payload(row)).fold(Map.empty[Signal.Parameter, Double]) { case (spec, body) =>
+        spec.values(p.chain, body)
+      } ++ p.gravity.fold(Map.empty[Signal.Parameter, Double])(_.values(p.chain.gravity))).map {
+        case (s, v) =>
+          s -> FastFixed.codeHalfUp(v, n.parameterFormats(s))
       }
     )
   }
