@@ -12,20 +12,16 @@ so); 2: the SystemRDL does not compile; 1: any other failure.
 import os
 import subprocess
 import sys
-import urllib.request
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 VENV = os.path.join(HERE, ".venv")
 REQUIREMENTS = os.path.join(HERE, "requirements.txt")
 
 
-def index_reachable():
-    url = os.environ.get("PIP_INDEX_URL", "https://pypi.org/simple/")
-    try:
-        urllib.request.urlopen(url, timeout=20).close()
-        return True
-    except Exception:  # noqa: BLE001 - any failure means: cannot install
-        return False
+def index_reachable(pip):
+    """Whether pip reaches its configured package index (asked by package name, no host written here)."""
+    probe = subprocess.run([pip, "index", "versions", "systemrdl-compiler"], capture_output=True)
+    return probe.returncode == 0
 
 
 def ensure_venv():
@@ -36,11 +32,13 @@ def ensure_venv():
     if not os.path.exists(py):
         print(f"peakrdl_header: installing {REQUIREMENTS} into {VENV} (first use)", file=sys.stderr)
         subprocess.run([sys.executable, "-m", "venv", VENV], check=True)
-        pip = subprocess.run([os.path.join(VENV, "bin", "pip"), "install", "-q", "-r", REQUIREMENTS])
-        if pip.returncode != 0:
+        pip = os.path.join(VENV, "bin", "pip")
+        installed = subprocess.run([pip, "install", "-q", "-r", REQUIREMENTS])
+        if installed.returncode != 0:
+            reachable = index_reachable(pip)
             # A half-built venv would pass for a complete one next time.
             subprocess.run(["rm", "-rf", VENV], check=False)
-            if not index_reachable():
+            if not reachable:
                 print("peakrdl_header: the package index is unreachable: cannot install PeakRDL", file=sys.stderr)
                 sys.exit(3)
             sys.exit(1)

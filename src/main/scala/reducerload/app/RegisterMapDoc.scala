@@ -11,8 +11,11 @@ import reducerload.regmap.{MarkdownReference, ReducerLoadRegisters}
 object RegisterMapDoc {
   val key = "./sbt --error \"runMain reducerload.app.RegisterMapDoc\""
 
-  /** The example design's command-line settings (the register-map tests build the same design). */
-  val exampleArgs: Seq[String] = Seq(
+  /**
+   * planar3 with the reducer monitor, thresholds below its loads so that the limit flags fire: the monitored
+   * design of the docs' examples and of the tests (soak, ports, lint, replay, register map).
+   */
+  val monitoredPlanar3: Seq[String] = Seq(
     "--robot",
     "planar3",
     "--monitor.enabled",
@@ -20,10 +23,11 @@ object RegisterMapDoc {
     "--monitor.repeated-peak",
     "[80, 30, 20]",
     "--monitor.momentary-peak",
-    "[100, 40, 28]",
-    "--monitor.exponent",
-    "[3, 3.3333333333333335, 1.5]"
+    "[100, 40, 28]"
   )
+
+  /** The example design's command-line settings (the register-map tests build the same design). */
+  val exampleArgs: Seq[String] = monitoredPlanar3 ++ Seq("--monitor.exponent", "[3, 3.3333333333333335, 1.5]")
 
   def example: Compiled = Cli.parse("emit", exampleArgs, Emit.options).compiled
 

@@ -25,6 +25,29 @@ class GoldenPayloadMountingSpec extends AnyFlatSpec {
   private def worst(a: Seq[IndexedSeq[Double]], b: Seq[IndexedSeq[Double]]): Double =
     a.zip(b).map { case (x, y) => x.zip(y).map { case (u, v) => math.abs(u - v) }.max }.max
 
+  /**
+   * Per joint: the model's torques `hw` within the derived bound of the double reference `ref`, and within
+   * the bound (plus doubles' rounding) and the 1e-3 N·m target of Pinocchio's `pin`.
+   */
+  private def withinBounds(
+      label: String,
+      p: ArmParams,
+      hw: Seq[IndexedSeq[Double]],
+      ref: Seq[IndexedSeq[Double]],
+      pin: Seq[IndexedSeq[Double]]
+  ): Unit =
+    p.graph.outputs.indices.foreach { j =>
+      def off(against: Seq[IndexedSeq[Double]]) =
+        hw.zip(against).map { case (h, r) => math.abs(h(j) - r(j)) }.max
+      val (vsRef, vsPin) = (off(ref), off(pin))
+      println(
+        f"[golden] $label ${p.graph.outputs(j).name}%-20s max |model - pinocchio| $vsPin%.3e N·m " +
+          f"(bound ${p.errorBounds(j)}%.3e)"
+      )
+      assert(vsRef <= p.errorBounds(j), s"$label joint ${j + 1}: $vsRef above the bound ${p.errorBounds(j)}")
+      assert(vsPin <= p.errorBounds(j) + 1e-9 && vsPin <= ArmChecks.target, s"$label joint ${j + 1}: $vsPin")
+    }
+
   it should "read the mounting as the trace's base-rpy and rotate the UR5's gravity by it" in {
     val traces = ArmGolden.mounted("ur5")
     assert(traces.map(_.mounting.name.getOrElse("tilt")).toSet == Set("ceiling", "tilt"))
@@ -80,22 +103,7 @@ class GoldenPayloadMountingSpec extends AnyFlatSpec {
         val hw = out.map(model.torques)
         val pin = traces.flatMap(_.torques)
         val dbl = samples.map(s => Rnea.reference(p.chain, s.q, s.qd, s.qdd))
-        p.graph.outputs.indices.foreach { j =>
-          val vsPin = hw.zip(pin).map { case (h, r) => math.abs(h(j) - r(j)) }.max
-          val vsRef = hw.zip(dbl).map { case (h, r) => math.abs(h(j) - r(j)) }.max
-          println(
-            f"[golden] ur5 $mounting ${p.graph.outputs(j).name}%-20s max |model - pinocchio| $vsPin%.3e N·m " +
-              f"(bound ${p.errorBounds(j)}%.3e)"
-          )
-          assert(
-            vsRef <= p.errorBounds(j),
-            s"$mounting joint ${j + 1}: $vsRef above the bound ${p.errorBounds(j)}"
-          )
-          assert(
-            vsPin <= p.errorBounds(j) + 1e-9 && vsPin <= ArmChecks.target,
-            s"$mounting joint ${j + 1}: $vsPin"
-          )
-        }
+        withinBounds(s"ur5 $mounting", p, hw, dbl, pin)
     }
   }
 
@@ -127,22 +135,13 @@ class GoldenPayloadMountingSpec extends AnyFlatSpec {
       )
       val dbl = worst(graphRef, t.torques)
       assert(dbl < tolerance, s"${t.name}: the graph reference is $dbl N·m from Pinocchio")
-      p.graph.outputs.indices.foreach { j =>
-        val vsPin = hw.zip(t.torques).map { case (h, r) => math.abs(h(j) - r(j)) }.max
-        val vsRef = hw.zip(graphRef).map { case (h, r) => math.abs(h(j) - r(j)) }.max
-        println(
-          f"[golden] ${t.name} on gravity.runtime ${p.graph.outputs(j).name}%-20s max |model - pinocchio| " +
-            f"$vsPin%.3e N·m (bound ${p.errorBounds(j)}%.3e; graph reference $dbl%.1e)"
-        )
-        assert(
-          vsRef <= p.errorBounds(j),
-          s"${t.name} joint ${j + 1}: $vsRef above the bound ${p.errorBounds(j)}"
-        )
-        assert(
-          vsPin <= p.errorBounds(j) + 1e-9 && vsPin <= ArmChecks.target,
-          s"${t.name} joint ${j + 1}: $vsPin"
-        )
-      }
+      withinBounds(
+        f"${t.name} on gravity.runtime (graph reference $dbl%.1e from Pinocchio)",
+        p,
+        hw,
+        graphRef,
+        t.torques
+      )
       // The reset (floor) gravity is far off: the check sees the fed gravity.
       val asFloor = t.samples.map(s => model.torques(model.evaluate(model.encode(s))))
       assert(worst(asFloor, t.torques) > 1.0, s"${t.name}: the floor gravity is as good")

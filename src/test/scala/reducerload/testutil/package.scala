@@ -11,20 +11,8 @@ package object testutil {
   type ArmGoldenTrace = reducerload.arm.ArmGoldenTrace
   val ArmGolden: reducerload.arm.ArmGolden.type = reducerload.arm.ArmGolden
 
-  /**
-   * planar3 with the reducer monitor, thresholds below its loads so the flags fire: the monitored design the
-   * soak, port, lint and replay tests share (one Verilator build of it per test run).
-   */
-  val monitoredPlanar3: Seq[String] = Seq(
-    "--robot",
-    "planar3",
-    "--monitor.enabled",
-    "true",
-    "--monitor.repeated-peak",
-    "[80, 30, 20]",
-    "--monitor.momentary-peak",
-    "[100, 40, 28]"
-  )
+  /** The monitored planar3 design the tests share (one Verilator build of it per test run). */
+  val monitoredPlanar3: Seq[String] = reducerload.app.RegisterMapDoc.monitoredPlanar3
 
   private val compiled = TrieMap.empty[LoadParams, ArmParams]
 
