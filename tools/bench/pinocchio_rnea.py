@@ -124,6 +124,8 @@ def main():
     parser.add_argument("--calls", type=int, default=100_000, help="calls per repetition (default 100000)")
     parser.add_argument("--reps", type=int, default=7, help="repetitions, the median is reported (default 7)")
     parser.add_argument("--cpp", action="store_true", help="also time from C++ (compiles pinocchio_rnea.cpp)")
+    parser.add_argument("--codegen", action="store_true",
+                        help="also time RNEA generated per robot with its constants folded (CasADi -> C, gcc -O3 -march=native)")
     parser.add_argument("--build-dir", default=os.path.join(ROOT, "target", "bench"),
                         help="where --cpp keeps the compiled benchmark and model files (default target/bench)")
     args = parser.parse_args()
@@ -134,21 +136,32 @@ def main():
     empty = pin.Model()
     overhead, overhead_best = time_per_call(empty, args.calls, args.reps)
     print()
-    models = [(robot["name"], make_golden_arms.build_pinocchio(robot)[0]) for robot in make_golden_arms.ROBOTS]
+    built = [(robot["name"],) + make_golden_arms.build_pinocchio(robot) for robot in make_golden_arms.ROBOTS]
+    models = [(name, model) for name, model, _, _ in built]
     cpp = cpp_times(models, args.calls, args.reps, args.build_dir) if args.cpp else {}
+    codegen = {}
+    if args.codegen:
+        import codegen_rnea
+        rng = np.random.default_rng(1)
+        for name, model, chain, gravity in built:
+            n = model.nv
+            raw = [(rng.uniform(-np.pi, np.pi, n), rng.uniform(-1, 1, n), rng.uniform(-1, 1, n)) for _ in range(1000)]
+            codegen[name] = codegen_rnea.time_and_check(name, model, chain, gravity, args.calls * 10, args.reps,
+                                                        args.build_dir, raw)
     print("| robot | joints | Python pin.rnea: us/call | calls/s | C++ pinocchio::rnea: us/call | calls/s "
-          "| fastest repetition, Python / C++: us/call |")
-    print("| --- | --- | --- | --- | --- | --- | --- |")
-    print(f"| (empty model: binding overhead) | 0 | {overhead * 1e6:.3f} | {1 / overhead:,.0f} | - | - "
-          f"| {overhead_best * 1e6:.3f} / - |")
+          "| generated C (constants folded): us/call | calls/s | its operations "
+          "| fastest repetition, Python / C++ / generated: us/call |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    print(f"| (empty model: binding overhead) | 0 | {overhead * 1e6:.3f} | {1 / overhead:,.0f} | - | - | - | - | - "
+          f"| {overhead_best * 1e6:.3f} / - / - |")
     for name, model in models:
         t, t_best = time_per_call(model, args.calls, args.reps)
-        if name in cpp:
-            c, c_best = cpp[name]
-            cols = f"{c * 1e6:.3f} | {1 / c:,.0f} | {t_best * 1e6:.3f} / {c_best * 1e6:.3f}"
-        else:
-            cols = f"- | - | {t_best * 1e6:.3f} / -"
-        print(f"| {name} | {model.nv} | {t * 1e6:.3f} | {1 / t:,.0f} | {cols} |")
+        c, c_best = cpp.get(name, (None, None))
+        g, g_best, ops = codegen.get(name, (None, None, None))
+        us = lambda x: "-" if x is None else f"{x * 1e6:.3f}"
+        rate = lambda x: "-" if x is None else f"{1 / x:,.0f}"
+        print(f"| {name} | {model.nv} | {us(t)} | {rate(t)} | {us(c)} | {rate(c)} | {us(g)} | {rate(g)} "
+              f"| {'-' if ops is None else ops} | {us(t_best)} / {us(c_best)} / {us(g_best)} |")
     print(f"\nload average after the run: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
 
