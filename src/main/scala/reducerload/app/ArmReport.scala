@@ -144,6 +144,29 @@ final case class ArmReport(
       )
   }
 
+  /**
+   * The budget the interval's floor is computed for: the declared one, else the blocks this schedule uses.
+   */
+  private val limitBudget = schedule.request.maxMultipliers.getOrElse(schedule.multiplierBlocks)
+  private val clocksFloor = schedule.clocksLowerBound(limitBudget)
+  private val adderUnits = p.banked.map(_.adderUnits)
+  private def adderUtilization: Double =
+    (counts.additions + counts.negations).toDouble / (adderUnits
+      .getOrElse(counts.additions + counts.negations)
+      .max(1)
+      .toLong * ii)
+
+  /**
+   * How far the schedule is from what its operation counts allow (issue: print the distance, do not guess).
+   */
+  private def limitsLine: String =
+    f"Limits: at least ${clocksFloor.fold("-")(_.toString)} clocks per sample for ${schedule.blockMultiplies} products on blocks " +
+      f"and ${counts.sinCos} sin/cos pairs in $limitBudget blocks (achieved $ii); multiplier slots used ${schedule.multiplierUtilization * 100}%.1f%%, " +
+      f"adder slots used ${adderUtilization * 100}%.1f%%" +
+      p.banked.fold("")(b =>
+        s"; latency at least ${b.dependenceBound} cycles from the dependences (achieved ${p.latency})"
+      )
+
   def summaryLines: Seq[String] = estimate.toSeq.flatMap(_.lines) ++ Seq(
     s"Computes: ${p.dynamics.description}",
     s"Robot: ${p.chain.name}, ${joints.size} moving joints (numbered from the base), gravity ${p.chain.gravity.toSeq.mkString("(", ", ", ")")} m/s^2" +
@@ -164,6 +187,7 @@ final case class ArmReport(
             .mkString(", ") +
           s"; by-height the best of ${schedule.request.listTries} tries)"
       ),
+    limitsLine,
     f"Derived worst-case error bound: ${p.errorBound}%.3e N·m (largest over the torques; vs the double-precision dynamics at the unquantized inputs)",
     s"Fraction bits: velocity ${p.velocityFracBits}, acceleration ${p.accelerationFracBits}, constants ${p.constantFracBits}, " +
       s"products and sums ${p.internalFracBits}, output ${p.outputFracBits} (numeric.target-error, when set, chose them" +
@@ -279,7 +303,12 @@ final case class ArmReport(
         "storage" -> schedule.request.stored.name,
         "held_register_bits" -> p.banked.fold(schedule.heldBits)(_ => 0L),
         "adder_units" -> p.banked.fold(counts.additions + counts.negations)(_.adderUnits),
-        "bank_memory_bits" -> p.banked.fold(0L)(_.memoryBits)
+        "bank_memory_bits" -> p.banked.fold(0L)(_.memoryBits),
+        "clocks_per_sample_lower_bound" -> clocksFloor.map(Int.box).orNull,
+        "lower_bound_budget_blocks" -> limitBudget,
+        "multiplier_utilization" -> schedule.multiplierUtilization,
+        "adder_utilization" -> adderUtilization,
+        "latency_lower_bound_cycles" -> p.banked.map(b => Int.box(b.dependenceBound)).orNull
       ).asJava,
       "command" -> command,
       "model" -> p.dynamics.name,

@@ -471,6 +471,38 @@ final class Schedule(
     }
     .sum
 
+  /**
+   * The fewest clocks per sample any schedule of these operations could have within `budget` 18x18 blocks,
+   * for the report beside the achieved interval: every variable product occupies its operands' blocks for one
+   * clock (perfect packing, no per-class units, no memory port limits), a CORDIC unit takes one angle per
+   * clock and its own blocks, and the number of CORDIC units is the best for the bound. None when the budget
+   * cannot hold a CORDIC unit and a product at once.
+   */
+  def clocksLowerBound(budget: Int): Option[Int] = {
+    val blockSlots = muls.map(id => shapeOf(id).blocks).sum
+    def at(cordics: Int): Option[Int] = {
+      val forProducts = budget - cordics * cordic.multiplierBlocks
+      if (forProducts <= 0 && blockSlots > 0) None
+      else
+        Some(
+          math.max(
+            if (cordics == 0) 1 else ceilDiv(angles.size, cordics),
+            if (blockSlots == 0) 1 else ceilDiv(blockSlots, forProducts)
+          )
+        )
+    }
+    (if (angles.isEmpty) Seq(0) else 1 to angles.size).flatMap(at).minOption
+  }
+
+  /** Multiplies on multiplier blocks per sample (every multiply but the shift-and-add ones). */
+  def blockMultiplies: Int = muls.size
+
+  /**
+   * Multiplies on blocks per sample over the multiplier units' slots per sample (units x clocks per sample).
+   */
+  def multiplierUtilization: Double =
+    if (multiplierUnits == 0) 0.0 else blockMultiplies.toDouble / (multiplierUnits.toLong * ii)
+
   /** Samples per second at a clock of `hz`. */
   def samplesPerSecond(hz: Double): Double = hz / ii
 }

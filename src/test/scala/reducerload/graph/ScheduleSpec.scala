@@ -158,6 +158,36 @@ class ScheduleSpec extends AnyFlatSpec {
     }
   }
 
+  it should "print a floor on clocks per sample that no schedule within the budget beats" in {
+    // Every schedule the list scheduler finds within a budget is at or above the floor for that budget, and a
+    // larger budget never raises the floor; the floor counts block-clocks, so halving the budget at least
+    // does not lower it.
+    Seq(66, 40, 19).foreach { budget =>
+      val q = scheduled(ur5, ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(budget)))
+      val s = q.schedule
+      val floor = s.clocksLowerBound(budget).get
+      assert(
+        floor <= s.clocksPerSample,
+        s"budget $budget: floor $floor above the achieved ${s.clocksPerSample}"
+      )
+      assert(s.clocksLowerBound(budget * 2).get <= floor)
+      assert(s.multiplierUtilization > 0.0 && s.multiplierUtilization <= 1.0)
+      // The floor is at least the block-clocks the products need, counted here from the operand formats.
+      val g = q.graph
+      val blockClocks = g.ids.collect {
+        case id if g(id).isInstanceOf[Op.Mul] && !s.shiftAdded(id) => s.shapeOf(id).blocks
+      }.sum
+      assert(
+        floor.toLong * budget >= blockClocks,
+        s"budget $budget: $floor clocks hold fewer than $blockClocks"
+      )
+      info(
+        s"ur5 budget $budget: floor $floor, achieved ${s.clocksPerSample}, multiplier slots used " +
+          f"${s.multiplierUtilization * 100}%.1f%%"
+      )
+    }
+  }
+
   it should "refuse infeasible requests naming the setting and what would work" in {
     def refusal(r: ScheduleRequest): String =
       intercept[IllegalArgumentException](scheduled(ur5, r).schedule).getMessage
