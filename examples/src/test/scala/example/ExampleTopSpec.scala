@@ -21,12 +21,18 @@ class ExampleTopSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   it should "return the library model's torques for every sample, in order, and count them" in {
     val seed = sys.env.get("EXAMPLE_SEED").map(_.toLong).getOrElse(32L)
-    println(s"ExampleTopSpec: seed $seed; ${core.moduleName}, latency ${core.latency}, ${core.clocksPerSample} clocks per sample")
+    println(
+      s"ExampleTopSpec: seed $seed; ${core.moduleName}, latency ${core.latency}, ${core.clocksPerSample} clocks per sample"
+    )
     val rng = new Random(seed)
     val arm = core.compiled.arm
     def within(limits: Seq[Double]) = limits.map(l => rng.between(-l, l)).toIndexedSeq
     val samples = IndexedSeq.fill(24)(
-      ArmSample(IndexedSeq.fill(arm.chain.size)(rng.between(-math.Pi, math.Pi)), within(arm.maxVelocity), within(arm.maxAcceleration))
+      ArmSample(
+        IndexedSeq.fill(arm.chain.size)(rng.between(-math.Pi, math.Pi)),
+        within(arm.maxVelocity),
+        within(arm.maxAcceleration)
+      )
     )
     val codes = samples.map(core.model.encode)
     val expected = codes.map(core.model.evaluate)

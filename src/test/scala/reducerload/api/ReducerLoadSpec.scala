@@ -8,7 +8,7 @@ import reducerload.arm.ArmDatapath
 import reducerload.monitor.MonitoredArm
 import reducerload.util.InputError
 
-import java.nio.file.Paths
+import java.nio.file.{Files, Paths}
 
 class ReducerLoadSpec extends AnyFlatSpec {
   behavior of "ReducerLoad"
@@ -36,7 +36,7 @@ class ReducerLoadSpec extends AnyFlatSpec {
   it should "name the top's class when asked for another" in {
     val core = ReducerLoad.fromArgs(args: _*)
     class Parent extends Module { val load = Module(core.module[MonitoredArm]) }
-    val e = intercept[Exception](ChiselStage.elaborate(new Parent))
+    val e = intercept[Exception](ChiselStage.emitCHIRRTL(new Parent))
     val cause =
       Iterator.iterate[Throwable](e)(_.getCause).takeWhile(_ != null).collectFirst { case i: InputError => i }
     assert(cause.exists(_.getMessage.contains("is ArmDatapath")), e)
@@ -57,5 +57,23 @@ class ReducerLoadSpec extends AnyFlatSpec {
     assert(message(ReducerLoad.fromArgs(bad: _*)) == message(Cli.parse("emit", bad, Nil).compiled))
     assert(message(ReducerLoad(Robot.Ur5)).contains("declare --max-acceleration"))
     assert(message(ReducerLoad.fromArgs("--top", "load")).contains("unknown option --top"))
+  }
+
+  it should "be what examples/ and docs/library.md depend on: the build's coordinates and versions" in {
+    def text(f: String) = new String(Files.readAllBytes(Paths.get(f)), "UTF-8")
+    val build = text("build.sbt")
+    def setting(key: String) =
+      raw"""(?m)^\s*(?:val |ThisBuild / )?$key :?= "([^"]+)"""".r
+        .findFirstMatchIn(build)
+        .map(_.group(1))
+        .getOrElse(
+          fail(s"build.sbt sets no $key")
+        )
+    val coordinates = s""""${setting("organization")}" %% "${setting("name")}" % "${setting("version")}""""
+    val example = text("examples/build.sbt")
+    assert(example.contains(coordinates), s"examples/build.sbt does not depend on $coordinates")
+    Seq("scalaVersion", "chiselVersion").foreach(k => assert(example.contains(s"\"${setting(k)}\""), k))
+    assert(text("examples/project/build.properties") == text("project/build.properties"))
+    assert(text("docs/library.md").contains(coordinates), s"docs/library.md does not show $coordinates")
   }
 }
