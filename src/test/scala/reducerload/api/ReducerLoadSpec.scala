@@ -33,6 +33,15 @@ class ReducerLoadSpec extends AnyFlatSpec {
     assert(sv.contains(s"module ${core.moduleName}(") && sv.contains("module Parent("))
   }
 
+  it should "choose the top as emission does: the monitored arm with the monitor; typed settings too" in {
+    val monitored = ReducerLoad.fromArgs(reducerload.testutil.monitoredPlanar3: _*)
+    assert(monitored.moduleName == s"MonitoredArm_${monitored.compiled.arm.tag}")
+    assert(monitored.report.markdown.contains("monitor"))
+    val typed = ReducerLoad(reducerload.config.LoadParams.smallest)
+    assert(typed.moduleName == typed.compiled.arm.moduleName && typed.moduleName.startsWith("LoadDatapath_"))
+    assert(typed.config.contains("angle-bits = 16"))
+  }
+
   it should "name the top's class when asked for another" in {
     val core = ReducerLoad.fromArgs(args: _*)
     class Parent extends Module { val load = Module(core.module[MonitoredArm]) }
