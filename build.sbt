@@ -51,8 +51,23 @@ lazy val root = (project in file("."))
     // The user's working directory, so relative --input/--output paths mean what they say.
     run / baseDirectory := file("."),
     Compile / mainClass := Some("reducerload.app.Main"),
-    Test / testOptions += Tests.Argument(TestFrameworks.ScalaTest, "-oD")
+    Test / testOptions += Tests.Argument(TestFrameworks.ScalaTest, "-oD"),
+    // `publishLocal` (docs/library.md): the classes and their sources (whose Scaladoc IDEs show), no Scaladoc
+    // jar: generating it type-checks every source again (minutes in CI) and its link checks are not ours.
+    Compile / packageDoc / publishArtifact := false
   )
+
+// The robots the library API builds by name (reducerload.api.Robot.Bundled), with their licences and notes:
+// in the jar, so a library user finds them from any directory.
+Compile / resourceGenerators += Def.task {
+  val robots = (Compile / resourceManaged).value / "reducerload" / "robots"
+  val files = (baseDirectory.value / "golden" / "robots").listFiles().toSeq.filter(_.isFile)
+  files.map { f =>
+    val to = robots / f.getName
+    IO.copyFile(f, to)
+    to
+  }
+}.taskValue
 
 // The generator's version for the register map's identification block (regmap/ReducerLoadRegisters.scala):
 // written once here, read as a resource.

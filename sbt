@@ -28,7 +28,9 @@ SBT_LAUNCH_VERSION="1.11.7"
 SBT_LAUNCH_SHA256="f92a2095ac75008764fe3b2b793ffe624c4fbef5bfd9b0022e4bc2daf668c651"
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-cd "$here"
+# A directory with its own build.sbt is an sbt project of its own (examples/: `cd examples && ../sbt test`):
+# sbt runs there; anywhere else it runs in the repository.
+[ -f "$PWD/build.sbt" ] || cd "$here"
 
 # Run without a terminal (CI, no stdin) and with a readable log.
 sbt_opts=(-Dsbt.supershell=false -Dsbt.server.forcestart=false -Dsbt.ci="${CI:-false}")

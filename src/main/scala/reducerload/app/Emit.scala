@@ -7,6 +7,7 @@ import reducerload.config.Settings
 import reducerload.cordic.CordicSinCos
 import reducerload.compiler.Compiled
 import reducerload.monitor.MonitoredArm
+import reducerload.pipeline.MultiplierImpl
 import reducerload.regmap.{CsrEmitters, CsrFile, ReducerLoadRegisters}
 import reducerload.util.{InputError, OutputFile}
 
@@ -33,7 +34,27 @@ final case class Emission(
     registerFiles: Seq[CsrFile] = Nil
 )
 
+/**
+ * The module that is the top of a design: its name and a generator of fresh instances (call it inside
+ * `ChiselStage` or a parent's `Module(...)`).
+ */
+final case class TopModule(name: String, generator: () => RawModule)
+
 object Emit {
+
+  /**
+   * Which module is the top of `c`'s design (`--top load`): the monitored arm with the monitor, else the
+   * datapath. The one place that chooses it; emission and the library API ([[reducerload.api.ReducerLoad]])
+   * both ask here.
+   */
+  def topModule(c: Compiled)(implicit multiplierImpl: MultiplierImpl): TopModule = c.monitor match {
+    case Some(monitor) => TopModule(s"MonitoredArm_${c.arm.tag}", () => new MonitoredArm(c.arm, monitor))
+    case None          => TopModule(c.arm.moduleName, () => new ArmDatapath(c.arm))
+  }
+
+  /** The report of `c`'s top (`--top load`) without elaborating it; `estimate`: the resource estimate's. */
+  def loadReport(c: Compiled, command: String, estimate: Option[Estimate] = None): ArmReport =
+    ArmReport(c.arm, topModule(c).name, command, estimate, c.monitor, Some(c.fit))
 
   /**
    * firtool options for Quartus on Cyclone IV: no randomization or `ifdef` initial blocks, no SystemVerilog
@@ -97,16 +118,12 @@ object Emit {
     )
     def est(body: String, module: String) =
       if (estimate || fmax) Some(Estimate.run(body, module, fmax)) else None
-    val arm = c.arm
-    val (body, r: EmissionReport) = (top, c.monitor) match {
-      case (Top.Load, Some(monitor)) =>
-        val name = s"MonitoredArm_${arm.tag}"
-        val body = verilog(new MonitoredArm(arm, monitor))
-        (body, ArmReport(arm, name, command, est(body, name), Some(monitor), Some(c.fit)))
-      case (Top.Load, None) =>
-        val body = verilog(new ArmDatapath(arm))
-        (body, ArmReport(arm, arm.moduleName, command, est(body, arm.moduleName), fit = Some(c.fit)))
-      case (Top.SinCos, _) =>
+    val (body, r: EmissionReport) = top match {
+      case Top.Load =>
+        val t = topModule(c)
+        val body = verilog(t.generator())
+        (body, loadReport(c, command, est(body, t.name)))
+      case Top.SinCos =>
         val name = s"CordicSinCos_${c.config.cordic.tag}"
         val body = verilog(new CordicSinCos(c.config.cordic))
         (body, SinCosReport(c.config.cordic, name, command, est(body, name)))

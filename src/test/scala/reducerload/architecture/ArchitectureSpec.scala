@@ -6,8 +6,8 @@ import org.scalatest.flatspec.AnyFlatSpec
 
 /**
  * No package depends, directly or through others, on itself: the layers read bottom-up (util, fixedpoint,
- * pipeline, cordic, robot, dynamics, graph, load, config, arm, monitor, compiler, sim, app), so a reader can
- * learn each from the ones below it. Checked on the compiled main classes, not the sources.
+ * pipeline, cordic, robot, dynamics, graph, load, config, arm, monitor, compiler, sim, app, api), so a reader
+ * can learn each from the ones below it. Checked on the compiled main classes, not the sources.
  */
 class ArchitectureSpec extends AnyFlatSpec {
   behavior of "the main packages"
