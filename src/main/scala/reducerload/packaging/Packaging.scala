@@ -10,6 +10,19 @@ import reducerload.regmap.{CsrFile, GeneratorVersion}
  */
 object Packaging {
 
+  /**
+   * Elaborate `gen` once for both its Verilog (`emit`, e.g. `ChiselStage.emitSystemVerilog`) and [[files]]:
+   * the module `emit` elaborated, which its port names and widths are read from after elaboration.
+   */
+  def elaborate[M <: RawModule](emit: (=> RawModule) => String)(gen: => M): (M, String) = {
+    var elaborated: Option[M] = None
+    val verilog = emit { val m = gen; elaborated = Some(m); m }
+    (
+      elaborated.getOrElse(throw new IllegalStateException("the emitter did not elaborate the module")),
+      verilog
+    )
+  }
+
   /** The component of `module` (elaborated; its Verilog in `<top>.sv`). */
   def component(module: RawModule, bus: Bus, description: String): Component = {
     val top = module.name

@@ -23,17 +23,10 @@ final case class VerilogPort(name: String, input: Boolean, width: Int)
 
 /** The designs the test packages, each elaborated once with its Verilog. */
 object PackagingDesign {
-  private def emit(gen: => RawModule): (RawModule, String) = {
-    var elaborated: Option[RawModule] = None
-    val verilog = Emit.withBlackBoxes(
-      ChiselStage.emitSystemVerilog(
-        { val m = gen; elaborated = Some(m); m },
-        Array.empty[String],
-        Emit.firtoolOpts
-      )
-    )
-    (elaborated.get, verilog)
-  }
+  private def emit(gen: => RawModule): (RawModule, String) =
+    Packaging.elaborate(g =>
+      Emit.withBlackBoxes(ChiselStage.emitSystemVerilog(g, Array.empty[String], Emit.firtoolOpts))
+    )(gen)
   private def c = RegMapDesign.compiled
   lazy val avalon: (RawModule, String) = emit(new MonitoredArmAvalon(c.arm, c.monitor.get, RegMapDesign.map))
   lazy val axi: (RawModule, String) = emit(new MonitoredArmAxiLite(c.arm, c.monitor.get, RegMapDesign.map))
