@@ -88,7 +88,7 @@ final case class Interface(name: String, kind: InterfaceKind, ports: Seq[(Role, 
  */
 object Interfaces {
 
-  /** The clock, the reset, then one interface per field of each other port (`io`), in declaration order. */
+  /** The clock, the reset, then the other ports' interfaces, in declaration order. */
   def apply(module: RawModule, bus: Bus): Seq[Interface] = {
     val names: Map[Data, String] = DataMirror.fullModulePorts(module).map { case (n, d) => d -> n }.toMap
     def port(d: Data): Port = {
@@ -105,8 +105,11 @@ object Interfaces {
     DataMirror.modulePorts(module).flatMap {
       case (name, c: Clock) => Seq(Interface(name, InterfaceKind.Clock, Seq(Role.Clock -> port(c))))
       case ("reset", r)     => Seq(Interface("reset", InterfaceKind.Reset, Seq(Role.Reset -> port(r))))
-      case (_, r: Record) =>
-        r.elements.toSeq.reverse.map { case (field, d) => classify(field, d, bus, ports) }
+      // A port that is one interface (`val csr = IO(...)`), or a Bundle of them (`io`): one per field.
+      case (name, r: Record) =>
+        val whole = classify(name, r, bus, ports)
+        if (whole.kind != InterfaceKind.Conduit) Seq(whole)
+        else r.elements.toSeq.reverse.map { case (field, d) => classify(field, d, bus, ports) }
       case (name, d) => Seq(classify(name, d, bus, ports))
     }
   }
@@ -128,7 +131,7 @@ object Interfaces {
       // A ready/valid (or valid-only) stream of one word: an Avalon-ST or AXI4-Stream endpoint.
       case r: Record if stream(r) =>
         val valid = r.elements("valid")
-        val payload = r.elements.getOrElse("bits", r.elements.getOrElse("data", null))
+        val payload = r.elements.get("bits").orElse(r.elements.get("data")).get
         val kind = (bus, in(valid)) match {
           case (Bus.Avalon, true)  => InterfaceKind.AvalonStSink
           case (Bus.Avalon, false) => InterfaceKind.AvalonStSource

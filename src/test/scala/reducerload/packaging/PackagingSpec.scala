@@ -202,6 +202,19 @@ class PackagingStreams extends chisel3.Module {
   io.flags.bits := 0.U
 }
 
+/** Interfaces as separate top-level ports (no `io` Bundle): each port one interface. */
+class PackagingTopLevelPorts extends chisel3.Module {
+  import chisel3._
+  import chisel3.util.Decoupled
+  val in = IO(Flipped(Decoupled(UInt(16.W))))
+  val csr = IO(new reducerload.regmap.AvalonSlave(4))
+  val irq = IO(Output(Bool()))
+  in.ready := true.B
+  csr.readdata := in.bits
+  csr.readdatavalid := RegNext(csr.read, false.B)
+  irq := in.valid && csr.write && csr.address.orR && csr.writedata.orR
+}
+
 class PackagingSpec extends AnyFlatSpec {
   behavior of "the packaging"
 
@@ -272,6 +285,23 @@ class PackagingSpec extends AnyFlatSpec {
           Port("io_in_bits", PortDirection.In, 24)
         )
     )
+  }
+
+  it should "take a top-level port that is an interface whole, and name its ports as Chisel does" in {
+    var m: Option[PackagingTopLevelPorts] = None
+    ChiselStage.emitCHIRRTL({ val t = new PackagingTopLevelPorts; m = Some(t); t })
+    val is = Interfaces(m.get, Bus.Avalon)
+    assert(
+      is.map(i => i.name -> i.kind) == Seq(
+        "clock" -> InterfaceKind.Clock,
+        "reset" -> InterfaceKind.Reset,
+        "in" -> InterfaceKind.AvalonStSink,
+        "csr" -> InterfaceKind.AvalonMmSlave,
+        "irq" -> InterfaceKind.Interrupt
+      )
+    )
+    assert(is.find(_.name == "csr").get.port(Role.Address).contains(Port("csr_address", PortDirection.In, 4)))
+    assert(is.find(_.name == "in").get.port(Role.Ready).contains(Port("in_ready", PortDirection.Out, 1)))
   }
 
   it should "give a _hw.tcl that runs under tclsh with stub commands and declares every port once, as the Verilog has it" in {
