@@ -145,7 +145,9 @@ object Interfaces {
             r.elements.get("ready").map(rd => Role.Ready -> port(rd))
         )
       // An Avalon-MM slave: the spec's signal names as fields, the address an input.
-      case r: Record if fields(r).contains("address") && fields(r).subsetOf(Role.avalon.map(_.name).toSet) =>
+      case r: Record
+          if fields(r).contains("address") && in(r.elements("address")) &&
+            fields(r).subsetOf(Role.avalon.map(_.name).toSet) =>
         Interface(
           name,
           InterfaceKind.AvalonMmSlave,
@@ -176,9 +178,11 @@ object Interfaces {
   private def stream(r: Record): Boolean = {
     val f = r.elements
     val payload = f.get("bits").orElse(f.get("data"))
-    f.get("valid").exists(_.isInstanceOf[Bool]) && payload.exists(_.isInstanceOf[Element]) &&
-    f.keySet.toSet.subsetOf(Set("valid", "ready", "bits", "data")) && f.size == (if (f.contains("ready")) 3
-                                                                                 else 2)
+    val expected =
+      Set("valid", if (f.contains("bits")) "bits" else "data") ++ f.keySet.intersect(Set("ready"))
+    f.get("valid").exists(_.isInstanceOf[Bool]) && payload.exists(
+      _.isInstanceOf[Element]
+    ) && f.keySet == expected
   }
 
   /** The channels' handshakes and payloads under their AMBA names; a Bundle payload's fields by name. */
