@@ -181,6 +181,47 @@ class SimulatePayloadSpec extends AnyFlatSpec {
     )
   }
 
+  it should "write with --monitor.enabled and --summary the monitor's figures from the loads with each row's payload (columns or --payload)" in {
+    val rows = 100 until 200 // carrying part A (the heaviest) from rest to rest: one payload
+    val joints = ArmTrajectory.columns(n)
+    val values =
+      PayloadColumns.names.map(c => trace.values(rows.head * trace.width + trace.header.indexOf(c)))
+    assert(values.head == 5.0, s"part A: $values")
+    def summary(input: Path, args: Seq[String]): String = {
+      val json = Scratch.dir("sim-payload-summary-").resolve("summary.json")
+      simulate(input, ur5 ++ payload ++ Seq("--monitor.enabled", "true", "--summary", json.toString) ++ args)
+      Files.readString(json)
+    }
+    val withColumns = summary(csv(joints ++ PayloadColumns.names, rows), Nil)
+    val withFlag = summary(csv(joints, rows), Seq("--payload", values.mkString(",")))
+    val without = summary(csv(joints, rows), Nil)
+    assert(withFlag == withColumns, "--payload and the same payload in columns summarise differently")
+    assert(without != withColumns, "the summary ignores the payload")
+    // Peaks per joint: the hardware's (the models'), then the reference's, against Pinocchio's with the payload.
+    val peaks = """"peak_abs_nm": ([-0-9.eE]+)""".r.findAllMatchIn(withColumns).map(_.group(1).toDouble).toSeq
+    val bare = """"peak_abs_nm": ([-0-9.eE]+)""".r.findAllMatchIn(without).map(_.group(1).toDouble).toSeq
+    (0 until n).foreach { j =>
+      val pinocchio =
+        rows.map(r => math.abs(trace.values(r * trace.width + trace.header.indexOf(s"tau${j + 1}")))).max
+      assert(
+        math.abs(peaks(n + j) - pinocchio) <= 1e-9,
+        s"joint ${j + 1}: reference peak ${peaks(n + j)}, Pinocchio's $pinocchio"
+      )
+      assert(
+        math.abs(peaks(j) - pinocchio) <= 1e-3,
+        s"joint ${j + 1}: monitored peak ${peaks(j)}, Pinocchio's $pinocchio"
+      )
+    }
+    assert(
+      (0 until n).exists(j => math.abs(bare(j) - peaks(j)) > 1),
+      s"the payload moves no peak: $peaks, $bare"
+    )
+    info(
+      s"[payload monitor] simulate --monitor.enabled --summary, 5 kg: peaks ${peaks.take(n).map(x => f"$x%.2f").mkString(", ")} N·m " +
+        s"(without the payload ${bare.take(n).map(x => f"$x%.2f").mkString(", ")})"
+    )
+  }
+
   it should "write on the rtl engine the model engine's file, bit for bit, across a payload change" in {
     assume(VerilatorHarness.available, "verilator is not installed")
     // Rows 90..129: at rest with no payload, then part A (5 kg) from row 100 on. The harness build is

@@ -10,7 +10,8 @@ import reducerload.testutil.ArmGolden
  * The Pinocchio traces of golden/arms/mounting and golden/arms/payload (make_golden_payload.py) against the
  * double reference: the mounted UR5 built with the trace's `robot.base-rpy` (and its bit-accurate model
  * within the derived bound and 1e-3 N·m), and the UR5 and the Panda with the payload merged into the last
- * body at its frame's placement. No payload hardware: the payload check is in doubles.
+ * body at its frame's placement, and their bit-accurate models with `payload.enabled` fed each row's payload
+ * within each joint's derived bound and 1e-3 N·m (the payload hardware is PayloadedArmSpec's).
  */
 class GoldenPayloadMountingSpec extends AnyFlatSpec {
   behavior of "The payload and mounting golden traces"
@@ -198,6 +199,33 @@ class GoldenPayloadMountingSpec extends AnyFlatSpec {
         assert(err < tolerance, s"${t.name}: $err N·m")
         assert(bare > 1.0, s"${t.name}: the payload moves the torques by only $bare N·m")
       }
+    }
+
+  for ((robot, maxMass) <- Seq("ur5" -> 5.0, "panda" -> 3.0))
+    it should s"compute the $robot with payload.enabled on every golden payload row bit-accurately (ArmModel, FastArmModel) within each joint's derived bound and 1e-3 N·m of Pinocchio" in {
+      val traces = ArmGolden.withPayload(robot)
+      val p = Compiler.arm(
+        traces.head.config
+          .copy(payload = reducerload.config.PayloadSettings(enabled = true, maxMass = maxMass))
+      )
+      val spec = p.payload.get
+      assert(traces.forall(_.payloadRanges.exists(r => r.frame == spec.frame && r.maxMass == spec.maxMass)))
+      val model = new ArmModel(p)
+      val fast = new reducerload.sim.model.FastArmModel(p)
+      val rows = traces.flatMap(t => t.samples.zip(t.payloads.map(_.get)))
+      val codes = rows.map { case (s, b) => model.encode(s, b) }
+      val out = codes.map(model.evaluate)
+      assert(codes.zip(out).forall { case (c, o) => fast.evaluate(c) == o }, s"$robot: FastArmModel differs")
+      assert(out.forall(!_.outOfRange.exists(identity)), s"$robot: a golden payload row flagged")
+      val merged = rows.map { case (s, b) => Rnea.reference(spec.merged(p.chain, b), s.q, s.qd, s.qdd) }
+      println(
+        s"[golden] $robot payload (max ${spec.maxMass} kg in ${spec.frame}; the model is that of every " +
+          s"schedule): ${rows.size} rows of ${traces.map(_.name).mkString(", ")}"
+      )
+      withinBounds(s"$robot payload", p, out.map(model.torques), merged, traces.flatMap(_.torques))
+      // Without the payload the same rows are far off: the check sees the payload.
+      val bare = rows.map { case (s, _) => model.torques(model.evaluate(model.encode(s))) }
+      assert(worst(bare, traces.flatMap(_.torques)) > 1.0, s"$robot: the payload changes nothing")
     }
 
   it should "offer the payload frames the last joint carries, at their URDF placement" in {

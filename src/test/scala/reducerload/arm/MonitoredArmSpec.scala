@@ -7,6 +7,7 @@ import reducerload.dynamics.RandomChains
 import reducerload.graph.SampleCodes
 import reducerload.config.{DatapathParams, MonitorSettings}
 import reducerload.monitor._
+import reducerload.robot.{Mat3, RigidBody, Vec3}
 import reducerload.testutil.{ArmGolden, ArmGoldenTrace, Seeds, SimBackend}
 
 import scala.collection.mutable.ArrayBuffer
@@ -24,7 +25,8 @@ final case class ArmMonitorCycle(
 )
 
 /**
- * One simulation per robot (planar3: every golden sample; UR5: ur5_rest_to_rest): the arm with its monitor,
+ * One simulation per robot (planar3: every golden sample; UR5: ur5_rest_to_rest; planar3 with a run-time
+ * payload changing every 100 samples, fed on the datapath's payload ports): the arm with its monitor,
  * interleaved with seeded samples beyond the declared ranges and bubbles, snapshots and clears at random
  * times. Checked: every shadow bank read through the host port equals, word for word, the bank of
  * MonitorModel fed by ArmModel's outputs (torques, clamped velocities, flags) in the monitor's input cycles
@@ -57,6 +59,10 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
           dut.io.in.bits.qd(j).poke(s.velocities(j).S)
           dut.io.in.bits.qdd(j).poke(s.accelerations(j).S)
         }
+        // A run-time payload's codes, in the port's order.
+        dut.io.in.bits.payload.foreach(_.zip(dut.p.numerics.parameters).foreach { case (port, sig) =>
+          port.poke(s.parameters(sig).S)
+        })
       case None => dut.io.in.valid.poke(false.B)
     }
     dut.io.host.snapshot.poke(c.snapshot.B)
@@ -67,7 +73,8 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
   /** The arm of a robot's golden traces, and its monitor with limits where the traces cross them. */
   private def armAndMonitor(
       traces: Seq[ArmGoldenTrace],
-      samplePeriodS: Double
+      samplePeriodS: Double,
+      payload: Option[PayloadSpec] = None
   ): (ArmParams, MonitorParams) = {
     val first = traces.head
     // 22 internal fraction bits: the datapath this test was written against (ArmParams' default then).
@@ -75,7 +82,8 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
       first.chain,
       first.config.robot.maxVelocity,
       first.config.robot.maxAcceleration,
-      datapath = DatapathParams(internalFracBits = 22)
+      datapath = DatapathParams(internalFracBits = 22),
+      payload = payload
     )
     val peaks = arm.jointNames.indices.map(j => traces.flatMap(_.torques).map(t => math.abs(t(j))).max)
     (arm, MonitorConfig(arm, settings(peaks, arm.jointNames.size, samplePeriodS)))
@@ -102,10 +110,47 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
     )
   }
 
+  it should "give the monitor the loads with a run-time payload (planar3, payload changing every 100 samples)" in {
+    val traces = ArmGolden.of("planar3")
+    // The smallest arm: the settings refuse payload.enabled for the built-in planar3 (no URDF link to name),
+    // so its parameters are built here, with the payload stated at the tip where m3 sits.
+    val chain = traces.head.chain
+    val spec =
+      PayloadSpec("tip", chain.tipFrames("tip"), maxMass = 5.0, comRadius = 0.1, maxGyrationRadius = 0.1)
+    val (arm, m) = armAndMonitor(traces, 0.01, Some(spec))
+    val rng = new Random(Seeds("monitored-arm-payload", 1315L))
+    val golden = traces.flatMap(_.samples).toIndexedSeq.take(SimBackend.scale(800))
+    // A payload per 100 samples: none, then random ones in the declared set (the first the heaviest).
+    val parts = (0 to golden.size / 100).map { k =>
+      if (k == 0) RigidBody.massless
+      else {
+        val m = if (k == 1) spec.maxMass else rng.nextDouble() * spec.maxMass
+        def coord() = (rng.nextDouble() * 2 - 1) * spec.comRadius / math.sqrt(3)
+        val top = m * spec.maxGyrationRadius * spec.maxGyrationRadius
+        RigidBody(m, Vec3(coord(), coord(), coord()), Mat3.diagonal(Vec3(top, top, top) * 0.5))
+      }
+    }
+    val payloads = golden.indices.map(i => parts(i / 100))
+    // The payload moves the monitor's inputs: a monitor fed without it would differ.
+    val model = new ArmModel(arm)
+    val loaded = golden.zip(payloads).map { case (s, b) => model.evaluate(model.encode(s, b)).tau }
+    assert(loaded != golden.map(s => model.evaluate(model.encode(s)).tau), "the payload changes no torque")
+    simulate(
+      "planar3 payload",
+      arm,
+      m,
+      golden,
+      rng.nextLong(),
+      snapshotOdds = 150,
+      payloads = payloads
+    )
+  }
+
   /**
    * One simulation of `golden` (with seeded out-of-range samples slipped in, bubbles, snapshots and clears,
    * one in `snapshotOdds` and `clearOdds` cycles): every bank read equals the model's, every period is within
-   * the derived bounds of the reference.
+   * the derived bounds of the reference. With `payloads` (a run-time payload design), golden sample i carries
+   * payloads(i), a sample slipped in the payload of the golden sample before it.
    */
   private def simulate(
       label: String,
@@ -114,7 +159,8 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
       golden: IndexedSeq[ArmSample],
       seed: Long,
       snapshotOdds: Int = 400,
-      clearOdds: Int = 900
+      clearOdds: Int = 900,
+      payloads: IndexedSeq[RigidBody] = IndexedSeq.empty
   ): Unit = {
     val model = new ArmModel(arm)
     val rng = new Random(seed)
@@ -126,13 +172,18 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
       ArmSample(q, qd, qdd)
     }
     val goldenUsed = golden.take(SimBackend.scale(golden.size))
+    val carried = goldenUsed.indices.map(i => if (payloads.isEmpty) RigidBody.massless else payloads(i))
     val positions = outside.map(_ => rng.nextInt(goldenUsed.size + 1)).sorted
-    val samples = goldenUsed.indices.foldLeft((Vector.empty[ArmSample], positions.toList, outside.toList)) {
-      case ((acc, ps, os), i) =>
-        val (here, later) = ps.span(_ <= i)
-        (acc ++ os.take(here.size) :+ goldenUsed(i), later, os.drop(here.size))
-    } match { case (acc, _, os) => acc ++ os }
-    val codes = samples.map(model.encode)
+    val stream = goldenUsed.indices.foldLeft(
+      (Vector.empty[(ArmSample, RigidBody)], positions.toList, outside.toList)
+    ) { case ((acc, ps, os), i) =>
+      val (here, later) = ps.span(_ <= i)
+      val before = if (i == 0) RigidBody.massless else carried(i - 1)
+      (acc ++ os.take(here.size).map(_ -> before) :+ (goldenUsed(i) -> carried(i)), later, os.drop(here.size))
+    } match { case (acc, _, os) => acc ++ os.map(_ -> carried.lastOption.getOrElse(RigidBody.massless)) }
+    val samples = stream.map(_._1)
+    val bodies = stream.map(_._2)
+    val codes = stream.map { case (s, b) => model.encode(s, b) }
     val fed = TrajectorySummary.monitorInputs(arm, codes).toIndexedSeq
     val latency = arm.latency
 
@@ -204,7 +255,8 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
       // Every period against the double reference over the same samples.
       val checked = banks.zip(expected).zipWithIndex.map { case ((hw, (_, period)), k) =>
         val snap = MonitorSnapshot.fromBank(m, hw)
-        val values = TrajectorySummary.referenceValues(arm, m, period.map(samples), period.map(fed))
+        val values =
+          TrajectorySummary.referenceValues(arm, m, period.map(samples), period.map(fed), period.map(bodies))
         val ref = MonitorReference.summarize(m, values)
         val bounds = TrajectorySummary.bounds(arm, m, snap, ref, values)
         val bad = TrajectorySummary.violations(MonitorSummary.fromSnapshot(m, snap), ref, bounds)
@@ -215,7 +267,13 @@ class MonitoredArmSpec extends AnyFlatSpec with ChiselScalatestTester {
       assert(checked.exists(_._3 > 0), "no snapshot saw a momentary-peak event")
       val last = MonitorSnapshot.fromBank(m, banks.last)
       val lastPeriod = expected.last._2
-      val lastValues = TrajectorySummary.referenceValues(arm, m, lastPeriod.map(samples), lastPeriod.map(fed))
+      val lastValues = TrajectorySummary.referenceValues(
+        arm,
+        m,
+        lastPeriod.map(samples),
+        lastPeriod.map(fed),
+        lastPeriod.map(bodies)
+      )
       val lastRef = MonitorReference.summarize(m, lastValues)
       val lastBounds = TrajectorySummary.bounds(arm, m, last, lastRef, lastValues)
       MonitorSummary.fromSnapshot(m, last).zip(lastRef).zip(lastBounds).foreach { case ((h, r), b) =>

@@ -144,6 +144,48 @@ class PayloadSpecSpec extends AnyFlatSpec {
     assert(light.tau == model.evaluate(model.encode(s, RigidBody.massless)).tau)
   }
 
+  /** The body of ten parameter values by signal (the inertia symmetric). */
+  private def bodyOf(values: Map[Signal.Parameter, Double]): RigidBody = {
+    val v = values.collect { case (s: Signal.Inertial, x) => s.parameter -> x }
+    RigidBody(
+      v(InertialParameter.Mass),
+      Vec3((0 until 3).map(a => v(InertialParameter.Com(a)))),
+      Mat3.tabulate((r, c) => v(InertialParameter.Inertia(math.min(r, c), math.max(r, c))))
+    )
+  }
+
+  for ((robot, maxMass, seed) <- Seq(("ur5", 5.0, 3108L), ("panda", 3.0, 3109L)))
+    it should s"clamp and flag each parameter alone beyond its interval on the $robot (mass above the maximum or " +
+      "negative, centre of mass beyond the radius, inertia beyond the bound or negative), never wrap it" in {
+        val p = params(robot, maxMass)
+        val spec = p.payload.get
+        val model = new ArmModel(p)
+        val fast = new FastArmModel(p)
+        val rng = new Random(Seeds(s"payload-clamp-each-$robot", seed))
+        val ranges = spec.ranges(p.chain)
+        var cases = 0
+        Signal.inertial(spec.joint(p.chain)).foreach { sig =>
+          val r = ranges(sig)
+          val width = r.hi - r.lo
+          // Just beyond either end, and far beyond the port format (saturates there first, then clamps).
+          val beyond = Seq(r.hi + width * (0.01 + rng.nextDouble()), r.lo - width * (0.01 + rng.nextDouble()))
+          (beyond ++ Seq(1e9, -1e9)).foreach { x =>
+            val s = sample(rng, p)
+            val values = spec.values(p.chain, randomPayload(rng, spec)).updated(sig, x)
+            val clamped = values.updated(sig, math.max(r.lo, math.min(r.hi, x)))
+            val codes = model.encode(s, bodyOf(values))
+            val out = model.evaluate(codes)
+            val expected = model.evaluate(model.encode(s, bodyOf(clamped)))
+            assert(out == fast.evaluate(codes), s"$robot $sig = $x: the long model differs from the model")
+            assert(!expected.outOfRange.exists(identity), s"$robot $sig clamped to ${clamped(sig)}: flagged")
+            assert(out.outOfRange.forall(identity), s"$robot $sig = $x: flags ${out.outOfRange}")
+            assert(out.tau == expected.tau, s"$robot $sig = $x: not computed with the clamped value")
+            cases += 1
+          }
+        }
+        println(s"[payload] $robot: $cases single parameters beyond their intervals clamped and flagged")
+      }
+
   it should "state the payload in any link fixed to the last moving joint, and refuse others in one line" in {
     val flange = params("panda", 3.0, frame = "panda_link8")
     val hand = params("panda", 3.0)
