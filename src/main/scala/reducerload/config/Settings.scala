@@ -3,7 +3,7 @@ package reducerload.config
 import com.typesafe.config.{Config, ConfigException, ConfigValueType}
 import reducerload.cordic.{CordicArchitecture, CordicParams}
 import reducerload.fixedpoint.Rounding
-import reducerload.graph.{ConstantMultiplies, ListOrder, ScheduleRequest, Storage}
+import reducerload.graph.{ConstantMultiplies, ListOrder, Reassociation, ScheduleRequest, Storage}
 import reducerload.load.LoadModel
 import reducerload.robot.{Mounting, RobotParams}
 import reducerload.util.InputError
@@ -482,6 +482,17 @@ object Settings {
     _.datapath.memoryDelayMinCycles
   )
 
+  val datapathReassociate = new Choice(
+    "datapath.reassociate",
+    "",
+    "off (sums as RNEA writes them, left to right) or sums (each sum of several terms rebuilt as a tree, " +
+      "the earliest terms first: a shorter critical path; the same values, their formats and bounds derived anew)",
+    Nil,
+    Reassociation.all,
+    (r: Reassociation) => r.name,
+    _.datapath.reassociate
+  )
+
   val scheduleClocksPerSample = new Count(
     "schedule.clocks-per-sample",
     "clocks",
@@ -732,6 +743,7 @@ object Settings {
     datapathProductRounding,
     datapathMultiplierLatency,
     datapathMemoryDelayMinCycles,
+    datapathReassociate,
     scheduleClocksPerSample,
     scheduleMaxMultipliers,
     scheduleCordicUnits,
@@ -875,7 +887,8 @@ object Settings {
           outputFracBits = v(datapathOutputFracBits),
           productRounding = v(datapathProductRounding),
           multiplierLatency = v(datapathMultiplierLatency),
-          memoryDelayMinCycles = v(datapathMemoryDelayMinCycles)
+          memoryDelayMinCycles = v(datapathMemoryDelayMinCycles),
+          reassociate = v(datapathReassociate)
         ),
         targetError = v(numericTargetError),
         device = DeviceTarget(v(deviceName), v(deviceMaxLogicFraction)),
