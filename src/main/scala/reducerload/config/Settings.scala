@@ -548,7 +548,8 @@ object Settings {
     "schedule.list-order",
     "",
     "storage memory: the list scheduler's order, by-height (each operation, critical path first, at its " +
-      "first free cycle) or by-cycle (each cycle's ready operations, critical path first); auto: both, the shorter latency kept",
+      "first free cycle) or by-cycle (each cycle's ready operations, critical path first); auto: both, the " +
+      "shorter latency kept; storage registers: by-height, or auto for the graph's order",
     Nil,
     None +: ListOrder.all.map(Some(_)),
     (o: Option[ListOrder]) => o.fold("auto")(_.name),

@@ -4,7 +4,7 @@ import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.compiler.Compiler
 import reducerload.dynamics.{RandomChains, Rnea}
-import reducerload.graph.{Reassociation, ScheduleRequest, Storage}
+import reducerload.graph.{ListOrder, Reassociation, ScheduleRequest, Storage}
 import reducerload.testutil.{ArmGolden, Seeds, SimBackend}
 
 import scala.util.Random
@@ -171,12 +171,13 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     )
   }
 
-  it should "fit the UR5 with reassociated sums in the 66 multiplier blocks of an EP4CE30, bit-exact under " +
-    "back-pressure" in {
+  it should "fit the UR5 with reassociated sums, placed by height, in the 66 multiplier blocks of an EP4CE30 " +
+    "with a 1e-3 N·m target, bit-exact under back-pressure" in {
       runRobot(
         "ur5",
         58L,
-        ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)),
+        ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66), listOrder = Some(ListOrder.ByHeight)),
+        targetError = Seq(1e-3),
         reassociate = Reassociation.Sums
       )
     }
