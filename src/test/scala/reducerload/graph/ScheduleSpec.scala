@@ -222,7 +222,9 @@ class ScheduleSpec extends AnyFlatSpec {
       val request = ScheduleRequest(maxMultipliers = Some(66))
       val inOrder = check(scheduled(ur5, request))
       val byHeight = check(scheduled(ur5, request.copy(listOrder = Some(ListOrder.ByHeight))))
-      info(s"UR5 in 66 blocks: latency ${inOrder.latency} in the graph's order, ${byHeight.latency} by height")
+      info(
+        s"UR5 in 66 blocks: latency ${inOrder.latency} in the graph's order, ${byHeight.latency} by height"
+      )
       assert(byHeight.clocksPerSample == inOrder.clocksPerSample)
       assert(byHeight.multiplierBlocks == inOrder.multiplierBlocks)
     }
