@@ -6,6 +6,7 @@ import reducerload.dynamics.{JointState, Rnea, Sym3, V3}
 import reducerload.fixedpoint.Rounding
 import reducerload.graph._
 import reducerload.load.{Joint3Load, LoadModel}
+import reducerload.pipeline.PipelinedMultiplier
 import reducerload.robot.{RobotParams, SerialChain}
 
 /** What a datapath computes from its chain's joint states: the graph's outputs. */
@@ -105,10 +106,28 @@ final case class ArmParams(
    * The dynamics on graph nodes, the datapath's structure written once, and the vector-level bounds proved
    * while building it.
    */
-  private lazy val built: (Graph, RangeHints) = dynamics match {
-    case Dynamics.Rnea => ArmParams.rneaGraph(chain, maxVelocity, maxAcceleration, payload, gravity)
-    case Dynamics.Joint3(model, r) => (ArmParams.joint3Graph(chain, model, r), RangeHints.none)
+  private lazy val built: (Graph, RangeHints) = {
+    val (written, hints) = dynamics match {
+      case Dynamics.Rnea => ArmParams.rneaGraph(chain, maxVelocity, maxAcceleration, payload, gravity)
+      case Dynamics.Joint3(model, r) => (ArmParams.joint3Graph(chain, model, r), RangeHints.none)
+    }
+    datapath.reassociate match {
+      case Reassociation.Off  => (written, hints)
+      case Reassociation.Sums => Reassociate(written, hints, arrivalDelays)
+    }
   }
+
+  /**
+   * Clocks of an addition, a product (of two operands of two 17-bit chunks, the arms' usual shape) and a
+   * sin/cos in the one-sample-per-clock datapath: the weights that order a sum's terms for
+   * `datapath.reassociate`, the same for every schedule of the design (the fraction-bit caps are fitted on
+   * its graph).
+   */
+  def arrivalDelays: ArrivalDelays = ArrivalDelays(
+    add = 1,
+    mul = PipelinedMultiplier.latency(35, 35) + multiplierLatency,
+    trig = 1 + cordic.latency
+  )
   lazy val graph: Graph = built._1
   lazy val rangeHints: RangeHints = built._2
   lazy val analysis: Analysis = new Analysis(graph, numerics, rangeHints, fracBitLimits)

@@ -1,6 +1,7 @@
 package reducerload.config
 
 import reducerload.fixedpoint.Rounding
+import reducerload.graph.Reassociation
 
 /**
  * The arithmetic of the datapath (`datapath.*` keys): the fraction bits of each kind of value, how products
@@ -24,6 +25,10 @@ import reducerload.fixedpoint.Rounding
  * @param memoryDelayMinCycles
  *   pipeline-balancing delays of at least this many cycles use block RAM (M9K) instead of registers; 0 keeps
  *   every delay in registers
+ * @param reassociate
+ *   whether sums of several terms are rebuilt as trees, the earliest terms first
+ *   ([[reducerload.graph.Reassociate]]): a shorter critical path; the same values, their formats and bounds
+ *   derived anew
  */
 final case class DatapathParams(
     velocityFracBits: Int = 20,
@@ -33,7 +38,8 @@ final case class DatapathParams(
     outputFracBits: Int = 20,
     productRounding: Rounding = Rounding.Truncate,
     multiplierLatency: Int = 1,
-    memoryDelayMinCycles: Int = 4
+    memoryDelayMinCycles: Int = 4,
+    reassociate: Reassociation = Reassociation.Off
 ) {
   reducerload.graph.Numerics.checkFracBits(
     velocityFracBits,

@@ -3,7 +3,7 @@ package reducerload.config
 import com.typesafe.config.{Config, ConfigException, ConfigValueType}
 import reducerload.cordic.{CordicArchitecture, CordicParams}
 import reducerload.fixedpoint.Rounding
-import reducerload.graph.{ConstantMultiplies, ListOrder, ScheduleRequest, Storage}
+import reducerload.graph.{ConstantMultiplies, ListOrder, Reassociation, ScheduleRequest, Storage}
 import reducerload.load.LoadModel
 import reducerload.robot.{Mounting, RobotParams}
 import reducerload.util.InputError
@@ -482,6 +482,17 @@ object Settings {
     _.datapath.memoryDelayMinCycles
   )
 
+  val datapathReassociate = new Choice(
+    "datapath.reassociate",
+    "",
+    "off (sums as RNEA writes them, left to right) or sums (each sum of several terms rebuilt as a tree, " +
+      "the earliest terms first: a shorter critical path; the same values, their formats and bounds derived anew)",
+    Nil,
+    Reassociation.all,
+    (r: Reassociation) => r.name,
+    _.datapath.reassociate
+  )
+
   val scheduleClocksPerSample = new Count(
     "schedule.clocks-per-sample",
     "clocks",
@@ -537,7 +548,8 @@ object Settings {
     "schedule.list-order",
     "",
     "storage memory: the list scheduler's order, by-height (each operation, critical path first, at its " +
-      "first free cycle) or by-cycle (each cycle's ready operations, critical path first); auto: both, the shorter latency kept",
+      "first free cycle) or by-cycle (each cycle's ready operations, critical path first); auto: both, the " +
+      "shorter latency kept; storage registers: by-height, or auto for the graph's order",
     Nil,
     None +: ListOrder.all.map(Some(_)),
     (o: Option[ListOrder]) => o.fold("auto")(_.name),
@@ -732,6 +744,7 @@ object Settings {
     datapathProductRounding,
     datapathMultiplierLatency,
     datapathMemoryDelayMinCycles,
+    datapathReassociate,
     scheduleClocksPerSample,
     scheduleMaxMultipliers,
     scheduleCordicUnits,
@@ -875,7 +888,8 @@ object Settings {
           outputFracBits = v(datapathOutputFracBits),
           productRounding = v(datapathProductRounding),
           multiplierLatency = v(datapathMultiplierLatency),
-          memoryDelayMinCycles = v(datapathMemoryDelayMinCycles)
+          memoryDelayMinCycles = v(datapathMemoryDelayMinCycles),
+          reassociate = v(datapathReassociate)
         ),
         targetError = v(numericTargetError),
         device = DeviceTarget(v(deviceName), v(deviceMaxLogicFraction)),

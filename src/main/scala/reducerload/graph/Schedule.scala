@@ -32,7 +32,8 @@ object ConstantMultiplies {
  * @param constantMultiplies
  *   how a multiply by a robot constant is built ([[ConstantMultiplies]])
  * @param listOrder
- *   the memory-storage list scheduler's order ([[ListOrder]]; None: `auto`, the one with the least latency)
+ *   the memory-storage list scheduler's order ([[ListOrder]]; None: `auto`, the one with the least latency);
+ *   with registers only `by-height` (None: the graph's order)
  * @param adderUnits
  *   memory storage's shared adder units (None: the fewest that take every addition)
  * @param listTries
@@ -50,9 +51,9 @@ final case class ScheduleRequest(
     listTries: Int = ScheduleRequest.defaultListTries
 ) {
   require(
-    listOrder.isEmpty || stored == Storage.Memory,
+    listOrder.isEmpty || stored == Storage.Memory || listOrder.contains(ListOrder.ByHeight),
     s"schedule.list-order = ${listOrder.get} orders the block-RAM schedule: it needs " +
-      s"schedule.storage = memory (or list-order auto)"
+      s"schedule.storage = memory (or list-order auto or by-height)"
   )
   require(
     adderUnits.isEmpty || stored == Storage.Memory,
@@ -367,49 +368,74 @@ final class Schedule(
     ids.map(id => counts.getOrElse(id.index, 0))
   }
 
-  private val state: ScheduleState =
-    ids.foldLeft(ScheduleState(Vector.empty, Vector.empty, Set.empty, Map.empty, Set.empty)) { (s, id) =>
-      def at(x: NodeId) = s.ready(x.index).getOrElse(0)
-      def plain(ready: Option[Int], slot: Option[Slot]) =
-        s.copy(ready = s.ready :+ ready, slots = s.slots :+ slot)
-      graph(id) match {
-        case Const(_) => plain(None, None)
-        case Input(_) => plain(Some(inputCycle), Some(Slot(None, inputCycle - 1)))
-        case Trig(_, angle) =>
-          s.angleSlots.get(angle) match {
-            case Some(slot) => plain(Some(slot.issue + trigLatency), Some(slot))
-            case None       =>
-              // The angle's joints are in the input register from cycle 1.
-              val slot = place(s.taken, isMul = false, 0 until cordicUnits, 1)
-              s.copy(
-                ready = s.ready :+ Some(slot.issue + trigLatency),
-                slots = s.slots :+ Some(slot),
-                taken = s.taken + ((false, slot.unit.get, slot.issue % ii)),
-                angleSlots = s.angleSlots + (angle -> slot)
-              )
-          }
-        case Mul(a, b) if shiftAdded(id) =>
-          val issue = math.max(at(a), at(b)) // its own adder tree: no unit to wait for
-          plain(Some(issue + mulLatency(id)), Some(Slot(None, issue)))
-        case Mul(a, b) =>
-          val earliest = math.max(at(a), at(b))
-          val slot = place(s.taken, isMul = true, classUnits(classOf(id)), earliest)
-          s.copy(
-            ready = s.ready :+ Some(slot.issue + mulLatency(id)),
-            slots = s.slots :+ Some(slot),
-            taken = s.taken + ((true, slot.unit.get, slot.issue % ii))
-          )
-        case op =>
-          // A shared unit's product is on its output for one cycle, then captured. A product with this
-          // adder as its only reader is taken straight from the unit in that cycle when the other
-          // operand is ready by then: the adder's register holds it, no capture register, one cycle less.
-          def forwardable(x: NodeId) = !dedicated && graph(x).isInstanceOf[Mul] && uses(x.index) == 1
-          def earliest(x: NodeId) = if (forwardable(x)) at(x) - 1 else at(x)
-          val r = op.operands.map(earliest).max
-          val direct = op.operands.filter(x => forwardable(x) && at(x) - 1 == r)
-          plain(Some(r + 1), Some(Slot(None, r))).copy(forwarded = s.forwarded ++ direct)
+  /**
+   * The order the list scheduler places the nodes in: the graph's, or for registers storage with list order
+   * by-height the longest chain of latencies to an output first (a topological order: every operation is
+   * higher than its users, and a leaf as high as its highest user comes first, by index), so the critical
+   * path claims the units' residues before the operations with slack.
+   */
+  private val placementOrder: IndexedSeq[NodeId] =
+    if (request.stored != Storage.Registers || !request.listOrder.contains(ListOrder.ByHeight)) ids
+    else {
+      val users = ids.flatMap(id => graph(id).operands.map(_.index -> id.index)).groupMap(_._1)(_._2)
+      val height = ids.reverse.foldLeft(Map.empty[Int, Int]) { (h, id) =>
+        val own = graph(id) match {
+          case _: Mul              => mulLatency(id)
+          case _: Trig             => trigLatency
+          case _: Const | _: Input => 0
+          case _                   => 1
+        }
+        h + (id.index -> (own + users.getOrElse(id.index, Nil).map(h).maxOption.getOrElse(0)))
       }
+      ids.sortBy(id => (-height(id.index), id.index))
     }
+
+  private val state: ScheduleState = {
+    val none = Vector.fill(ids.size)(Option.empty[Int])
+    placementOrder.foldLeft(ScheduleState(none, none.map(_ => None), Set.empty, Map.empty, Set.empty)) {
+      (s, id) =>
+        def at(x: NodeId) = s.ready(x.index).getOrElse(0)
+        def plain(ready: Option[Int], slot: Option[Slot]) =
+          s.copy(ready = s.ready.updated(id.index, ready), slots = s.slots.updated(id.index, slot))
+        graph(id) match {
+          case Const(_) => plain(None, None)
+          case Input(_) => plain(Some(inputCycle), Some(Slot(None, inputCycle - 1)))
+          case Trig(_, angle) =>
+            s.angleSlots.get(angle) match {
+              case Some(slot) => plain(Some(slot.issue + trigLatency), Some(slot))
+              case None       =>
+                // The angle's joints are in the input register from cycle 1.
+                val slot = place(s.taken, isMul = false, 0 until cordicUnits, 1)
+                s.copy(
+                  ready = s.ready.updated(id.index, Some(slot.issue + trigLatency)),
+                  slots = s.slots.updated(id.index, Some(slot)),
+                  taken = s.taken + ((false, slot.unit.get, slot.issue % ii)),
+                  angleSlots = s.angleSlots + (angle -> slot)
+                )
+            }
+          case Mul(a, b) if shiftAdded(id) =>
+            val issue = math.max(at(a), at(b)) // its own adder tree: no unit to wait for
+            plain(Some(issue + mulLatency(id)), Some(Slot(None, issue)))
+          case Mul(a, b) =>
+            val earliest = math.max(at(a), at(b))
+            val slot = place(s.taken, isMul = true, classUnits(classOf(id)), earliest)
+            s.copy(
+              ready = s.ready.updated(id.index, Some(slot.issue + mulLatency(id))),
+              slots = s.slots.updated(id.index, Some(slot)),
+              taken = s.taken + ((true, slot.unit.get, slot.issue % ii))
+            )
+          case op =>
+            // A shared unit's product is on its output for one cycle, then captured. A product with this
+            // adder as its only reader is taken straight from the unit in that cycle when the other
+            // operand is ready by then: the adder's register holds it, no capture register, one cycle less.
+            def forwardable(x: NodeId) = !dedicated && graph(x).isInstanceOf[Mul] && uses(x.index) == 1
+            def earliest(x: NodeId) = if (forwardable(x)) at(x) - 1 else at(x)
+            val r = op.operands.map(earliest).max
+            val direct = op.operands.filter(x => forwardable(x) && at(x) - 1 == r)
+            plain(Some(r + 1), Some(Slot(None, r))).copy(forwarded = s.forwarded ++ direct)
+        }
+    }
+  }
 
   /**
    * Multiplies whose only reader takes the product from the unit's output in the cycle before `ready`: they

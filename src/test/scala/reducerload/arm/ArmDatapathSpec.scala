@@ -4,7 +4,7 @@ import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.compiler.Compiler
 import reducerload.dynamics.{RandomChains, Rnea}
-import reducerload.graph.{ScheduleRequest, Storage}
+import reducerload.graph.{ListOrder, Reassociation, ScheduleRequest, Storage}
 import reducerload.testutil.{ArmGolden, Seeds, SimBackend}
 
 import scala.util.Random
@@ -27,7 +27,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       robot: String,
       seed: Long,
       schedule: ScheduleRequest = ScheduleRequest(),
-      targetError: Seq[Double] = Nil
+      targetError: Seq[Double] = Nil,
+      reassociate: Reassociation = Reassociation.Off
   ): Unit = {
     val traces = ArmGolden.of(robot)
     traces.foreach(t =>
@@ -38,7 +39,14 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     )
     // Fitted with its own schedule, as `run emit` does (per-node caps are kept only where that schedule gets
     // cheaper).
-    val p = Compiler.arm(traces.head.config.copy(targetError = targetError, schedule = schedule))
+    val config = traces.head.config
+    val p = Compiler.arm(
+      config.copy(
+        targetError = targetError,
+        schedule = schedule,
+        datapath = config.datapath.copy(reassociate = reassociate)
+      )
+    )
     assert(
       p.errorBound <= ArmChecks.target,
       s"$robot: derived bound ${p.errorBound} misses the target ${ArmChecks.target}"
@@ -50,7 +58,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     }
     val label = (if (p.schedule.clocksPerSample == 1) robot else s"$robot II=${p.schedule.clocksPerSample}") +
       (if (p.banked.isDefined) " memory" else "") +
-      (if (targetError.isEmpty) "" else s" target ${targetError.mkString(",")} (F=${p.internalFracBits})")
+      (if (targetError.isEmpty) "" else s" target ${targetError.mkString(",")} (F=${p.internalFracBits})") +
+      (if (reassociate == Reassociation.Off) "" else s" reassociate $reassociate")
     ArmChecks.run(
       this,
       label,
@@ -161,4 +170,15 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       targetError = Seq(1e-3)
     )
   }
+
+  it should "fit the UR5 with reassociated sums, placed by height, in the 66 multiplier blocks of an EP4CE30 " +
+    "with a 1e-3 N·m target, bit-exact under back-pressure" in {
+      runRobot(
+        "ur5",
+        58L,
+        ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66), listOrder = Some(ListOrder.ByHeight)),
+        targetError = Seq(1e-3),
+        reassociate = Reassociation.Sums
+      )
+    }
 }

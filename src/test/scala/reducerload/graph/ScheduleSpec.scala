@@ -216,6 +216,18 @@ class ScheduleSpec extends AnyFlatSpec {
       shiftAddInBanks.getMessage
     )
   }
+
+  it should "place the UR5's operations by height with registers within every rule (schedule.list-order = " +
+    "by-height)" in {
+      val request = ScheduleRequest(maxMultipliers = Some(66))
+      val inOrder = check(scheduled(ur5, request))
+      val byHeight = check(scheduled(ur5, request.copy(listOrder = Some(ListOrder.ByHeight))))
+      info(
+        s"UR5 in 66 blocks: latency ${inOrder.latency} in the graph's order, ${byHeight.latency} by height"
+      )
+      assert(byHeight.clocksPerSample == inOrder.clocksPerSample)
+      assert(byHeight.multiplierBlocks == inOrder.multiplierBlocks)
+    }
 }
 
 /**
