@@ -133,16 +133,11 @@ object Emit {
       case (Top.Load, monitor) =>
         val (name, gen) = topModule(c)
         val body = verilog(gen())
-        val datapath = ArmReport(
-          arm,
-          if (c.config.bus.kind == BusKind.Bare) name
-          else monitor.fold(arm.moduleName)(_ => s"MonitoredArm_${arm.tag}"),
-          command,
-          est(body, name),
-          monitor,
-          Some(c.fit)
-        )
-        (body, if (c.config.bus.kind == BusKind.Bare) datapath else WrapperReport(c, name, datapath))
+        val bare = c.config.bus.kind == BusKind.Bare
+        // A wrapper's report gives its own resources beside the datapath's (both modules are in the body).
+        val inner = if (bare) name else monitor.fold(arm.moduleName)(_ => s"MonitoredArm_${arm.tag}")
+        val datapath = ArmReport(arm, inner, command, est(body, inner), monitor, Some(c.fit))
+        (body, if (bare) datapath else WrapperReport(c, name, datapath, est(body, name)))
       case (Top.SinCos, _) =>
         val name = s"CordicSinCos_${c.config.cordic.tag}"
         val body = verilog(new CordicSinCos(c.config.cordic))

@@ -6,9 +6,15 @@ import reducerload.regmap.{ReducerLoadRegisters, StreamLayout, WrapperPort, Wrap
 
 /**
  * The report of a `reducer_load` wrapper emission: the wrapper's ports (named from its Bundles) and stream
- * bit layouts first, then the datapath's report (`datapath`: its module, ports and resources) beside it.
+ * bit layouts first (with `estimate`, the wrapper module's resources), then the datapath's report
+ * (`datapath`: its module, ports and resources) beside it.
  */
-final case class WrapperReport(c: Compiled, moduleName: String, datapath: ArmReport) extends EmissionReport {
+final case class WrapperReport(
+    c: Compiled,
+    moduleName: String,
+    datapath: ArmReport,
+    estimate: Option[Estimate] = None
+) extends EmissionReport {
   private val map = ReducerLoadRegisters(c)
   def latency: Int = datapath.latency
   def throughput: String = datapath.throughput
@@ -31,7 +37,8 @@ final case class WrapperReport(c: Compiled, moduleName: String, datapath: ArmRep
       )
 
   def summaryLines: Seq[String] =
-    Seq("", s"Inside: ${datapath.moduleName}") ++ datapath.portLines ++ Seq("") ++ datapath.summaryLines
+    estimate.toSeq.flatMap(e => s"Wrapper $moduleName:" +: e.lines) ++
+      Seq("", s"Inside: ${datapath.moduleName}") ++ datapath.portLines ++ Seq("") ++ datapath.summaryLines
 
   def markdown: String =
     (Seq(
@@ -48,7 +55,8 @@ final case class WrapperReport(c: Compiled, moduleName: String, datapath: ArmRep
       "- " + layout("in", StreamLayout.input(c.arm)),
       "- " + layout("out", StreamLayout.output(c.arm)),
       ""
-    )).mkString("", "\n", "\n") + datapath.markdown.replaceFirst("(?m)^# ", "# Inside: ")
+    ) ++ estimate.toSeq.flatMap(e => Seq("## Wrapper resources", "") ++ e.lines.map("- " + _) :+ ""))
+      .mkString("", "\n", "\n") + datapath.markdown.replaceFirst("(?m)^# ", "# Inside: ")
 
   def json: String = {
     val wrapper = "{\"top\": \"" + moduleName + "\", \"bus\": \"" + bus.name + "\", \"ports\": [" +

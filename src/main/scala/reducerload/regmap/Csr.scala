@@ -108,7 +108,9 @@ object Source {
    */
   case object SampleStart extends Source
   case object SampleStatus extends Source
-  final case class SampleTorque(joint: Int, word: Int) extends Source
+
+  /** Word `word` of computed torque `output` (output order: [[StreamLayout.torqueJoints]]). */
+  final case class SampleTorque(output: Int, word: Int) extends Source
   case object SampleFlags extends Source
   case object SampleSequence extends Source
 }

@@ -80,7 +80,7 @@ class ReducerLoadCore(val p: ArmParams, val monitor: Option[MonitorParams], val 
   }
 
   // ---- payload and gravity registers: staged (host-written), active (what samples take), sequence ----
-  private val port = numerics.parameterPortFormat
+  private lazy val port = numerics.parameterPortFormat
   private val staged = Option.when(parameters > 0)(
     RegInit(
       VecInit(
@@ -130,7 +130,7 @@ class ReducerLoadCore(val p: ArmParams, val monitor: Option[MonitorParams], val 
   private val issued = RegInit(false.B) // the busy sample has entered the datapath
   private val start = writing(Source.SampleStart) && data(0) && !busy
   private val tauWords = words(p.analysis.outputPortFormat.width)
-  private val resultTau = Reg(Vec(joints, UInt((dataBits * tauWords).W)))
+  private val resultTau = Reg(Vec(p.graph.outputs.size, UInt((dataBits * tauWords).W)))
   private val resultFlags = RegInit(0.U(joints.W))
   private val resultSequence = RegInit(0.U(PayloadedArm.sequenceBits.W))
 

@@ -476,24 +476,26 @@ object ReducerLoadRegisters {
       }
     }
     val tauFormat = c.arm.analysis.outputPortFormat
-    val tau = perJoint(c, "tau", tauFormat.width) { (name, j, w) =>
-      Register(
-        name,
-        s"joint ${j + 1}'s torque of the last sample",
-        Seq(
-          wordField(
-            tauFormat.width,
-            w,
-            Access.ReadOnly,
-            "torque",
-            FieldFormat.Fixed(tauFormat, jointUnit(c, j, "N.m", "N")),
-            signed = true,
-            0
-          )
-        ),
-        Source.SampleTorque(j, w)
-      )
-    }
+    // One register per computed torque (a closed form computes one joint's), named by its joint.
+    val torqueJoints = StreamLayout.torqueJoints(c.arm)
+    val tau =
+      for (w <- 0 until wordsOf(tauFormat.width); (j, k) <- torqueJoints.zipWithIndex)
+        yield Register(
+          wordName(s"tau_j${j + 1}", tauFormat.width, w),
+          s"joint ${j + 1}'s torque of the last sample",
+          Seq(
+            wordField(
+              tauFormat.width,
+              w,
+              Access.ReadOnly,
+              "torque",
+              FieldFormat.Fixed(tauFormat, jointUnit(c, j, "N.m", "N")),
+              signed = true,
+              0
+            )
+          ),
+          Source.SampleTorque(k, w)
+        )
     Block(
       "sample",
       "register-driven sample mode: write q, qd, qdd; start; when done, read tau, flags" +

@@ -36,10 +36,14 @@ object StreamLayout {
     )
   }
 
+  /** The joint (0-based) of each computed torque, in output order (a closed form computes one joint's). */
+  def torqueJoints(p: ArmParams): Seq[Int] =
+    p.analysis.outputs.map(o => p.chain.joints.indexWhere(_.name == o.name))
+
   def output(p: ArmParams): Seq[StreamField] = {
     val js = 0 until p.chain.size
     place(
-      js.map(j => (s"tau_j${j + 1}", p.analysis.outputPortFormat.width, true)) ++
+      torqueJoints(p).map(j => (s"tau_j${j + 1}", p.analysis.outputPortFormat.width, true)) ++
         js.map(j => (s"oor_j${j + 1}", 1, false)) ++
         Option.when(p.numerics.parameters.nonEmpty)(("sequence", PayloadedArm.sequenceBits, false)).toSeq
     )
@@ -106,12 +110,9 @@ private object StreamHw {
   }
 
   def beat(p: ArmParams, out: CoreOutput): UInt = {
-    val parts = StreamLayout.output(p).map { f =>
-      val j = f.name.dropWhile(_ != 'j').drop(1)
-      if (f.name.startsWith("tau_")) out.torques.tau(j.toInt - 1).asUInt
-      else if (f.name.startsWith("oor_")) out.torques.outOfRange(j.toInt - 1).asUInt
-      else out.sequence.get
-    }
+    val joints = p.chain.size
+    val parts = out.torques.tau.map(_.asUInt) ++ out.torques.outOfRange.map(_.asUInt) ++ out.sequence.toSeq
+    require(parts.size == StreamLayout.output(p).size && joints == out.torques.outOfRange.size)
     Cat(parts.reverse)
   }
 }
@@ -186,25 +187,25 @@ object WrapperPorts {
   import chisel3.experimental.requireIsChiselType
   import chisel3.reflect.DataMirror
 
-  private def flatten(prefix: String, d: Data, flipped: Boolean): Seq[WrapperPort] = {
-    val dir = DataMirror.specifiedDirectionOf(d)
-    val f = dir match {
-      case SpecifiedDirection.Flip   => !flipped
-      case SpecifiedDirection.Input  => true
-      case SpecifiedDirection.Output => false
-      case _                         => flipped
+  /**
+   * Leaves in Verilog order; a leaf is an input when its nearest Input/Output (which coerces everything below
+   * it, default Output) is Input, toggled by every Flipped above that one.
+   */
+  private def flatten(prefix: String, d: Data, flip: Boolean, coerced: Option[Boolean]): Seq[WrapperPort] = {
+    val (f, c) = coerced match {
+      case Some(_) => (flip, coerced)
+      case None =>
+        DataMirror.specifiedDirectionOf(d) match {
+          case SpecifiedDirection.Flip   => (!flip, None)
+          case SpecifiedDirection.Input  => (flip, Some(true))
+          case SpecifiedDirection.Output => (flip, Some(false))
+          case _                         => (flip, None)
+        }
     }
     d match {
-      case b: Record =>
-        b.elements.toSeq.reverse.flatMap { case (n, e) => flatten(s"${prefix}_$n", e, f) }
+      case b: Record => b.elements.toSeq.reverse.flatMap { case (n, e) => flatten(s"${prefix}_$n", e, f, c) }
       case leaf =>
-        val input = dir match {
-          case SpecifiedDirection.Input  => !flipped
-          case SpecifiedDirection.Output => flipped
-          case SpecifiedDirection.Flip   => !flipped
-          case _                         => flipped
-        }
-        Seq(WrapperPort(prefix, if (input) "in" else "out", leaf.getWidth))
+        Seq(WrapperPort(prefix, if (c.getOrElse(false) ^ f) "in" else "out", leaf.getWidth))
     }
   }
 
@@ -212,7 +213,7 @@ object WrapperPorts {
   def of(interfaces: Seq[(String, Data)]): Seq[WrapperPort] = {
     interfaces.foreach { case (_, d) => requireIsChiselType(d) }
     Seq(WrapperPort("clock", "in", 1), WrapperPort("reset", "in", 1)) ++
-      interfaces.flatMap { case (n, d) => flatten(n, d, flipped = false) }
+      interfaces.flatMap { case (n, d) => flatten(n, d, flip = false, None) }
   }
 
   def avalon(p: ArmParams, map: CsrMap): Seq[WrapperPort] = of(

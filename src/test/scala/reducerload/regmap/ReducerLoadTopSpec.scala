@@ -101,6 +101,7 @@ final class WrapperScenario(c: Compiled, label: String) {
   private val inFields = StreamLayout.input(p)
   private val outFields = StreamLayout.output(p)
   private val joints = p.chain.size
+  private val outputs = p.graph.outputs.size
   private def word(name: String) = map.register(name).word
 
   // The model of the registers and of the stream.
@@ -132,7 +133,8 @@ final class WrapperScenario(c: Compiled, label: String) {
   def cycle(pins: StreamPins, edge: () => Unit): Unit = {
     if (offered.isEmpty && streaming && rng.nextDouble() < 0.6) offered = Some(fresh())
     pins.offer(offered.isDefined, offered.fold(BigInt(0))(beat))
-    if (blocked == 0 && rng.nextDouble() < 0.0005) blocked = 1000 + rng.nextInt(2000)
+    if (!streaming) blocked = 0 // drain: the output takes again
+    else if (blocked == 0 && rng.nextDouble() < 0.0005) blocked = 1000 + rng.nextInt(2000)
     val ready = blocked == 0 && rng.nextDouble() < 0.7
     blocked = (blocked - 1).max(0)
     pins.outReady(ready)
