@@ -160,10 +160,12 @@ class ReducerLoadCore(val p: ArmParams, val monitor: Option[MonitorParams], val 
 
   // Each taken sample's sequence number and origin wait for its torques.
   private class Tag extends Bundle {
-    val sequence = UInt(PayloadedArm.sequenceBits.W)
+    val sequence = UInt((if (parameters > 0) PayloadedArm.sequenceBits else 0).W)
     val fromRegisters = Bool()
   }
-  private val tags = Module(new Queue(new Tag, inFlight))
+  private val tags = Module(
+    new Queue(new Tag, inFlight, useSyncReadMem = inFlight > ReducerLoadCore.registerQueueMax)
+  )
   tags.io.enq.valid := taken
   tags.io.enq.bits.sequence := sequence
   tags.io.enq.bits.fromRegisters := fromRegisters
