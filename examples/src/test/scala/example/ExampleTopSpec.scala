@@ -14,8 +14,9 @@ class ExampleTopSpec extends AnyFlatSpec with ChiselScalatestTester {
   // treadle, chiseltest's JVM simulator, runs the multiplies' Chisel twin (it cannot run Verilog).
   implicit val multiplierImpl: MultiplierImpl = MultiplierImpl.ChiselTwin
 
-  // Every joint of the built-in planar arm, at the `smallest` preset's arithmetic.
-  private val core = ReducerLoad(Robot.Planar3, "--preset", "smallest")
+  // Every joint of the built-in planar arm, at the `smallest` preset's arithmetic; no bus wrapper: the
+  // datapath's own ready/valid ports, for a Chisel parent.
+  private val core = ReducerLoad(Robot.Planar3, "--preset", "smallest", "--bus", "none")
 
   behavior of "ExampleTop"
 

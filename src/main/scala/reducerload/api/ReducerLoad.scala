@@ -1,7 +1,7 @@
 package reducerload.api
 
 import chisel3.RawModule
-import reducerload.app.{ArmReport, Cli, Emit, TopModule}
+import reducerload.app.{Cli, EmissionReport, Emit, TopModule}
 import reducerload.arm.ArmModel
 import reducerload.compiler.{Compiled, Compiler}
 import reducerload.config.{LoadParams, Settings}
@@ -101,7 +101,7 @@ final class Core private[api] (val compiled: Compiled, val command: String) {
     }
 
   /** Ports, formats, latency, clocks per sample, error bounds: what `report.md` and `report.json` hold. */
-  lazy val report: ArmReport = Emit.loadReport(compiled, command)
+  lazy val report: EmissionReport = Emit.loadReport(compiled, command)
 
   /** The datapath's bit-accurate model: sample encoding, torque codes, torques in N·m. */
   lazy val model: ArmModel = new ArmModel(compiled.arm)

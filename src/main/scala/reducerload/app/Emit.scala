@@ -7,8 +7,10 @@ import reducerload.config.Settings
 import reducerload.cordic.CordicSinCos
 import reducerload.compiler.Compiled
 import reducerload.monitor.MonitoredArm
+import reducerload.config.BusKind
+import reducerload.packaging.Packaging
 import reducerload.pipeline.MultiplierImpl
-import reducerload.regmap.{CsrEmitters, CsrFile, ReducerLoadRegisters}
+import reducerload.regmap.{CsrEmitters, CsrFile, ReducerLoadAvalon, ReducerLoadAxi, ReducerLoadRegisters}
 import reducerload.util.{InputError, OutputFile}
 
 import java.nio.file.Path
@@ -43,18 +45,49 @@ final case class TopModule(name: String, generator: () => RawModule)
 object Emit {
 
   /**
-   * Which module is the top of `c`'s design (`--top load`): the monitored arm with the monitor, else the
-   * datapath. The one place that chooses it; emission and the library API ([[reducerload.api.ReducerLoad]])
-   * both ask here.
+   * Which module is the top of `c`'s design (`--top load`), the one place that chooses it (emission and the
+   * library API, [[reducerload.api.ReducerLoad]]): the `bus.interface` wrapper named `bus.top-name`, or
+   * without a bus the monitored arm or the bare datapath.
    */
-  def topModule(c: Compiled)(implicit multiplierImpl: MultiplierImpl): TopModule = c.monitor match {
-    case Some(monitor) => TopModule(s"MonitoredArm_${c.arm.tag}", () => new MonitoredArm(c.arm, monitor))
-    case None          => TopModule(c.arm.moduleName, () => new ArmDatapath(c.arm))
+  def topModule(c: Compiled)(implicit multiplierImpl: MultiplierImpl): TopModule = {
+    val arm = c.arm
+    val bus = c.config.bus
+    bus.kind match {
+      case BusKind.Avalon =>
+        TopModule(
+          bus.topName,
+          () => new ReducerLoadAvalon(arm, c.monitor, ReducerLoadRegisters(c), bus.topName)
+        )
+      case BusKind.Axi =>
+        TopModule(bus.topName, () => new ReducerLoadAxi(arm, c.monitor, ReducerLoadRegisters(c), bus.topName))
+      case BusKind.Bare =>
+        c.monitor match {
+          case Some(monitor) => TopModule(s"MonitoredArm_${arm.tag}", () => new MonitoredArm(arm, monitor))
+          case None          => TopModule(arm.moduleName, () => new ArmDatapath(arm))
+        }
+    }
   }
 
-  /** The report of `c`'s top (`--top load`) without elaborating it; `estimate`: the resource estimate's. */
-  def loadReport(c: Compiled, command: String, estimate: Option[Estimate] = None): ArmReport =
-    ArmReport(c.arm, topModule(c).name, command, estimate, c.monitor, Some(c.fit))
+  /** `c` without the bus wrapper: the design the simulators' harnesses drive (ports as [[ArmDatapath]]'s). */
+  def bare(c: Compiled): Compiled =
+    c.copy(config = c.config.copy(bus = c.config.bus.copy(kind = BusKind.Bare)))
+
+  /**
+   * The report of `c`'s top (`--top load`) without elaborating it; `estimate(module)`: the resource estimate
+   * of a module of the emitted body. A wrapper's report gives its own resources beside the datapath's.
+   */
+  def loadReport(
+      c: Compiled,
+      command: String,
+      estimate: String => Option[Estimate] = _ => None
+  ): EmissionReport = {
+    val arm = c.arm
+    val name = topModule(c).name
+    val bare = c.config.bus.kind == BusKind.Bare
+    val inner = if (bare) name else c.monitor.fold(arm.moduleName)(_ => s"MonitoredArm_${arm.tag}")
+    val datapath = ArmReport(arm, inner, command, estimate(inner), c.monitor, Some(c.fit))
+    if (bare) datapath else WrapperReport(c, name, datapath, estimate(name))
+  }
 
   /**
    * firtool options for Quartus on Cyclone IV: no randomization or `ifdef` initial blocks, no SystemVerilog
@@ -105,6 +138,11 @@ object Emit {
     }
   }
 
+  /** What the integration tool shows for the component: the robot, its joints and the top's rate. */
+  private def componentDescription(c: Compiled): String =
+    s"reducer loads of ${c.arm.chain.name} (${c.arm.chain.size} joints), one sample every " +
+      s"${c.arm.schedule.clocksPerSample} clocks, latency ${c.arm.latency} cycles"
+
   /** Elaborate and emit in memory; nothing touches the disk. */
   def emit(
       c: Compiled,
@@ -118,15 +156,17 @@ object Emit {
     )
     def est(body: String, module: String) =
       if (estimate || fmax) Some(Estimate.run(body, module, fmax)) else None
-    val (body, r: EmissionReport) = top match {
+    // The wrapper's integration component (Platform Designer, IP-XACT) is read from the module as elaborated.
+    val (body, r: EmissionReport, component: Seq[CsrFile]) = top match {
       case Top.Load =>
         val t = topModule(c)
-        val body = verilog(t.generator())
-        (body, loadReport(c, command, est(body, t.name)))
+        val (module, body) = Packaging.elaborate(g => verilog(g))(t.generator())
+        val r = loadReport(c, command, module => est(body, module))
+        (body, r, Packaging.files(module, c.config.bus.kind, componentDescription(c), command))
       case Top.SinCos =>
         val name = s"CordicSinCos_${c.config.cordic.tag}"
         val body = verilog(new CordicSinCos(c.config.cordic))
-        (body, SinCosReport(c.config.cordic, name, command, est(body, name)))
+        (body, SinCosReport(c.config.cordic, name, command, est(body, name)), Nil)
     }
     val header = (Seq(
       s"Generated by the reducer-load generator. Do not edit: regenerate with",
@@ -143,9 +183,11 @@ object Emit {
       )
     val registerFiles = (top, c.monitor) match {
       case (Top.Load, Some(_)) => CsrEmitters.all(ReducerLoadRegisters(c), command)
-      case _                   => Nil
+      case (Top.Load, None) if c.config.bus.kind != BusKind.Bare =>
+        CsrEmitters.all(ReducerLoadRegisters(c), command)
+      case _ => Nil
     }
-    Emission(r.moduleName, header + body, r.markdown, r.json, config, registerFiles)
+    Emission(r.moduleName, header + body, r.markdown, r.json, config, registerFiles ++ component)
   }
 
   /** Write all files or none ([[OutputFile.writeAll]]). */

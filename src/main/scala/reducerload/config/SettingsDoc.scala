@@ -16,6 +16,7 @@ object SettingsDoc {
     "schedule" -> "Clocks per sample, the multiplier budget and how values are stored when samples are spaced.",
     "numeric" -> "Fraction bits chosen for an error target instead of as set.",
     "device" -> "The target device: the schedule settings left auto are chosen so that the design fits it (docs/device.md).",
+    "bus" -> "The top run emit writes: the reducer_load bus wrapper (Avalon or AXI) or the bare design (docs/register-map.md).",
     "monitor" -> "The reducer life and limit monitor beside the arm datapath (docs/monitor.md)."
   )
 

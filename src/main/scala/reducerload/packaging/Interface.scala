@@ -1,5 +1,6 @@
 package reducerload.packaging
 
+import reducerload.config.BusKind
 import chisel3._
 import chisel3.reflect.DataMirror
 
@@ -48,16 +49,6 @@ object Role {
   final case class Conduit(path: String) extends Role(path)
 }
 
-/**
- * The family of the sample streams: Avalon-ST beside an Avalon-MM slave, AXI4-Stream beside AXI4-Lite. A
- * ready/valid Bundle is a stream in either; which one is the design's `bus` setting, not the Bundle's.
- */
-sealed abstract class Bus(val name: String)
-object Bus {
-  case object Avalon extends Bus("avalon")
-  case object Axi extends Bus("axi")
-}
-
 /** What an interface is. Streams and the interrupt name the side the component takes. */
 sealed trait InterfaceKind
 object InterfaceKind {
@@ -89,7 +80,7 @@ final case class Interface(name: String, kind: InterfaceKind, ports: Seq[(Role, 
 object Interfaces {
 
   /** The clock, the reset, then the other ports' interfaces, in declaration order. */
-  def apply(module: RawModule, bus: Bus): Seq[Interface] = {
+  def apply(module: RawModule, bus: BusKind): Seq[Interface] = {
     val names: Map[Data, String] = DataMirror.fullModulePorts(module).map { case (n, d) => d -> n }.toMap
     def port(d: Data): Port = {
       val direction = DataMirror.directionOf(d) match {
@@ -123,7 +114,7 @@ object Interfaces {
   }
 
   /** The interface a port Bundle field is, by its shape: see the cases. */
-  def classify(name: String, d: Data, bus: Bus, ports: Ports): Interface = {
+  def classify(name: String, d: Data, bus: BusKind, ports: Ports): Interface = {
     import ports.port
     def fields(r: Record): Set[String] = r.elements.keySet.toSet
     def in(d: Data): Boolean = DataMirror.directionOf(d) == ActualDirection.Input
@@ -133,10 +124,14 @@ object Interfaces {
         val valid = r.elements("valid")
         val payload = r.elements.get("bits").orElse(r.elements.get("data")).get
         val kind = (bus, in(valid)) match {
-          case (Bus.Avalon, true)  => InterfaceKind.AvalonStSink
-          case (Bus.Avalon, false) => InterfaceKind.AvalonStSource
-          case (Bus.Axi, true)     => InterfaceKind.AxiStreamSlave
-          case (Bus.Axi, false)    => InterfaceKind.AxiStreamMaster
+          case (BusKind.Avalon, true)  => InterfaceKind.AvalonStSink
+          case (BusKind.Avalon, false) => InterfaceKind.AvalonStSource
+          case (BusKind.Axi, true)     => InterfaceKind.AxiStreamSlave
+          case (BusKind.Axi, false)    => InterfaceKind.AxiStreamMaster
+          case (BusKind.Bare, _) =>
+            throw new IllegalArgumentException(
+              s"$name: a stream is Avalon-ST or AXI4-Stream; bus = none has neither"
+            )
         }
         Interface(
           name,

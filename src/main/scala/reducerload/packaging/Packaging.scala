@@ -1,6 +1,7 @@
 package reducerload.packaging
 
 import chisel3.RawModule
+import reducerload.config.BusKind
 import reducerload.regmap.{CsrFile, GeneratorVersion}
 
 /**
@@ -24,17 +25,18 @@ object Packaging {
   }
 
   /** The component of `module` (elaborated; its Verilog in `<top>.sv`). */
-  def component(module: RawModule, bus: Bus, description: String): Component = {
+  def component(module: RawModule, bus: BusKind, description: String): Component = {
     val top = module.name
     Component(top, GeneratorVersion.text, description, Interfaces(module, bus), Seq(s"$top.sv"))
   }
 
   /** The file for `bus`'s integration tool, headed by `command` (the regeneration command). */
-  def files(module: RawModule, bus: Bus, description: String, command: String): Seq[CsrFile] = {
-    val c = component(module, bus, description)
+  def files(module: RawModule, bus: BusKind, description: String, command: String): Seq[CsrFile] = {
+    lazy val c = component(module, bus, description)
     bus match {
-      case Bus.Avalon => Seq(CsrFile(s"${c.top}_hw.tcl", PlatformDesigner(c, command)))
-      case Bus.Axi    => Seq(CsrFile("component.xml", IpXact(c, command)))
+      case BusKind.Avalon => Seq(CsrFile(s"${c.top}_hw.tcl", PlatformDesigner(c, command)))
+      case BusKind.Axi    => Seq(CsrFile("component.xml", IpXact(c, command)))
+      case BusKind.Bare   => Nil
     }
   }
 }

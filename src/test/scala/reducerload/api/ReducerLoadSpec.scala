@@ -13,7 +13,7 @@ import java.nio.file.{Files, Paths}
 class ReducerLoadSpec extends AnyFlatSpec {
   behavior of "ReducerLoad"
 
-  private val args = Seq("--preset", "smallest", "--robot", "planar3")
+  private val args = Seq("--preset", "smallest", "--robot", "planar3", "--bus", "none")
 
   it should "build the design the command line emits, with its report, inside another module" in {
     val core = ReducerLoad.fromArgs(args: _*)
@@ -34,11 +34,12 @@ class ReducerLoadSpec extends AnyFlatSpec {
   }
 
   it should "choose the top as emission does: the monitored arm with the monitor; typed settings too" in {
-    val monitored = ReducerLoad.fromArgs(reducerload.testutil.monitoredPlanar3: _*)
+    val monitored = ReducerLoad.fromArgs(reducerload.testutil.monitoredPlanar3 ++ Seq("--bus", "none"): _*)
     assert(monitored.moduleName == s"MonitoredArm_${monitored.compiled.arm.tag}")
     assert(monitored.report.markdown.contains("monitor"))
     val typed = ReducerLoad(reducerload.config.LoadParams.smallest)
-    assert(typed.moduleName == typed.compiled.arm.moduleName && typed.moduleName.startsWith("LoadDatapath_"))
+    // The default bus wraps the core in the stable `reducer_load` top, as `run emit` does.
+    assert(typed.moduleName == "reducer_load" && typed.compiled.arm.moduleName.startsWith("LoadDatapath_"))
     assert(typed.config.contains("angle-bits = 16"))
   }
 
@@ -52,7 +53,7 @@ class ReducerLoadSpec extends AnyFlatSpec {
   }
 
   it should "build a robot shipped in the jar from its resources, not the repository's golden/" in {
-    val core = ReducerLoad(Robot.Ur5, "--tip", "tool0", "--max-acceleration", "15")
+    val core = ReducerLoad(Robot.Ur5, "--tip", "tool0", "--max-acceleration", "15", "--bus", "none")
     assert(core.compiled.arm.chain.size == 6)
     assert(core.moduleName.startsWith("ArmDatapath_ur5_6dof"), core.moduleName)
     assert(!Robot.Ur5.file.toAbsolutePath.startsWith(Paths.get("").toAbsolutePath), Robot.Ur5.file)

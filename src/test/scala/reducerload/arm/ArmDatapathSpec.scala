@@ -176,7 +176,11 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       runRobot(
         "ur5",
         58L,
-        ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66), listOrder = Some(ListOrder.ByHeight)),
+        ScheduleRequest(
+          clocksPerSample = None,
+          maxMultipliers = Some(66),
+          listOrder = Some(ListOrder.ByHeight)
+        ),
         targetError = Seq(1e-3),
         reassociate = Reassociation.Sums
       )

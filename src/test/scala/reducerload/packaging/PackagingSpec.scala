@@ -4,7 +4,8 @@ import chisel3.RawModule
 import circt.stage.ChiselStage
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.app.Emit
-import reducerload.regmap.{MonitoredArmAvalon, MonitoredArmAxiLite, RegMapDesign}
+import reducerload.config.BusKind
+import reducerload.regmap.{ReducerLoadAvalon, ReducerLoadAxi, RegMapDesign}
 import reducerload.testutil.Scratch
 import reducerload.testutil.SimBackend.multiplierImpl
 
@@ -28,8 +29,12 @@ object PackagingDesign {
       Emit.withBlackBoxes(ChiselStage.emitSystemVerilog(g, Array.empty[String], Emit.firtoolOpts))
     )(gen)
   private def c = RegMapDesign.compiled
-  lazy val avalon: (RawModule, String) = emit(new MonitoredArmAvalon(c.arm, c.monitor.get, RegMapDesign.map))
-  lazy val axi: (RawModule, String) = emit(new MonitoredArmAxiLite(c.arm, c.monitor.get, RegMapDesign.map))
+  lazy val avalon: (RawModule, String) = emit(
+    new ReducerLoadAvalon(c.arm, c.monitor, RegMapDesign.map, "reducer_load")
+  )
+  lazy val axi: (RawModule, String) = emit(
+    new ReducerLoadAxi(c.arm, c.monitor, RegMapDesign.map, "reducer_load")
+  )
 
   /**
    * The top module's ports from its header in the Verilog: firtool writes one port per line, `input` or
@@ -235,9 +240,9 @@ class PackagingSpec extends AnyFlatSpec {
     Seq("tclsh").#<(new java.io.ByteArrayInputStream(Array.emptyByteArray)).!
   ).isSuccess
 
-  it should "read the interfaces from the IO Bundles: the Avalon slave, interrupt, clock, reset; bare streams as conduits" in {
+  it should "read the interfaces from the IO Bundles: streams, the Avalon slave, interrupt, clock, reset" in {
     val (m, verilog) = PackagingDesign.avalon
-    val is = Interfaces(m, Bus.Avalon)
+    val is = Interfaces(m, BusKind.Avalon)
     println(
       s"PackagingSpec: ${m.name}: " + is
         .map(i => s"${i.name} ${i.kind} (${i.ports.size} ports)")
@@ -247,15 +252,15 @@ class PackagingSpec extends AnyFlatSpec {
       is.map(i => i.name -> i.kind) == Seq(
         "clock" -> InterfaceKind.Clock,
         "reset" -> InterfaceKind.Reset,
-        "in" -> InterfaceKind.Conduit,
-        "out" -> InterfaceKind.Conduit,
+        "in" -> InterfaceKind.AvalonStSink,
+        "out" -> InterfaceKind.AvalonStSource,
         "csr" -> InterfaceKind.AvalonMmSlave,
         "irq" -> InterfaceKind.Interrupt
       )
     )
     val csr = is.find(_.name == "csr").get
     assert(
-      csr.port(Role.Address).contains(Port("io_csr_address", PortDirection.In, RegMapDesign.map.addressBits))
+      csr.port(Role.Address).contains(Port("csr_address", PortDirection.In, RegMapDesign.map.addressBits))
     )
     assert(csr.port(Role.ReadDataValid).map(_.direction).contains(PortDirection.Out))
     // Every Verilog port once, under the name firtool gave it.
@@ -269,15 +274,15 @@ class PackagingSpec extends AnyFlatSpec {
   it should "classify a one-word ready/valid stream as Avalon-ST or AXI4-Stream by the bus setting" in {
     var m: Option[PackagingStreams] = None
     ChiselStage.emitCHIRRTL({ val s = new PackagingStreams; m = Some(s); s })
-    val kinds = (b: Bus) => Interfaces(m.get, b).map(i => i.name -> i.kind).toMap
-    assert(kinds(Bus.Avalon)("in") == InterfaceKind.AvalonStSink)
-    assert(kinds(Bus.Avalon)("out") == InterfaceKind.AvalonStSource)
-    assert(kinds(Bus.Axi)("in") == InterfaceKind.AxiStreamSlave)
-    assert(kinds(Bus.Axi)("out") == InterfaceKind.AxiStreamMaster)
-    val flags = Interfaces(m.get, Bus.Avalon).find(_.name == "flags").get
+    val kinds = (b: BusKind) => Interfaces(m.get, b).map(i => i.name -> i.kind).toMap
+    assert(kinds(BusKind.Avalon)("in") == InterfaceKind.AvalonStSink)
+    assert(kinds(BusKind.Avalon)("out") == InterfaceKind.AvalonStSource)
+    assert(kinds(BusKind.Axi)("in") == InterfaceKind.AxiStreamSlave)
+    assert(kinds(BusKind.Axi)("out") == InterfaceKind.AxiStreamMaster)
+    val flags = Interfaces(m.get, BusKind.Avalon).find(_.name == "flags").get
     assert(flags.kind == InterfaceKind.AvalonStSource && flags.port(Role.Ready).isEmpty)
     assert(
-      Interfaces(m.get, Bus.Avalon)
+      Interfaces(m.get, BusKind.Avalon)
         .find(_.name == "in")
         .get
         .port(Role.Data)
@@ -290,7 +295,7 @@ class PackagingSpec extends AnyFlatSpec {
   it should "take a top-level port that is an interface whole, and name its ports as Chisel does" in {
     var m: Option[PackagingTopLevelPorts] = None
     ChiselStage.emitCHIRRTL({ val t = new PackagingTopLevelPorts; m = Some(t); t })
-    val is = Interfaces(m.get, Bus.Avalon)
+    val is = Interfaces(m.get, BusKind.Avalon)
     assert(
       is.map(i => i.name -> i.kind) == Seq(
         "clock" -> InterfaceKind.Clock,
@@ -307,7 +312,7 @@ class PackagingSpec extends AnyFlatSpec {
   it should "give a _hw.tcl that runs under tclsh with stub commands and declares every port once, as the Verilog has it" in {
     assume(tclsh, "tclsh is not installed (apt-get install tcl)")
     val (m, verilog) = PackagingDesign.avalon
-    val hw = Packaging.files(m, Bus.Avalon, "test component", "./sbt \"run emit --test\"")
+    val hw = Packaging.files(m, BusKind.Avalon, "test component", "./sbt \"run emit --test\"")
     assert(hw.map(_.name) == Seq(s"${m.name}_hw.tcl"))
     val tcl = hw.head.text
     assert(tcl.startsWith("# Generated by the reducer-load generator"))
@@ -330,7 +335,7 @@ class PackagingSpec extends AnyFlatSpec {
   it should "find a _hw.tcl that disagrees with the Verilog (a width, a lost port, a port twice, an unknown role)" in {
     assume(tclsh, "tclsh is not installed (apt-get install tcl)")
     val (m, verilog) = PackagingDesign.avalon
-    val tcl = Packaging.files(m, Bus.Avalon, "test", "test").head.text
+    val tcl = Packaging.files(m, BusKind.Avalon, "test", "test").head.text
     val ports = PackagingDesign.ports(verilog, m.name)
     def problems(t: String) = {
       val (status, d, err) = runStub(t)
@@ -408,7 +413,7 @@ class PackagingSpec extends AnyFlatSpec {
       "the IP-XACT schema could not be fetched (pip download of tools/packaging/requirements.txt)"
     )
     val (m, verilog) = PackagingDesign.axi
-    val files = Packaging.files(m, Bus.Axi, "test component", "./sbt \"run emit --bus axi\"")
+    val files = Packaging.files(m, BusKind.Axi, "test component", "./sbt \"run emit --bus axi\"")
     assert(files.map(_.name) == Seq("component.xml"))
     val xml = files.head.text
     assert(xml.linesIterator.toSeq(2) == "<?regenerate ./sbt \"run emit --bus axi\"?>")
@@ -457,7 +462,7 @@ class PackagingSpec extends AnyFlatSpec {
       "the IP-XACT schema could not be fetched (pip download of tools/packaging/requirements.txt)"
     )
     val (m, _) = PackagingDesign.axi
-    val xml = Packaging.files(m, Bus.Axi, "test", "test").head.text
+    val xml = Packaging.files(m, BusKind.Axi, "test", "test").head.text
     // Elements out of the schema's order, and a direction the schema does not know.
     assert(
       validate(
