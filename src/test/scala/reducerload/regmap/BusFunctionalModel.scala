@@ -1,0 +1,100 @@
+package reducerload.regmap
+
+import java.io.{BufferedReader, InputStreamReader, OutputStreamWriter}
+import java.nio.charset.StandardCharsets
+import java.nio.file.{Files, Path, Paths}
+import scala.collection.mutable.ArrayBuffer
+import scala.sys.process._
+
+/** What a C program served by [[BusFunctionalModel]] did: exit status, its result lines, its transactions. */
+final case class BfmRun(exit: Int, results: Map[String, String], reads: Int, writes: Int, errors: String) {
+
+  /** A result the program printed as `key value`. */
+  def apply(key: String): String =
+    results.getOrElse(
+      key,
+      throw new NoSuchElementException(s"the C program printed no '$key'; errors: $errors")
+    )
+}
+
+/**
+ * The bus of a C program as the simulated RTL's: each request line the program writes (`R <byte offset>`, `W
+ * <byte offset> <value>`, hexadecimal) becomes `read(word)` or `write(word, data)`, a read's value goes back
+ * on its standard input; every other line is a result `key value`. The functions are the only link to the
+ * simulator, so the same model serves any DUT with a word-addressed register bus ([[CsrBus]] on
+ * MonitoredArmAvalon, or another Avalon-MM slave).
+ */
+final class BusFunctionalModel(read: Int => BigInt, write: (Int, BigInt) => Unit) {
+  private def word(hexOffset: String): Int = {
+    val offset = Integer.parseUnsignedInt(hexOffset, 16)
+    require(offset % 4 == 0, s"the C program addressed byte 0x$hexOffset: registers are 32-bit words")
+    offset / 4
+  }
+
+  /** Run `command` to its end, serving its bus requests in order. */
+  def serve(command: Seq[String]): BfmRun = {
+    val process = new java.lang.ProcessBuilder(command: _*).start()
+    val errors = new StringBuilder
+    val errorReader = new Thread(() =>
+      scala.io.Source.fromInputStream(process.getErrorStream, "UTF-8").getLines().foreach { l =>
+        errors.synchronized(errors.append(l).append('\n'))
+      }
+    )
+    errorReader.start()
+    val in = new BufferedReader(new InputStreamReader(process.getInputStream, StandardCharsets.UTF_8))
+    val out = new OutputStreamWriter(process.getOutputStream, StandardCharsets.UTF_8)
+    val results = ArrayBuffer.empty[(String, String)]
+    var (reads, writes) = (0, 0)
+    try
+      Iterator.continually(in.readLine()).takeWhile(_ != null).foreach { line =>
+        line.split(' ') match {
+          case Array("R", offset) =>
+            out.write(read(word(offset)).toString(16) + "\n")
+            out.flush()
+            reads += 1
+          case Array("W", offset, value) =>
+            write(word(offset), BigInt(value, 16))
+            writes += 1
+          case Array(key, value) => results += key -> value
+          case _                 => results += line -> ""
+        }
+      }
+    finally out.close()
+    val exit = process.waitFor()
+    errorReader.join()
+    BfmRun(exit, results.toMap, reads, writes, errors.synchronized(errors.toString))
+  }
+}
+
+/** The C driver (driver/ at the repository's top) built with a design's headers, and its test program. */
+object CDriver {
+  val flags: Seq[String] = Seq("-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic")
+
+  def sources: Path = Paths.get(sys.env.getOrElse("REDUCERLOAD_CWD", ".")).resolve("driver")
+
+  /** The design's generated headers, written into `dir`. */
+  def writeHeaders(dir: Path, map: CsrMap, command: String): Unit = {
+    Files.write(dir.resolve(s"${map.name}_regs.h"), CHeader(map, command).getBytes(StandardCharsets.UTF_8))
+    Files.write(
+      dir.resolve(s"${map.name}_layout.h"),
+      DriverLayout(map, command).getBytes(StandardCharsets.UTF_8)
+    )
+  }
+
+  /** Write the test design's headers into the directory given (to build the driver by hand). */
+  def main(args: Array[String]): Unit = writeHeaders(Paths.get(args(0)), RegMapDesign.map, "CDriver.main")
+
+  /**
+   * Write the design's generated headers into `dir` and compile the driver with the BFM test program there.
+   */
+  def buildTestProgram(dir: Path, map: CsrMap, command: String): Path = {
+    writeHeaders(dir, map, command)
+    val exe = dir.resolve("rl_bfm_main")
+    val log = new StringBuilder
+    val cmd = Seq("gcc") ++ flags ++ Seq("-I", dir.toString, "-I", sources.toString, "-o", exe.toString) ++
+      Seq(sources.resolve("reducer_load.c").toString, sources.resolve("test/rl_bfm_main.c").toString)
+    val status = cmd.!(ProcessLogger(l => log.append(l).append('\n'), l => log.append(l).append('\n')))
+    require(status == 0, s"${cmd.mkString(" ")} failed:\n$log")
+    exe
+  }
+}
