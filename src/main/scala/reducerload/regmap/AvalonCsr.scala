@@ -121,6 +121,7 @@ class MonitoredArmAvalon(val p: ArmParams, val monitor: MonitorParams, val map: 
     case Source.InterruptStatus => Some(irqStatus)
     case Source.InterruptMask   => Some(irqMask)
     case Source.Monitor(_, _)   => None
+    case _                      => Some(0.U(32.W)) // the payload and sample blocks: the wrapper's (issue 32)
   }
   private val local = MuxLookup(io.csr.address, 0.U(32.W))(
     map.registers.flatMap(r => value(r).map(v => r.word.U -> v.pad(32)))

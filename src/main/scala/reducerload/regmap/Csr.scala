@@ -87,6 +87,39 @@ object Source {
 
   /** Word `word` (0 = least significant) of a monitor register ([[reducerload.monitor.RegisterMap]]). */
   final case class Monitor(entry: RegisterEntry, word: Int) extends Source
+
+  /**
+   * Word `word` of the staged value of run-time parameter `index` (`numerics.parameters`' order): written and
+   * read back.
+   */
+  final case class Parameter(index: Int, word: Int) extends Source
+
+  /** The payload commit pulse, and the committed payload's sequence number. */
+  case object PayloadCommit extends Source
+  case object PayloadSequence extends Source
+
+  /**
+   * The register-driven sample mode: word `word` of joint `joint`'s input of one kind, written and read back.
+   */
+  final case class SampleInput(kind: SampleKind, joint: Int, word: Int) extends Source
+
+  /**
+   * The sample mode's start pulse, its busy/done status, and its result: torques, flags, payload sequence.
+   */
+  case object SampleStart extends Source
+  case object SampleStatus extends Source
+  final case class SampleTorque(joint: Int, word: Int) extends Source
+  case object SampleFlags extends Source
+  case object SampleSequence extends Source
+}
+
+/** The joint inputs of one sample, in the order of the sample block and of the input stream's bit layout. */
+sealed abstract class SampleKind(val name: String, val meaning: String)
+object SampleKind {
+  case object Angle extends SampleKind("q", "joint angle")
+  case object Velocity extends SampleKind("qd", "joint velocity")
+  case object Acceleration extends SampleKind("qdd", "joint acceleration")
+  val all: Seq[SampleKind] = Seq(Angle, Velocity, Acceleration)
 }
 
 /** The counters of the counter block, in address order. */
@@ -161,13 +194,15 @@ final case class PlacedRegister(block: PlacedBlock, register: Register, word: In
  * previous block's end (one rule, [[CsrMap.place]]). 32-bit data bus, word addresses on the bus (Avalon-MM
  * slaves address words), byte offsets in the C header and SystemRDL. A value wider than 32 bits takes
  * consecutive registers, least significant word at the lowest address. `ports` are the formats of the
- * design's data ports, which the identification block reports and the C header converts.
+ * design's data ports, which the identification block reports and the C header converts; `joints`, when
+ * given, the joint count the C header states (a driver indexes per-joint registers by it).
  */
 final case class CsrMap(
     name: String,
     meaning: String,
     blocks: Seq[PlacedBlock],
-    ports: Seq[PortFormat] = Nil
+    ports: Seq[PortFormat] = Nil,
+    joints: Option[Int] = None
 ) {
   require(CsrMap.identifier.matches(name), s"register map '$name' is not a C identifier in lower case")
   val registers: Seq[PlacedRegister] = blocks.flatMap(_.registers)

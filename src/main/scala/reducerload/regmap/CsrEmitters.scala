@@ -76,6 +76,7 @@ object CHeader {
     line()
     line(s"#define ${prefix}_MAP_BYTES ${u32(4 * m.words)}")
     line(s"#define ${prefix}_DATA_BITS 32")
+    m.joints.foreach(n => line(s"#define ${prefix}_JOINTS $n"))
     m.ports.foreach { p =>
       val n = macroName(prefix, "port", p.name)
       line()

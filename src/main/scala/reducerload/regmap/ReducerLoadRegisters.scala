@@ -1,8 +1,10 @@
 package reducerload.regmap
 
+import reducerload.arm.{PayloadColumns, PayloadedArm}
 import reducerload.compiler.Compiled
 import reducerload.config.Settings
 import reducerload.fixedpoint.FixedFormat
+import reducerload.graph.{InertialParameter, Signal}
 import reducerload.monitor.{JointField, MonitorParams, MonitorSnapshot, RegisterEntry, RegisterKey}
 import reducerload.robot.JointKind
 
@@ -30,14 +32,18 @@ object GeneratorVersion {
 }
 
 /**
- * The register map of a monitored arm behind a bus, described once: every emitter (C header, markdown,
- * SystemRDL) and the RTL decoder ([[AvalonCsr]]) read this description.
+ * The register map of an arm behind a bus, described once: every emitter (C header, markdown, SystemRDL) and
+ * the RTL decoder ([[ReducerLoadCore]]) read this description.
  *
- * Blocks, in address order: `id` (what design this is), `ctrl` (monitor snapshot and clear, status),
- * `counters` (sample counters), `irq` (the monitor's limit events), `payload` (reserved for the payload and
- * gravity registers and their commit, issue 31: [[payloadBlock]] is the one place to fill), `monitor` (the
- * monitor's shadow bank, word for word as [[reducerload.monitor.RegisterMap]] lays it out, so the decoder
- * passes the word offset straight to the monitor's read port).
+ * Blocks, in address order: `id` (what design this is), `ctrl` (commands, monitor status), `counters` (sample
+ * counters), `irq` (the monitor's limit events), `payload` (the run-time payload and gravity registers and
+ * their commit; reserved without them), `sample` (the register-driven sample mode), `monitor` (the monitor's
+ * shadow bank, word for word as [[reducerload.monitor.RegisterMap]] lays it out, so the decoder passes the
+ * word offset straight to the monitor's read port).
+ *
+ * One rule for a design without the monitor: what needs the monitor is left out (the snapshot and clear
+ * commands, the status register, the monitor block) and the irq block is reserved (reads 0; the line stays
+ * low), so every other address is the same with and without the monitor.
  */
 object ReducerLoadRegisters {
   val name = "reducer_load"
@@ -117,7 +123,15 @@ object ReducerLoadRegisters {
         FieldFormat.Fixed(c.arm.analysis.outputPortFormat, "N.m"),
         "torque outputs (N: prismatic)"
       )
-    )
+    ) ++ Option
+      .when(n.parameters.nonEmpty)(
+        PortFormat(
+          "parameter",
+          FieldFormat.Fixed(n.parameterPortFormat, "SI"),
+          "run-time payload and gravity parameters (kg, m, kg.m^2, m/s^2)"
+        )
+      )
+      .toSeq
   }
 
   private def ro(name: String, lsb: Int, width: Int, meaning: String, reset: BigInt = 0) =
@@ -197,17 +211,22 @@ object ReducerLoadRegisters {
     )
   )
 
-  private def ctrlBlock(m: MonitorParams) = Block(
+  /** Commands a design has: all with the monitor, only the counters' clear without. */
+  def commands(monitor: Boolean): Seq[Command] =
+    if (monitor) Command.all else Seq(Command.ClearCounters)
+
+  private def ctrlBlock(monitor: Option[MonitorParams]) = Block(
     "ctrl",
-    "monitor control and status",
+    if (monitor.isDefined) "commands, monitor status" else "commands",
     BlockContent.Registers(
-      Seq(
-        Register(
-          "control",
-          "command pulses",
-          Command.all.map(k => Field(k.name, k.bit, 1, Access.WriteOneToPulse, k.meaning, FieldFormat.Flag)),
-          Source.Control
+      Register(
+        "control",
+        "command pulses",
+        commands(monitor.isDefined).map(k =>
+          Field(k.name, k.bit, 1, Access.WriteOneToPulse, k.meaning, FieldFormat.Flag)
         ),
+        Source.Control
+      ) +: monitor.toSeq.map(m =>
         Register(
           "status",
           "monitor status",
@@ -247,40 +266,301 @@ object ReducerLoadRegisters {
     )
   )
 
-  private val irqBlock = {
+  private def irqBlock(monitor: Boolean): Block = {
     def fields(access: Access, what: String) =
       Event.all.map(e => Field(e.name, e.bit, 1, access, s"$what: ${e.meaning}", FieldFormat.Flag))
-    Block(
-      "irq",
-      "interrupt: the line is high while (status & mask) != 0",
-      BlockContent.Registers(
-        Seq(
-          Register(
-            "status",
-            "events seen (write 1 to clear)",
-            fields(Access.WriteOneToClear, "seen"),
-            Source.InterruptStatus
-          ),
-          Register(
-            "mask",
-            "1: the event raises the line",
-            fields(Access.ReadWrite, "enable"),
-            Source.InterruptMask
+    if (!monitor)
+      Block(
+        "irq",
+        "reserved: interrupt (the monitor's limit events; no monitor in this design); reads 0, the line stays low",
+        BlockContent.Reserved(2, "the monitor's interrupt status and mask (monitor.enabled)")
+      )
+    else
+      Block(
+        "irq",
+        "interrupt: the line is high while (status & mask) != 0",
+        BlockContent.Registers(
+          Seq(
+            Register(
+              "status",
+              "events seen (write 1 to clear)",
+              fields(Access.WriteOneToClear, "seen"),
+              Source.InterruptStatus
+            ),
+            Register(
+              "mask",
+              "1: the event raises the line",
+              fields(Access.ReadWrite, "enable"),
+              Source.InterruptMask
+            )
           )
         )
       )
-    )
   }
 
   /**
-   * The payload and gravity registers and their commit: issue 31 replaces this reservation with a
-   * [[BlockContent.Registers]] block of the same name (64 words keep every later address).
+   * A run-time parameter's register name: the payload's from its trajectory column, the gravity's by axis.
    */
-  val payloadBlock: Block = Block(
-    "payload",
-    "reserved: payload and gravity registers and their commit (run-time payload, issue 31); reads 0",
-    BlockContent.Reserved(CsrMap.minSpan, "run-time payload inputs (issue 31)")
-  )
+  def parameterName(c: Compiled, s: Signal.Parameter): String = s match {
+    case Signal.Inertial(j, par) if j == c.arm.chain.size - 1 =>
+      PayloadColumns.names(InertialParameter.all.indexOf(par))
+    case Signal.Inertial(j, par) => s"j${j + 1}_${par.symbol}"
+    case Signal.Gravity(axis)    => "gravity_" + "xyz" (axis)
+  }
+
+  private def parameterUnit(s: Signal.Parameter): String = s match {
+    case Signal.Inertial(_, InertialParameter.Mass)          => "kg"
+    case Signal.Inertial(_, InertialParameter.Com(_))        => "m"
+    case Signal.Inertial(_, InertialParameter.Inertia(_, _)) => "kg.m^2"
+    case Signal.Gravity(_)                                   => "m/s^2"
+  }
+
+  /** 32-bit words a `width`-bit code takes. */
+  def wordsOf(width: Int): Int = (width + CsrMap.dataBits - 1) / CsrMap.dataBits
+
+  /**
+   * The field of word `w` of a `width`-bit code, as the map's rule lays wide values out: 32-bit words, least
+   * significant first, a signed code sign-extended to whole words (its top word's field signed, 32 bits); the
+   * SI format on word 0's field (it scales the assembled value). `reset`: the code's value (negative for a
+   * negative signed code).
+   */
+  private def wordField(
+      width: Int,
+      w: Int,
+      access: Access,
+      meaning: String,
+      format: FieldFormat,
+      signed: Boolean,
+      reset: BigInt
+  ): Field = {
+    val words = wordsOf(width)
+    val last = w == words - 1
+    val bits =
+      if (words == 1) width else if (!last || signed) CsrMap.dataBits else width - CsrMap.dataBits * w
+    val all = reset & ((BigInt(1) << (CsrMap.dataBits * words)) - 1)
+    Field(
+      "value",
+      0,
+      bits,
+      access,
+      (if (words == 1) "" else s"bits ${CsrMap.dataBits * w}.. of $width: ") + meaning,
+      if (w == 0) format else FieldFormat.Integer,
+      signed && last,
+      (all >> (CsrMap.dataBits * w)) & ((BigInt(1) << bits) - 1)
+    )
+  }
+
+  /** A register name with its word suffix when the code takes more than one word. */
+  private def wordName(name: String, width: Int, w: Int): String =
+    if (wordsOf(width) == 1) name else s"${name}_w$w"
+
+  /**
+   * The payload and gravity registers and their commit: one RW register per run-time parameter in
+   * `numerics.parameters`' order (a read returns the staged value; a code wider than 32 bits takes
+   * consecutive words), a commit pulse and the committed sequence number. Without run-time parameters the 64
+   * words stay reserved, so later addresses keep.
+   */
+  def payloadBlock(c: Compiled): Block = {
+    val n = c.arm.numerics
+    if (n.parameters.isEmpty)
+      Block(
+        "payload",
+        "reserved: payload and gravity registers (payload.enabled, gravity.runtime); reads 0",
+        BlockContent.Reserved(CsrMap.minSpan, "run-time payload and gravity registers")
+      )
+    else {
+      val port = n.parameterPortFormat
+      val resets = PayloadedArm.resetCodes(c.arm)
+      val parameters = n.parameters.zipWithIndex.flatMap { case (s, k) =>
+        val name = parameterName(c, s)
+        (0 until wordsOf(port.width)).map { w =>
+          Register(
+            wordName(name, port.width, w),
+            s"staged $name (declared ${n.parameterRanges(s)}); takes effect at the next commit",
+            Seq(
+              wordField(
+                port.width,
+                w,
+                Access.ReadWrite,
+                s"$name, ${parameterUnit(s)}",
+                FieldFormat.Fixed(port, parameterUnit(s)),
+                signed = true,
+                resets(k)
+              )
+            ),
+            Source.Parameter(k, w)
+          )
+        }
+      }
+      Block(
+        "payload",
+        "run-time payload and gravity: write the staged values, then commit; every sample taken after the " +
+          "commit is computed with them (clamped and flagged beyond their declared ranges)",
+        BlockContent.Registers(
+          parameters ++ Seq(
+            Register(
+              "commit",
+              "commit the staged values at the next sample boundary",
+              Seq(
+                Field(
+                  "commit",
+                  0,
+                  1,
+                  Access.WriteOneToPulse,
+                  "make the staged values the ones samples are computed with; counts the sequence up",
+                  FieldFormat.Flag
+                )
+              ),
+              Source.PayloadCommit
+            ),
+            Register(
+              "sequence",
+              "the committed payload's sequence number (0 after reset: no payload, the elaboration gravity)",
+              Seq(ro("value", 0, PayloadedArm.sequenceBits, "commits modulo 2^8")),
+              Source.PayloadSequence
+            )
+          )
+        )
+      )
+    }
+  }
+
+  /** Sample status bits. */
+  val sampleBusyBit = 0
+  val sampleDoneBit = 1
+
+  private def jointUnit(c: Compiled, j: Int, revolute: String, prismatic: String): String =
+    if (c.arm.chain.joints(j).kind == JointKind.Prismatic) prismatic else revolute
+
+  /**
+   * One register per joint and word of a per-joint code: the joints of one word at consecutive words (word 0
+   * of every joint, then word 1 of every joint), so a driver indexes by joint with a stride of 4 bytes.
+   */
+  private def perJoint(c: Compiled, kind: String, width: Int)(
+      register: (String, Int, Int) => Register
+  ): Seq[Register] =
+    for (w <- 0 until wordsOf(width); j <- 0 until c.arm.chain.size)
+      yield register(wordName(s"${kind}_j${j + 1}", width, w), j, w)
+
+  /**
+   * The register-driven sample mode, for a host with no streaming path: write a sample's q, qd and qdd, pulse
+   * `start`, wait for `status.done`, read the torques, the flags and the payload sequence. Per-joint codes as
+   * [[perJoint]] lays them out. The sample goes through the datapath between stream samples (the stream
+   * waits; the monitor sees it too).
+   */
+  def sampleBlock(c: Compiled): Block = {
+    val n = c.arm.numerics
+    val joints = c.arm.chain.size
+    val payload = n.parameters.nonEmpty
+    def inputs(kind: SampleKind): Seq[Register] = {
+      def format(j: Int): FieldFormat = kind match {
+        case SampleKind.Angle => FieldFormat.BinaryAngle(n.angleBits)
+        case SampleKind.Velocity =>
+          FieldFormat.Fixed(n.velocityPortFormat, jointUnit(c, j, "rad/s", "m/s"))
+        case SampleKind.Acceleration =>
+          FieldFormat.Fixed(n.accelerationPortFormat, jointUnit(c, j, "rad/s^2", "m/s^2"))
+      }
+      val width = format(0) match {
+        case FieldFormat.Fixed(f, _)       => f.width
+        case FieldFormat.BinaryAngle(bits) => bits
+        case _                             => CsrMap.dataBits
+      }
+      val signed = kind != SampleKind.Angle
+      perJoint(c, kind.name, width) { (name, j, w) =>
+        Register(
+          name,
+          s"joint ${j + 1}'s ${kind.meaning}",
+          Seq(wordField(width, w, Access.ReadWrite, kind.meaning, format(j), signed, 0)),
+          Source.SampleInput(kind, j, w)
+        )
+      }
+    }
+    val tauFormat = c.arm.analysis.outputPortFormat
+    val tau = perJoint(c, "tau", tauFormat.width) { (name, j, w) =>
+      Register(
+        name,
+        s"joint ${j + 1}'s torque of the last sample",
+        Seq(
+          wordField(
+            tauFormat.width,
+            w,
+            Access.ReadOnly,
+            "torque",
+            FieldFormat.Fixed(tauFormat, jointUnit(c, j, "N.m", "N")),
+            signed = true,
+            0
+          )
+        ),
+        Source.SampleTorque(j, w)
+      )
+    }
+    Block(
+      "sample",
+      "register-driven sample mode: write q, qd, qdd; start; when done, read tau, flags" +
+        (if (payload) " and the payload sequence" else "") +
+        "; per-joint codes wider than 32 bits: word 0 of every joint, then word 1 of every joint",
+      BlockContent.Registers(
+        SampleKind.all.flatMap(inputs) ++ Seq(
+          Register(
+            "start",
+            "start one sample",
+            Seq(
+              Field(
+                "start",
+                0,
+                1,
+                Access.WriteOneToPulse,
+                "compute the sample in the q, qd, qdd registers (ignored while busy)",
+                FieldFormat.Flag
+              )
+            ),
+            Source.SampleStart
+          ),
+          Register(
+            "status",
+            "sample mode status",
+            Seq(
+              Field(
+                "busy",
+                sampleBusyBit,
+                1,
+                Access.ReadOnly,
+                "1: from start until the result is in",
+                FieldFormat.Flag
+              ),
+              Field(
+                "done",
+                sampleDoneBit,
+                1,
+                Access.ReadOnly,
+                "1: the result registers hold the last started sample's (0 from start until then)",
+                FieldFormat.Flag
+              )
+            ),
+            Source.SampleStatus
+          )
+        ) ++ tau ++ Seq(
+          Register(
+            "flags",
+            "the last sample's out-of-range flags: bit j-1 for joint j (its qd or qdd was clamped)",
+            (0 until joints).map(j =>
+              Field(s"j${j + 1}", j, 1, Access.ReadOnly, s"joint ${j + 1} out of range", FieldFormat.Flag)
+            ),
+            Source.SampleFlags
+          )
+        ) ++ Option
+          .when(payload)(
+            Register(
+              "sequence",
+              "the payload sequence number the last sample was computed with",
+              Seq(ro("value", 0, PayloadedArm.sequenceBits, "payload sequence")),
+              Source.SampleSequence
+            )
+          )
+          .toSeq
+      )
+    )
+  }
 
   /** The SI format of a monitor figure of joint `j`, when it has one. */
   private def figureFormat(m: MonitorParams, c: Compiled, j: Int, f: JointField): FieldFormat = {
@@ -371,18 +651,22 @@ object ReducerLoadRegisters {
     )
   }
 
-  /** The map of a compiled design with a monitor. */
+  /** The map of a compiled design, with or without the monitor. */
   def apply(c: Compiled): CsrMap = {
-    val m = c.monitor.getOrElse(
-      throw new IllegalArgumentException("the register map needs the monitor (monitor.enabled = true)")
-    )
     val ps = ports(c)
     CsrMap
       .place(
         name,
         s"${c.arm.chain.name}: ${c.arm.chain.size} joints, ${c.arm.tag}",
-        Seq(idBlock(c, ps), ctrlBlock(m), counterBlock, irqBlock, payloadBlock, monitorBlock(m, c))
+        Seq(
+          idBlock(c, ps),
+          ctrlBlock(c.monitor),
+          counterBlock,
+          irqBlock(c.monitor.isDefined),
+          payloadBlock(c),
+          sampleBlock(c)
+        ) ++ c.monitor.map(monitorBlock(_, c))
       )
-      .copy(ports = ps)
+      .copy(ports = ps, joints = Some(c.arm.chain.size))
   }
 }

@@ -58,8 +58,9 @@ class RegMapSpec extends AnyFlatSpec {
     // Expected from the rule, by hand: 64-word minimum spans for the small blocks; the monitor's span is
     // its bank rounded up to a power of two.
     val monitorSpan = Integer.highestOneBit(m.registerMap.words - 1) * 2
-    val expectedBases = Seq("id" -> 0, "ctrl" -> 64, "counters" -> 128, "irq" -> 192, "payload" -> 256) :+
-      ("monitor" -> ((320 + monitorSpan - 1) / monitorSpan * monitorSpan))
+    val expectedBases =
+      Seq("id" -> 0, "ctrl" -> 64, "counters" -> 128, "irq" -> 192, "payload" -> 256, "sample" -> 320) :+
+        ("monitor" -> ((384 + monitorSpan - 1) / monitorSpan * monitorSpan))
     assert(map.blocks.map(b => b.block.name -> b.base) == expectedBases)
     assert(map.block("payload").registers.isEmpty, "the payload block is reserved, not filled")
     val monitor = map.block("monitor")
@@ -70,6 +71,53 @@ class RegMapSpec extends AnyFlatSpec {
     assert(map.words >= monitor.base + monitorSpan && Integer.bitCount(map.words) == 1)
     val id = map.block("id").registers.map(r => r.register.name -> r.register.reset).toMap
     assert(id("magic") == BigInt("524C4F44", 16) && (id("shape") & 0xff) == 3)
+  }
+
+  it should "describe the payload and sample blocks of a payload design without the monitor, addresses kept" in {
+    val c = ReducerLoadTopDesigns.ur5Payloaded
+    val m = ReducerLoadRegisters(c)
+    // Same bases as with the monitor; no monitor block; the irq block reserved.
+    assert(
+      m.blocks.map(b => b.block.name -> b.base) ==
+        Seq("id" -> 0, "ctrl" -> 64, "counters" -> 128, "irq" -> 192, "payload" -> 256, "sample" -> 320)
+    )
+    assert(m.block("irq").registers.isEmpty)
+    assert(m.register("ctrl_control").register.fields.map(_.name) == Seq("clear_counters"))
+    assert(m.registers.forall(_.register.source != Source.Status))
+    // One RW register per parameter, in numerics.parameters' order, then commit and sequence.
+    val payload = m.block("payload").registers.map(_.register)
+    val expectedNames = reducerload.arm.PayloadColumns.names ++ Seq("gravity_x", "gravity_y", "gravity_z")
+    val port = c.arm.numerics.parameterPortFormat
+    assert(port.width <= 32, "the UR5's parameters take one word each")
+    assert(payload.map(_.name) == expectedNames ++ Seq("commit", "sequence"))
+    assert(payload.take(13).map(_.source) == (0 until 13).map(Source.Parameter(_, 0)))
+    payload.take(13).foreach { r =>
+      val f = r.fields.head
+      assert(f.access == Access.ReadWrite && f.signed && f.width == port.width)
+      assert(f.format.isInstanceOf[FieldFormat.Fixed])
+    }
+    // Reset: no payload, the elaboration gravity (-9.81 along one axis) as two's complement.
+    val gz = payload.find(_.name == "gravity_z").get.fields.head
+    val gravity = payload.slice(10, 13).map(_.fields.head.reset)
+    assert(payload.take(10).forall(_.reset == 0) && gravity.exists(_ != 0), gravity)
+    assert(gz.reset.bitLength <= port.width)
+    // Sample block: q, qd, qdd of each joint at consecutive words, then start, status, tau, flags, sequence.
+    val sample = m.block("sample")
+    val names = sample.registers.map(_.register.name)
+    val joints = c.arm.chain.size
+    // The UR5's torques are wider than 32 bits: word 0 of every joint, then word 1 of every joint.
+    assert(c.arm.analysis.outputPortFormat.width > 32)
+    Seq("q_j", "qd_j", "qdd_j", "tau_j%d_w0", "tau_j%d_w1").foreach { k =>
+      val name = if (k.contains("%d")) (j: Int) => k.format(j) else (j: Int) => s"$k$j"
+      val words = (1 to joints).map(j => sample.registers.find(_.register.name == name(j)).get.word)
+      assert(words == (words.head until words.head + joints), s"$k: $words")
+    }
+    val top = sample.registers.find(_.register.name == "tau_j1_w1").get.register.fields.head
+    assert(top.signed && top.width == 32)
+    assert(
+      names.takeRight(2) == Seq("flags", "sequence") && names.contains("start") && names.contains("status")
+    )
+    assert(CHeader(m, "test").contains(s"#define RL_JOINTS $joints"))
   }
 
   it should "be written by run emit beside the Verilog, each file headed by its regeneration command" in {
