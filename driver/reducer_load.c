@@ -91,6 +91,9 @@ rl_status rl_init(rl_device *dev, rl_read32_fn read32, rl_write32_fn write32, vo
       rd(dev, RL_ID_QDD_FORMAT_OFFSET) != RL_ID_QDD_FORMAT_RESET ||
       rd(dev, RL_ID_TAU_FORMAT_OFFSET) != RL_ID_TAU_FORMAT_RESET)
     return RL_ERR_SHAPE;
+#ifdef RL_ID_PARAMETER_FORMAT_OFFSET
+  if (rd(dev, RL_ID_PARAMETER_FORMAT_OFFSET) != RL_ID_PARAMETER_FORMAT_RESET) return RL_ERR_SHAPE;
+#endif
   return RL_OK;
 }
 
@@ -178,26 +181,38 @@ rl_status rl_payload_from_abb(const rl_abb_loaddata *l, rl_payload *p) {
 
 #if RL_LAYOUT_PARAMETERS > 0
 typedef struct {
-  uint32_t offset;
+  uint32_t offset; /* word 0; a code wider than 32 bits takes the next words, least significant first */
+  int words;
   int frac_bits;
   int width;
   int64_t lo, hi; /* the declared interval in codes: the hardware clamps beyond it */
 } rl_parameter_layout;
 static const rl_parameter_layout rl_parameters[RL_LAYOUT_PARAMETERS] = RL_LAYOUT_PARAMETER_TABLE;
 
-static rl_status parameter_code(int index, double value, uint32_t *raw) {
+static rl_status parameter_code(int index, double value, int64_t *code) {
   const rl_parameter_layout *pl = &rl_parameters[index];
-  int64_t code = 0;
-  rl_status s = to_code(value, pl->frac_bits, pl->width, &code);
+  rl_status s = to_code(value, pl->frac_bits, pl->width, code);
   if (s != RL_OK) return s;
-  if (code < pl->lo || code > pl->hi) return RL_ERR_RANGE;
-  *raw = (uint32_t)((uint64_t)code & (pl->width >= 32 ? 0xffffffffu : (((uint32_t)1 << pl->width) - 1)));
-  return RL_OK;
+  return *code < pl->lo || *code > pl->hi ? RL_ERR_RANGE : RL_OK;
+}
+
+/* A code into its words: each 32 bits, the top one sign-extended (a one-word code is masked to its width). */
+static void parameter_write(const rl_device *dev, int index, int64_t code) {
+  const rl_parameter_layout *pl = &rl_parameters[index];
+  uint64_t raw = (uint64_t)code;
+  int w;
+  if (pl->words == 1) {
+    wr(dev, pl->offset, (uint32_t)(raw & (pl->width >= 32 ? 0xffffffffu : (((uint64_t)1 << pl->width) - 1))));
+    return;
+  }
+  for (w = 0; w < pl->words; w++) wr(dev, pl->offset + 4u * (uint32_t)w, (uint32_t)(w < 2 ? raw >> (32 * w) : 0u));
 }
 
 static double parameter_value(const rl_device *dev, int index) {
   const rl_parameter_layout *pl = &rl_parameters[index];
-  return (double)sign_extend(rd(dev, pl->offset), (unsigned)pl->width) * pow2(-pl->frac_bits);
+  uint64_t raw = rd(dev, pl->offset);
+  if (pl->words > 1) raw |= (uint64_t)rd(dev, pl->offset + 4u) << 32;
+  return (double)sign_extend(raw, (unsigned)(pl->words > 1 ? 64 : pl->width)) * pow2(-pl->frac_bits);
 }
 #endif
 
@@ -206,7 +221,7 @@ rl_status rl_payload_write(const rl_device *dev, const rl_payload *p) {
   static const int index[10] = {RL_PARAM_MASS, RL_PARAM_CX,  RL_PARAM_CY,  RL_PARAM_CZ,  RL_PARAM_IXX,
                                 RL_PARAM_IXY,  RL_PARAM_IXZ, RL_PARAM_IYY, RL_PARAM_IYZ, RL_PARAM_IZZ};
   double v[10];
-  uint32_t raw[10];
+  int64_t raw[10];
   int i;
   rl_status s;
   if (dev == NULL || p == NULL) return RL_ERR_ARG;
@@ -216,7 +231,7 @@ rl_status rl_payload_write(const rl_device *dev, const rl_payload *p) {
   /* Check all ten before writing any: a refused payload leaves the staged one whole. */
   for (i = 0; i < 10; i++)
     if ((s = parameter_code(index[i], v[i], &raw[i])) != RL_OK) return s;
-  for (i = 0; i < 10; i++) wr(dev, rl_parameters[index[i]].offset, raw[i]);
+  for (i = 0; i < 10; i++) parameter_write(dev, index[i], raw[i]);
   return RL_OK;
 #else
   (void)dev;
@@ -254,13 +269,13 @@ rl_status rl_payload_read_staged(const rl_device *dev, rl_payload *p) {
 rl_status rl_gravity_write(const rl_device *dev, const double g[3]) {
 #if RL_LAYOUT_PARAMETERS > 0 && RL_PARAM_GX >= 0
   static const int index[3] = {RL_PARAM_GX, RL_PARAM_GY, RL_PARAM_GZ};
-  uint32_t raw[3];
+  int64_t raw[3];
   int i;
   rl_status s;
   if (dev == NULL || g == NULL) return RL_ERR_ARG;
   for (i = 0; i < 3; i++)
     if ((s = parameter_code(index[i], g[i], &raw[i])) != RL_OK) return s;
-  for (i = 0; i < 3; i++) wr(dev, rl_parameters[index[i]].offset, raw[i]);
+  for (i = 0; i < 3; i++) parameter_write(dev, index[i], raw[i]);
   return RL_OK;
 #else
   (void)dev;
@@ -272,7 +287,7 @@ rl_status rl_gravity_write(const rl_device *dev, const double g[3]) {
 rl_status rl_payload_commit(const rl_device *dev) {
 #if RL_LAYOUT_PARAMETERS > 0
   if (dev == NULL) return RL_ERR_ARG;
-  wr(dev, RL_LAYOUT_COMMIT_OFFSET, RL_LAYOUT_COMMIT_MASK);
+  wr(dev, RL_PAYLOAD_COMMIT_OFFSET, RL_PAYLOAD_COMMIT_COMMIT_MASK);
   return RL_OK;
 #else
   (void)dev;
@@ -283,7 +298,7 @@ rl_status rl_payload_commit(const rl_device *dev) {
 rl_status rl_payload_sequence(const rl_device *dev, uint32_t *sequence) {
 #if RL_LAYOUT_PARAMETERS > 0
   if (dev == NULL || sequence == NULL) return RL_ERR_ARG;
-  *sequence = (rd(dev, RL_LAYOUT_SEQUENCE_OFFSET) & RL_LAYOUT_SEQUENCE_MASK) >> RL_LAYOUT_SEQUENCE_SHIFT;
+  *sequence = (rd(dev, RL_PAYLOAD_SEQUENCE_OFFSET) & RL_PAYLOAD_SEQUENCE_VALUE_MASK) >> RL_PAYLOAD_SEQUENCE_VALUE_SHIFT;
   return RL_OK;
 #else
   (void)dev;
@@ -388,9 +403,24 @@ rl_status rl_monitor_snapshot(const rl_device *dev, int clear, rl_monitor *out) 
 
 /* ---- register-driven sample mode ---- */
 
+/* The sample block's per-joint codes: joint j at word 0's offset + 4 j; a code wider than 32 bits has its
+ * word 1 of every joint after word 0 of every joint. */
+#if defined(RL_SAMPLE_Q_J1_OFFSET) && defined(RL_SAMPLE_QD_J1_OFFSET) && defined(RL_SAMPLE_QDD_J1_OFFSET)
+#define RL_SAMPLE_MODE 1
+#if defined(RL_SAMPLE_TAU_J1_OFFSET)
+#define RL_SAMPLE_TAU0 RL_SAMPLE_TAU_J1_OFFSET
+#define RL_SAMPLE_TAU_WORDS 1
+#else
+#define RL_SAMPLE_TAU0 RL_SAMPLE_TAU_J1_W0_OFFSET
+#define RL_SAMPLE_TAU_WORDS 2
+#endif
+#else
+#define RL_SAMPLE_MODE 0 /* codes wider than 32 bits at the inputs: not supported by this driver */
+#endif
+
 rl_status rl_sample(const rl_device *dev, const double q[RL_JOINTS], const double qd[RL_JOINTS],
                     const double qdd[RL_JOINTS], double tau[RL_JOINTS], uint32_t *out_of_range) {
-#if RL_LAYOUT_HAS_SAMPLE
+#if RL_SAMPLE_MODE
   uint32_t aq[RL_JOINTS], polls = 0;
   int32_t aqd[RL_JOINTS], aqdd[RL_JOINTS];
   int j;
@@ -402,15 +432,20 @@ rl_status rl_sample(const rl_device *dev, const double q[RL_JOINTS], const doubl
     if ((s = rl_si_to_acceleration(qdd[j], &aqdd[j])) != RL_OK) return s;
   }
   for (j = 0; j < RL_JOINTS; j++) {
-    wr(dev, RL_LAYOUT_SAMPLE_Q_OFFSET + 4u * (uint32_t)j, aq[j]);
-    wr(dev, RL_LAYOUT_SAMPLE_QD_OFFSET + 4u * (uint32_t)j, (uint32_t)aqd[j]);
-    wr(dev, RL_LAYOUT_SAMPLE_QDD_OFFSET + 4u * (uint32_t)j, (uint32_t)aqdd[j]);
+    uint32_t at = 4u * (uint32_t)j;
+    wr(dev, RL_SAMPLE_Q_J1_OFFSET + at, aq[j]);
+    wr(dev, RL_SAMPLE_QD_J1_OFFSET + at, (uint32_t)aqd[j] & RL_SAMPLE_QD_J1_VALUE_MASK);
+    wr(dev, RL_SAMPLE_QDD_J1_OFFSET + at, (uint32_t)aqdd[j] & RL_SAMPLE_QDD_J1_VALUE_MASK);
   }
-  wr(dev, RL_LAYOUT_SAMPLE_START_OFFSET, RL_LAYOUT_SAMPLE_START_MASK);
-  while ((rd(dev, RL_LAYOUT_SAMPLE_DONE_OFFSET) & RL_LAYOUT_SAMPLE_DONE_MASK) == 0u)
+  wr(dev, RL_SAMPLE_START_OFFSET, RL_SAMPLE_START_START_MASK);
+  while ((rd(dev, RL_SAMPLE_STATUS_OFFSET) & RL_SAMPLE_STATUS_DONE_MASK) == 0u)
     if (++polls >= dev->poll_limit) return RL_ERR_TIMEOUT;
-  for (j = 0; j < RL_JOINTS; j++) tau[j] = rl_torque_to_si((int64_t)rd(dev, RL_LAYOUT_SAMPLE_TAU_OFFSET + 4u * (uint32_t)j));
-  if (out_of_range != NULL) *out_of_range = RL_LAYOUT_SAMPLE_FLAGS_READ(dev->read32, dev->ctx);
+  for (j = 0; j < RL_JOINTS; j++) {
+    uint64_t raw = rd(dev, RL_SAMPLE_TAU0 + 4u * (uint32_t)j);
+    if (RL_SAMPLE_TAU_WORDS > 1) raw |= (uint64_t)rd(dev, RL_SAMPLE_TAU0 + 4u * (uint32_t)(RL_JOINTS + j)) << 32;
+    tau[j] = rl_torque_to_si((int64_t)raw);
+  }
+  if (out_of_range != NULL) *out_of_range = rd(dev, RL_SAMPLE_FLAGS_OFFSET);
   return RL_OK;
 #else
   (void)dev;

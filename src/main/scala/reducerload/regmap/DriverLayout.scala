@@ -1,5 +1,7 @@
 package reducerload.regmap
 
+import reducerload.compiler.Compiled
+import reducerload.graph.{InertialParameter, Signal}
 import reducerload.monitor.{JointField, RegisterKey}
 
 /**
@@ -9,7 +11,10 @@ import reducerload.monitor.{JointField, RegisterKey}
  * The register header names one macro per register, and a monitor figure's names depend on its width (`_w0`,
  * `_w1` only when it spans words) and its joint; widths differ between joints and designs, so no stride
  * reaches every joint. Here each joint's figures are one row of `{ byte offset of word 0, words, signed, SI
- * scale }` in [[JointField]] order, histogram bins last, so the driver loops over `RL_JOINTS` rows.
+ * scale }` in [[JointField]] order, histogram bins last, so the driver loops over `RL_JOINTS` rows. The
+ * run-time parameters are one row each `{ byte offset of word 0, words, fraction bits, width, lowest and
+ * highest declared code }`: the declared range is not in the register map (the hardware clamps to it), and
+ * the driver refuses a value beyond it rather than let it be clamped.
  */
 object DriverLayout {
 
@@ -59,7 +64,40 @@ object DriverLayout {
     if (x == math.pow(2.0, exponent)) s"0x1p$exponent" else java.lang.Double.toString(x)
   }
 
-  def apply(m: CsrMap, command: String): String = {
+  /** The C index macro of a payload or gravity parameter, for the driver's SI payload. */
+  def parameterIndexName(c: Compiled, s: Signal.Parameter): Option[String] = s match {
+    case Signal.Inertial(j, par) if j == c.arm.chain.size - 1 =>
+      Some("RL_PARAM_" + (par match {
+        case InertialParameter.Mass          => "MASS"
+        case InertialParameter.Com(a)        => "C" + "XYZ" (a)
+        case InertialParameter.Inertia(r, k) => "I" + "XYZ" (r) + "XYZ" (k)
+      }))
+    case Signal.Gravity(axis) => Some("RL_PARAM_G" + "XYZ" (axis))
+    case _                    => None
+  }
+
+  /** Every index macro the driver reads: -1 when the design has no such parameter. */
+  private val allParameterNames: Seq[String] =
+    Seq("MASS", "CX", "CY", "CZ", "IXX", "IXY", "IXZ", "IYY", "IYZ", "IZZ", "GX", "GY", "GZ").map(
+      "RL_PARAM_" + _
+    )
+
+  def apply(c: Compiled, command: String): String = {
+    val m = ReducerLoadRegisters(c)
+    val n = c.arm.numerics
+    val parameterRows = n.parameters.indices.map { k =>
+      val words = m.registers.filter(_.register.source match {
+        case Source.Parameter(`k`, _) => true
+        case _                        => false
+      })
+      val (lo, hi) = n.parameterLimitRaw(n.parameters(k))
+      val format = n.parameterPortFormat
+      s"{ UINT32_C(${CsrEmitters.hex(words.head.byteOffset)}), ${words.size}, ${format.fracBits}, ${format.width}, " +
+        s"INT64_C($lo), INT64_C($hi) }"
+    }
+    val indexOf = n.parameters.zipWithIndex.flatMap { case (s, k) =>
+      parameterIndexName(c, s).map(_ -> k)
+    }.toMap
     val rows = joints(m)
     val bins = rows.map(_.size - JointField.scalars.size)
     val maxBins = bins.maxOption.getOrElse(0)
@@ -106,8 +144,20 @@ object DriverLayout {
     }
     line("}")
     line()
-    line("#define RL_LAYOUT_PARAMETERS 0")
-    line("#define RL_LAYOUT_HAS_SAMPLE 0")
+    line(s"#define RL_LAYOUT_PARAMETERS ${parameterRows.size}")
+    allParameterNames.foreach(p => line(s"#define $p ${indexOf.getOrElse(p, -1)}"))
+    if (parameterRows.nonEmpty) {
+      line(
+        comment(
+          "one row per run-time parameter: offset of word 0, words, fraction bits, width, declared codes"
+        )
+      )
+      line("#define RL_LAYOUT_PARAMETER_TABLE { \\")
+      parameterRows.zipWithIndex.foreach { case (r, i) =>
+        line(s"  $r${if (i == parameterRows.size - 1) "" else ","} \\")
+      }
+      line("}")
+    }
     line()
     line(s"#endif /* $guard */")
     b.toString

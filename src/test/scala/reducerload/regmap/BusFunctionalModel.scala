@@ -66,6 +66,32 @@ final class BusFunctionalModel(read: Int => BigInt, write: (Int, BigInt) => Unit
   }
 }
 
+/**
+ * The register map's software view without RTL: RW fields hold what is written, constants read their value,
+ * W1S fields read 0, a payload commit counts the sequence up. For driver checks that need no hardware
+ * behaviour beyond the description.
+ */
+final class RegisterFileModel(map: CsrMap) {
+  private val byWord = map.registers.map(r => r.word -> r).toMap
+  private val values =
+    scala.collection.mutable.Map.empty[Int, BigInt] ++ map.registers.map(r => r.word -> r.register.reset)
+  val written = ArrayBuffer.empty[(String, BigInt)]
+
+  def read(word: Int): BigInt = byWord.get(word).fold(BigInt(0)) { r =>
+    r.register.fields.filter(_.access != Access.WriteOneToPulse).map(f => values(word) & f.mask).sum
+  }
+
+  def write(word: Int, data: BigInt): Unit = byWord.get(word).foreach { r =>
+    written += r.cName -> data
+    val rw = r.register.fields.filter(_.access == Access.ReadWrite).map(_.mask).sum
+    values(word) = (values(word) & ~rw) | (data & rw)
+    if (r.register.source == Source.PayloadCommit && (data & 1) == 1) {
+      val seq = map.registers.find(_.register.source == Source.PayloadSequence).get.word
+      values(seq) = (values(seq) + 1) & 0xff
+    }
+  }
+}
+
 /** The C driver (driver/ at the repository's top) built with a design's headers, and its test program. */
 object CDriver {
   val flags: Seq[String] = Seq("-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic")
@@ -73,22 +99,27 @@ object CDriver {
   def sources: Path = Paths.get(sys.env.getOrElse("REDUCERLOAD_CWD", ".")).resolve("driver")
 
   /** The design's generated headers, written into `dir`. */
-  def writeHeaders(dir: Path, map: CsrMap, command: String): Unit = {
+  def writeHeaders(dir: Path, c: reducerload.compiler.Compiled, command: String): Unit = {
+    val map = ReducerLoadRegisters(c)
     Files.write(dir.resolve(s"${map.name}_regs.h"), CHeader(map, command).getBytes(StandardCharsets.UTF_8))
     Files.write(
       dir.resolve(s"${map.name}_layout.h"),
-      DriverLayout(map, command).getBytes(StandardCharsets.UTF_8)
+      DriverLayout(c, command).getBytes(StandardCharsets.UTF_8)
     )
   }
 
-  /** Write the test design's headers into the directory given (to build the driver by hand). */
-  def main(args: Array[String]): Unit = writeHeaders(Paths.get(args(0)), RegMapDesign.map, "CDriver.main")
+  /** Write a test design's headers into the directory given (to build the driver by hand): planar3 or ur5. */
+  def main(args: Array[String]): Unit = writeHeaders(
+    Paths.get(args(0)),
+    if (args.lift(1).contains("ur5")) ReducerLoadTopDesigns.ur5Payloaded else RegMapDesign.compiled,
+    "CDriver.main"
+  )
 
   /**
    * Write the design's generated headers into `dir` and compile the driver with the BFM test program there.
    */
-  def buildTestProgram(dir: Path, map: CsrMap, command: String): Path = {
-    writeHeaders(dir, map, command)
+  def buildTestProgram(dir: Path, c: reducerload.compiler.Compiled, command: String): Path = {
+    writeHeaders(dir, c, command)
     val exe = dir.resolve("rl_bfm_main")
     val log = new StringBuilder
     val cmd = Seq("gcc") ++ flags ++ Seq("-I", dir.toString, "-I", sources.toString, "-o", exe.toString) ++

@@ -62,10 +62,10 @@ class CDriverSpec extends AnyFlatSpec with ChiselScalatestTester {
   private val unsupported = "-9"
   private val command = "CDriverSpec"
 
-  private def program(): java.nio.file.Path = {
+  private def program(c: reducerload.compiler.Compiled = RegMapDesign.compiled): java.nio.file.Path = {
     if (!CProgram.available) println("CDriverSpec: gcc is not installed: the C driver tests are skipped")
     assume(CProgram.available, "gcc is not installed")
-    CDriver.buildTestProgram(Scratch.dir("c-driver-"), RegMapDesign.map, command)
+    CDriver.buildTestProgram(Scratch.dir("c-driver-"), c, command)
   }
 
   it should "refuse a core of another design, and convert ABB load data and torque codes, with no RTL" in {
@@ -118,6 +118,70 @@ class CDriverSpec extends AnyFlatSpec with ChiselScalatestTester {
     assert(run("abb.write") == unsupported, "the payload block is reserved in this map")
     println(
       s"[c driver] seed $seed: ${codes.size} torque codes exact, ABB inertia within 1e-12 of R diag R^T"
+    )
+  }
+
+  it should "write a payload from SI units and from ABB load data, commit it, read it back, refuse one beyond the declared set" in {
+    val c = ReducerLoadTopDesigns.ur5Payloaded
+    val exe = program(c)
+    val map = ReducerLoadRegisters(c)
+    val n = c.arm.numerics
+    val port = n.parameterPortFormat
+    def staged(v: Double) = port.toDouble(port.quantize(v, reducerload.fixedpoint.Rounding.HalfUp))
+    val seed = Seeds("CDriverSpec payload", 32)
+    val rnd = new Random(seed)
+    def within(r: Double) = (rnd.nextDouble() * 2 - 1) * r
+    val si = Seq(
+      0.5 + rnd.nextDouble() * 4,
+      within(0.1),
+      within(0.1),
+      within(0.1),
+      0.001 + rnd.nextDouble() * 0.04
+    ) ++
+      Seq(
+        within(0.01),
+        within(0.01),
+        0.001 + rnd.nextDouble() * 0.04,
+        within(0.01),
+        0.001 + rnd.nextDouble() * 0.04
+      )
+    val axis = Vec3(rnd.nextGaussian(), rnd.nextGaussian(), rnd.nextGaussian())
+    val unit = axis * (1 / axis.norm)
+    val angle = rnd.nextDouble() * 2 * math.Pi
+    val principal =
+      Vec3(0.002 + rnd.nextDouble() * 0.03, 0.002 + rnd.nextDouble() * 0.03, 0.002 + rnd.nextDouble() * 0.03)
+    val cog = Vec3(within(90), within(90), within(90))
+    val abb = Seq(2.0) ++ cog.toSeq ++ (Seq(math.cos(angle / 2)) ++ (unit * math.sin(
+      angle / 2
+    )).toSeq) ++ principal.toSeq
+    val file = new RegisterFileModel(map)
+    val bfm = new BusFunctionalModel(file.read, file.write)
+    val run =
+      bfm.serve(Seq(exe.toString) ++ ("payload" +: si.map(_.toString)) ++ ("abb" +: abb.map(_.toString)))
+    assert(run.exit == 0 && run("init") == "0", run.errors)
+    val keys = Seq("mass") ++ (0 until 3).map(k => s"com$k") ++ (0 until 6).map(k => s"inertia$k")
+    Seq("payload.write", "payload.commit", "abb.write", "abb.commit").foreach(k => assert(run(k) == "0", k))
+    assert(run("payload.sequence_step") == "1" && run("abb.sequence_step") == "1")
+    keys.zip(si).foreach { case (k, v) => assert(run(s"payload.$k").toDouble == staged(v), s"payload $k") }
+    val abbSi = Seq(2.0) ++ cog.toSeq.map(_ / 1000) ++ CDriverExpect.abbInertia(unit, angle, principal)
+    keys.zip(abbSi).foreach { case (k, v) =>
+      val got = run(s"abb.$k").toDouble
+      assert(math.abs(got - staged(v)) <= port.lsb, s"abb $k: staged $got, expected ${staged(v)}")
+    }
+    // Beyond the declared set (max-mass 5 kg): refused, nothing written, the staged payload unchanged.
+    val refused = new BusFunctionalModel(file.read, file.write)
+      .serve(
+        Seq(exe.toString, "refuse", "5.5") ++ si.drop(1).map(_.toString) ++ Seq("refuse", "nan") ++ si
+          .drop(1)
+          .map(_.toString)
+      )
+    assert(refused.writes == 0, "a refused payload wrote registers")
+    assert(refused("refuse.write") == "-7" || refused("refuse.write") == "-6")
+    val first = new BusFunctionalModel(file.read, file.write)
+      .serve(Seq(exe.toString, "refuse", "5.5") ++ si.drop(1).map(_.toString))
+    assert(first("refuse.write") == "-6", "a 5.5 kg payload with max-mass 5")
+    println(
+      s"[c driver] seed $seed: payload staged as the port format rounds it, ABB load data within 1 code, 5.5 kg refused"
     )
   }
 
