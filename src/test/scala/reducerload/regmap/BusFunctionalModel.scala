@@ -1,5 +1,8 @@
 package reducerload.regmap
 
+import reducerload.arm.ArmOutputCodes
+import reducerload.graph.SampleCodes
+
 import java.io.{BufferedReader, InputStreamReader, OutputStreamWriter}
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path, Paths}
@@ -68,28 +71,72 @@ final class BusFunctionalModel(read: Int => BigInt, write: (Int, BigInt) => Unit
 
 /**
  * The register map's software view without RTL: RW fields hold what is written, constants read their value,
- * W1S fields read 0, a payload commit counts the sequence up. For driver checks that need no hardware
- * behaviour beyond the description.
+ * W1S fields read 0, a payload commit counts the sequence up and latches the staged parameters, and a sample
+ * start computes the sample mode's result with `evaluate` (the bit-accurate model) from the registers' codes
+ * and the committed parameters. For driver checks that need no hardware timing.
  */
-final class RegisterFileModel(map: CsrMap) {
+final class RegisterFileModel(
+    map: CsrMap,
+    evaluate: Option[(SampleCodes, IndexedSeq[BigInt]) => ArmOutputCodes] = None
+) {
   private val byWord = map.registers.map(r => r.word -> r).toMap
   private val values =
     scala.collection.mutable.Map.empty[Int, BigInt] ++ map.registers.map(r => r.word -> r.register.reset)
-  val written = ArrayBuffer.empty[(String, BigInt)]
+  private def bySource(p: Source => Boolean): Seq[PlacedRegister] =
+    map.registers.filter(r => p(r.register.source))
+  private def code(r: PlacedRegister): BigInt = {
+    val f = r.register.fields.head
+    val raw = (values(r.word) & f.mask) >> f.lsb
+    if (f.signed && raw.testBit(f.width - 1)) raw - (BigInt(1) << f.width) else raw
+  }
+  private var committed: IndexedSeq[BigInt] =
+    bySource { case Source.Parameter(_, 0) => true; case _ => false }.map(r => code(r)).toIndexedSeq
 
   def read(word: Int): BigInt = byWord.get(word).fold(BigInt(0)) { r =>
     r.register.fields.filter(_.access != Access.WriteOneToPulse).map(f => values(word) & f.mask).sum
   }
 
   def write(word: Int, data: BigInt): Unit = byWord.get(word).foreach { r =>
-    written += r.cName -> data
     val rw = r.register.fields.filter(_.access == Access.ReadWrite).map(_.mask).sum
     values(word) = (values(word) & ~rw) | (data & rw)
-    if (r.register.source == Source.PayloadCommit && (data & 1) == 1) {
-      val seq = map.registers.find(_.register.source == Source.PayloadSequence).get.word
-      values(seq) = (values(seq) + 1) & 0xff
+    if ((data & 1) == 1) r.register.source match {
+      case Source.PayloadCommit =>
+        val seq = bySource(_ == Source.PayloadSequence).head.word
+        values(seq) = (values(seq) + 1) & 0xff
+        committed = bySource { case Source.Parameter(_, 0) => true; case _ => false }.map(code).toIndexedSeq
+      case Source.SampleStart => evaluate.foreach(start)
+      case _                  => ()
     }
   }
+
+  /** `evaluate` gets the sample's codes and the committed parameters' codes (`numerics.parameters` order). */
+  private def start(evaluate: (SampleCodes, IndexedSeq[BigInt]) => ArmOutputCodes): Unit = {
+    def inputs(kind: SampleKind) =
+      bySource { case Source.SampleInput(`kind`, _, 0) => true; case _ => false }.map(code).toIndexedSeq
+    val out = evaluate(
+      SampleCodes(inputs(SampleKind.Angle), inputs(SampleKind.Velocity), inputs(SampleKind.Acceleration)),
+      committed
+    )
+    // Wide codes: word w holds bits 32 w.. of the two's complement code (the top word sign-extended).
+    map.registers.foreach { r =>
+      r.register.source match {
+        case Source.SampleTorque(j, w) =>
+          values(r.word) = (out.tau(j) >> (32 * w)) & r.register.fields.head.mask
+        case _ => ()
+      }
+    }
+    bySource(_ == Source.SampleFlags).foreach { r =>
+      values(r.word) = out.outOfRange.zipWithIndex.map { case (f, j) =>
+        if (f) BigInt(1) << j else BigInt(0)
+      }.sum
+    }
+    bySource(_ == Source.SampleStatus).foreach(r =>
+      values(r.word) = BigInt(1) << ReducerLoadRegisters.sampleDoneBit
+    )
+  }
+
+  /** The committed parameters' codes, in `numerics.parameters` order. */
+  def committedCodes: IndexedSeq[BigInt] = committed
 }
 
 /** The C driver (driver/ at the repository's top) built with a design's headers, and its test program. */

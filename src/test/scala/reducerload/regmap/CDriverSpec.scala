@@ -49,6 +49,66 @@ object CDriverExpect {
 }
 
 /**
+ * The C program against a live register bus of any design (any DUT, or [[RegisterFileModel]]): the
+ * identification, a payload written from SI units, committed and read back (when the design has a run-time
+ * payload), and one sample through the register-driven sample mode, each against the models. Reusable inside
+ * another simulation: give it the DUT's word read and write.
+ */
+object CDriverScenario {
+  def run(
+      c: reducerload.compiler.Compiled,
+      exe: java.nio.file.Path,
+      read: Int => BigInt,
+      write: (Int, BigInt) => Unit,
+      seed: Long
+  ): BfmRun = {
+    val rnd = new Random(seed)
+    val n = c.arm.numerics
+    val model = new ArmModel(c.arm)
+    val port = if (n.parameters.isEmpty) None else Some(n.parameterPortFormat)
+    val payloaded = n.parameters.exists(s => DriverLayout.parameterIndexName(c, s).contains("RL_PARAM_MASS"))
+    def within(r: Double) = (rnd.nextDouble() * 2 - 1) * r
+    val box = c.config.payload
+    val r = box.comRadius
+    val i = box.maxMass * box.maxGyrationRadius * box.maxGyrationRadius
+    val si = Seq(rnd.nextDouble() * box.maxMass, within(r), within(r), within(r), rnd.nextDouble() * i) ++
+      Seq(within(i), within(i), rnd.nextDouble() * i, within(i), rnd.nextDouble() * i)
+    val (q, qd, qdd) =
+      RandomChains.sample(rnd, c.arm.maxVelocity.map(_ * 0.9), c.arm.maxAcceleration.map(_ * 0.9))
+    val args = (if (payloaded) "payload" +: si.map(_.toString) else Nil) ++
+      ("sample" +: (q ++ qd ++ qdd).map(_.toString))
+    val run = new BusFunctionalModel(read, write).serve(exe.toString +: args)
+    assert(
+      run.exit == 0 && run("init") == "0",
+      s"exit ${run.exit}, init ${run.results.get("init")}: ${run.errors}"
+    )
+    val body =
+      if (payloaded) reducerload.arm.PayloadColumns.body(si) else reducerload.robot.RigidBody.massless
+    if (payloaded) {
+      val f = port.get
+      def staged(v: Double) = f.toDouble(f.quantize(v, reducerload.fixedpoint.Rounding.HalfUp))
+      Seq("payload.write", "payload.commit").foreach(k => assert(run(k) == "0", k))
+      assert(run("payload.sequence_step") == "1", "the commit steps the sequence by one")
+      val keys = Seq("mass") ++ (0 until 3).map(k => s"com$k") ++ (0 until 6).map(k => s"inertia$k")
+      keys.zip(si).foreach { case (k, v) => assert(run(s"payload.$k").toDouble == staged(v), s"payload $k") }
+    }
+    val out = model.evaluate(model.encode(ArmSample(q, qd, qdd), body, c.arm.chain.gravity))
+    assert(run("sample") == "0", "sample mode")
+    out.tau.zipWithIndex.foreach { case (t, j) =>
+      val want = c.arm.analysis.outputPortFormat.toDouble(t)
+      assert(
+        run(s"sample.tau${j + 1}").toDouble == want,
+        s"joint ${j + 1}: C ${run(s"sample.tau${j + 1}")}, model $want"
+      )
+    }
+    assert(BigInt(run("sample.out_of_range")) == out.outOfRange.zipWithIndex.collect { case (true, j) =>
+      BigInt(1) << j
+    }.sum)
+    run
+  }
+}
+
+/**
  * The C driver (driver/reducer_load.c) compiled with gcc -std=c99 -Wall -Wextra -Werror -pedantic against the
  * monitored planar arm's generated headers, run against the RTL (MonitoredArmAvalon on Verilator or the JVM
  * simulator) through [[BusFunctionalModel]]: driver calls -> bus requests -> Avalon-MM transactions. The
@@ -182,6 +242,22 @@ class CDriverSpec extends AnyFlatSpec with ChiselScalatestTester {
     assert(first("refuse.write") == "-6", "a 5.5 kg payload with max-mass 5")
     println(
       s"[c driver] seed $seed: payload staged as the port format rounds it, ABB load data within 1 code, 5.5 kg refused"
+    )
+  }
+
+  it should "run the scenario for another simulation (payload round trip, sample mode) on a register-file model" in {
+    val c = ReducerLoadTopDesigns.ur5Payloaded
+    val exe = program(c)
+    val model = new ArmModel(c.arm)
+    val params = c.arm.numerics.parameters
+    val file = new RegisterFileModel(
+      ReducerLoadRegisters(c),
+      Some((codes, committed) => model.evaluate(codes.copy(parameters = params.zip(committed).toMap)))
+    )
+    val seed = Seeds("CDriverSpec scenario", 32)
+    val run = CDriverScenario.run(c, exe, file.read, file.write, seed)
+    println(
+      s"[c driver] seed $seed: scenario on the UR5's register-file model: ${run.reads} reads, ${run.writes} writes"
     )
   }
 
