@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Compile an emitted design with Quartus for EP4CE30F29C6 and run timing analysis.
 # usage: quartus/run_quartus.sh [--sv FILE] [--top MODULE]
-# default: ../generated/LoadDatapath_exact.sv (emit it first with ./sbt run)
+# default: ../generated/reducer_load.sv (emit it first with ./sbt "run emit")
 # Needs Quartus (quartus_sh on the PATH); nothing else in the project does.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-sv="$here/../generated/LoadDatapath_exact.sv"
+sv="$here/../generated/reducer_load.sv"
 top=""
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -16,7 +16,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 command -v quartus_sh >/dev/null 2>&1 || { echo "run_quartus.sh: quartus_sh is not on the PATH (install Quartus Prime Lite with Cyclone IV support)" >&2; exit 2; }
-[ -f "$sv" ] || { echo "run_quartus.sh: $sv does not exist; emit it first: ./sbt run" >&2; exit 2; }
+[ -f "$sv" ] || { echo "run_quartus.sh: $sv does not exist; emit it first: ./sbt \"run emit\"" >&2; exit 2; }
 sv="$(cd "$(dirname "$sv")" && pwd)/$(basename "$sv")"
 [ -n "$top" ] || top="$(basename "$sv" .sv)"
 cd "$here"

@@ -7,7 +7,8 @@ import reducerload.config.Settings
 import reducerload.cordic.CordicSinCos
 import reducerload.compiler.Compiled
 import reducerload.monitor.MonitoredArm
-import reducerload.regmap.{CsrEmitters, CsrFile, ReducerLoadRegisters}
+import reducerload.config.BusKind
+import reducerload.regmap.{CsrEmitters, CsrFile, ReducerLoadAvalon, ReducerLoadAxi, ReducerLoadRegisters}
 import reducerload.util.{InputError, OutputFile}
 
 import java.nio.file.Path
@@ -84,6 +85,36 @@ object Emit {
     }
   }
 
+  /**
+   * The top module of a compiled design, the one place that chooses it (`run emit` and the library): the
+   * `bus.interface` wrapper named `bus.top-name`, or without a bus the monitored arm or the bare datapath.
+   * Its name, and a generator of it.
+   */
+  def topModule(c: Compiled): (String, () => RawModule) = {
+    val arm = c.arm
+    c.config.bus.kind match {
+      case BusKind.Avalon =>
+        (
+          c.config.bus.topName,
+          () => new ReducerLoadAvalon(arm, c.monitor, ReducerLoadRegisters(c), c.config.bus.topName)
+        )
+      case BusKind.Axi =>
+        (
+          c.config.bus.topName,
+          () => new ReducerLoadAxi(arm, c.monitor, ReducerLoadRegisters(c), c.config.bus.topName)
+        )
+      case BusKind.Bare =>
+        c.monitor match {
+          case Some(monitor) => (s"MonitoredArm_${arm.tag}", () => new MonitoredArm(arm, monitor))
+          case None          => (arm.moduleName, () => new ArmDatapath(arm))
+        }
+    }
+  }
+
+  /** `c` without the bus wrapper: the design the simulators' harnesses drive (ports as [[ArmDatapath]]'s). */
+  def bare(c: Compiled): Compiled =
+    c.copy(config = c.config.copy(bus = c.config.bus.copy(kind = BusKind.Bare)))
+
   /** Elaborate and emit in memory; nothing touches the disk. */
   def emit(
       c: Compiled,
@@ -99,13 +130,19 @@ object Emit {
       if (estimate || fmax) Some(Estimate.run(body, module, fmax)) else None
     val arm = c.arm
     val (body, r: EmissionReport) = (top, c.monitor) match {
-      case (Top.Load, Some(monitor)) =>
-        val name = s"MonitoredArm_${arm.tag}"
-        val body = verilog(new MonitoredArm(arm, monitor))
-        (body, ArmReport(arm, name, command, est(body, name), Some(monitor), Some(c.fit)))
-      case (Top.Load, None) =>
-        val body = verilog(new ArmDatapath(arm))
-        (body, ArmReport(arm, arm.moduleName, command, est(body, arm.moduleName), fit = Some(c.fit)))
+      case (Top.Load, monitor) =>
+        val (name, gen) = topModule(c)
+        val body = verilog(gen())
+        val datapath = ArmReport(
+          arm,
+          if (c.config.bus.kind == BusKind.Bare) name
+          else monitor.fold(arm.moduleName)(_ => s"MonitoredArm_${arm.tag}"),
+          command,
+          est(body, name),
+          monitor,
+          Some(c.fit)
+        )
+        (body, if (c.config.bus.kind == BusKind.Bare) datapath else WrapperReport(c, name, datapath))
       case (Top.SinCos, _) =>
         val name = s"CordicSinCos_${c.config.cordic.tag}"
         val body = verilog(new CordicSinCos(c.config.cordic))
@@ -126,7 +163,9 @@ object Emit {
       )
     val registerFiles = (top, c.monitor) match {
       case (Top.Load, Some(_)) => CsrEmitters.all(ReducerLoadRegisters(c), command)
-      case _                   => Nil
+      case (Top.Load, None) if c.config.bus.kind != BusKind.Bare =>
+        CsrEmitters.all(ReducerLoadRegisters(c), command)
+      case _ => Nil
     }
     Emission(r.moduleName, header + body, r.markdown, r.json, config, registerFiles)
   }

@@ -171,7 +171,7 @@ object Simulate {
   def harness(request: SimulateRequest[_, _], elaborated: Option[Future[Emission]]): CompiledHarness = {
     val emission = elaborated
       .map(Await.result(_, Duration.Inf))
-      .getOrElse(Emit.emit(request.compiled, Top.Load, emitCommand))
+      .getOrElse(Emit.emit(Emit.bare(request.compiled), Top.Load, emitCommand))
     val start = System.nanoTime()
     val h = VerilatorHarness.compile(emission.verilog, emission.topModule, request.design.ports)
     val seconds = (System.nanoTime() - start) / 1e9
@@ -189,7 +189,7 @@ object Simulate {
     val compiled = cli.compiled
     val elaborated =
       if (cli.get("engine").forall(_ == ReplayEngine.Rtl.name))
-        Some(Future(Emit.emit(compiled, Top.Load, emitCommand))(ExecutionContext.global))
+        Some(Future(Emit.emit(Emit.bare(compiled), Top.Load, emitCommand))(ExecutionContext.global))
       else None
     val readStart = System.nanoTime()
     val request = prepare(cli, compiled)

@@ -39,7 +39,7 @@ object Soak {
    * The compiled harness of `c`'s design, from exactly the Verilog `run simulate` compiles (shared cache).
    */
   def harness(c: Compiled): CompiledHarness = {
-    val emission = Emit.emit(c, Top.Load, Simulate.emitCommand)
+    val emission = Emit.emit(Emit.bare(c), Top.Load, Simulate.emitCommand)
     VerilatorHarness.compile(emission.verilog, emission.topModule, new ArmReplay(c.arm, c.monitor).ports)
   }
 

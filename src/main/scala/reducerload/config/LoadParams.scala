@@ -38,7 +38,8 @@ final case class LoadParams(
     monitor: MonitorSettings = MonitorSettings(),
     schedule: reducerload.graph.ScheduleRequest = reducerload.graph.ScheduleRequest(),
     targetError: Seq[Double] = Nil,
-    device: DeviceTarget = DeviceTarget()
+    device: DeviceTarget = DeviceTarget(),
+    bus: BusSettings = BusSettings()
 ) {
 
   require(

@@ -574,6 +574,25 @@ object Settings {
     _.device.part
   )
 
+  val busInterface = new Choice(
+    "bus.interface",
+    "",
+    "the wrapper top run emit writes: avalon (Avalon-ST streams, Avalon-MM registers, interrupt: Platform Designer), " +
+      "axi (AXI4-Stream, AXI4-Lite: Vivado) or none (the bare datapath or monitored arm, as before; docs/register-map.md)",
+    Seq("bus"),
+    BusKind.all,
+    (b: BusKind) => b.name,
+    _.bus.kind
+  )
+
+  val busTopName = new Text(
+    "bus.top-name",
+    "",
+    "the wrapper's module name, the same for every robot and setting (bus.interface avalon or axi)",
+    Nil,
+    _.bus.topName
+  )
+
   val deviceMaxLogicFraction = new Real(
     "device.max-logic-fraction",
     "",
@@ -742,6 +761,8 @@ object Settings {
     scheduleAdderUnits,
     deviceName,
     deviceMaxLogicFraction,
+    busInterface,
+    busTopName,
     numericTargetError,
     monitorEnabled,
     monitorExponent,
@@ -879,6 +900,7 @@ object Settings {
         ),
         targetError = v(numericTargetError),
         device = DeviceTarget(v(deviceName), v(deviceMaxLogicFraction)),
+        bus = BusSettings(v(busInterface), v(busTopName)),
         schedule = ScheduleRequest(
           v(scheduleClocksPerSample),
           v(scheduleMaxMultipliers),
@@ -921,7 +943,19 @@ object Settings {
   /** A complete HOCON file for `p`, grouped by section, with units and meanings as comments. */
   def render(p: LoadParams, header: Seq[String]): String = {
     val order =
-      Seq("", "robot", "payload", "gravity", "cordic", "datapath", "numeric", "schedule", "device", "monitor")
+      Seq(
+        "",
+        "robot",
+        "payload",
+        "gravity",
+        "cordic",
+        "datapath",
+        "numeric",
+        "schedule",
+        "device",
+        "bus",
+        "monitor"
+      )
     val body = order.flatMap { section =>
       val settings = all.filter(s => (if (s.key.contains('.')) s.key.takeWhile(_ != '.') else "") == section)
       if (settings.isEmpty) Nil

@@ -3,7 +3,7 @@ package reducerload.regmap
 import chisel3._
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
-import reducerload.arm.{ArmIO, ArmModel, ArmSample}
+import reducerload.arm.{ArmModel, ArmSample}
 import reducerload.dynamics.RandomChains
 import reducerload.graph.SampleCodes
 import reducerload.monitor.{JointField, MonitorCycle, MonitorModel, RegisterKey, TrajectorySummary}
@@ -83,82 +83,46 @@ trait CsrBus {
 }
 
 object CsrBus {
-  private def stream(clock: Clock, io: ArmIO, codes: Seq[SampleCodes]): Int = {
+
+  /** Offer each sample as one beat ([[StreamLayout.input]]) until taken; the output always ready. */
+  private def stream(
+      clock: Clock,
+      p: reducerload.arm.ArmParams,
+      valid: Bool,
+      data: UInt,
+      ready: Bool,
+      codes: Seq[SampleCodes]
+  ): Int = {
     var stalls = 0
     codes.foreach { s =>
-      io.in.valid.poke(true.B)
-      s.angles.indices.foreach { j =>
-        io.in.bits.q(j).poke(s.angles(j).U)
-        io.in.bits.qd(j).poke(s.velocities(j).S)
-        io.in.bits.qdd(j).poke(s.accelerations(j).S)
-      }
-      while (!io.in.ready.peek().litToBoolean) { stalls += 1; clock.step() }
+      valid.poke(true.B)
+      data.poke(StreamLayout.pack(StreamLayout.input(p), s.angles ++ s.velocities ++ s.accelerations).U)
+      while (!ready.peek().litToBoolean) { stalls += 1; clock.step() }
       clock.step()
     }
-    io.in.valid.poke(false.B)
+    valid.poke(false.B)
     stalls
   }
 
-  /** Wait (at most 8 clocks) for `ready`. */
-  private def await(clock: Clock, ready: Bool, what: String): Unit = {
-    var waited = 0
-    while (!ready.peek().litToBoolean) {
-      require(waited < 8, s"$what: no handshake within 8 clocks")
-      clock.step(); waited += 1
-    }
-  }
-
-  def avalon(dut: MonitoredArmAvalon): CsrBus = new CsrBus {
-    private val csr = dut.io.csr
-    csr.read.poke(false.B); csr.write.poke(false.B); dut.io.in.valid.poke(false.B)
-    def write(word: Int, data: BigInt): Unit = {
-      csr.address.poke(word.U); csr.writedata.poke(data.U); csr.write.poke(true.B)
-      dut.clock.step()
-      csr.write.poke(false.B)
-    }
-    def read(word: Int): BigInt = {
-      csr.address.poke(word.U); csr.read.poke(true.B)
-      dut.clock.step()
-      csr.read.poke(false.B)
-      await(dut.clock, csr.readdatavalid, s"read of word $word")
-      csr.readdata.peek().litValue
-    }
-    def stream(codes: Seq[SampleCodes]): Int = CsrBus.stream(dut.clock, dut.io, codes)
-    def irq: Boolean = dut.io.irq.peek().litToBoolean
+  def avalon(dut: ReducerLoadAvalon): CsrBus = new CsrBus {
+    dut.in.valid.poke(false.B); dut.out.ready.poke(true.B)
+    private val mm = new AvalonMm(dut.csr, () => dut.clock.step())
+    def write(word: Int, data: BigInt): Unit = mm.write(word, data)
+    def read(word: Int): BigInt = mm.read(word)
+    def stream(codes: Seq[SampleCodes]): Int =
+      CsrBus.stream(dut.clock, dut.p, dut.in.valid, dut.in.data, dut.in.ready, codes)
+    def irq: Boolean = dut.irq.irq.peek().litToBoolean
     def step(n: Int): Unit = dut.clock.step(n)
   }
 
-  def axiLite(dut: MonitoredArmAxiLite): CsrBus = new CsrBus {
-    private val csr = dut.io.csr
-    Seq(csr.aw.valid, csr.w.valid, csr.ar.valid, csr.b.ready, csr.r.ready, dut.io.in.valid)
-      .foreach(_.poke(false.B))
-    def write(word: Int, data: BigInt): Unit = {
-      csr.aw.bits.poke((4 * word).U); csr.aw.valid.poke(true.B)
-      csr.w.bits.data.poke(data.U); csr.w.bits.strb.poke(0xf.U); csr.w.valid.poke(true.B)
-      await(dut.clock, csr.aw.ready, s"write of word $word")
-      dut.clock.step()
-      csr.aw.valid.poke(false.B); csr.w.valid.poke(false.B)
-      await(dut.clock, csr.b.valid, s"write response of word $word")
-      assert(csr.b.bits.peek().litValue == 0, "write response not OKAY")
-      csr.b.ready.poke(true.B)
-      dut.clock.step()
-      csr.b.ready.poke(false.B)
-    }
-    def read(word: Int): BigInt = {
-      csr.ar.bits.poke((4 * word).U); csr.ar.valid.poke(true.B)
-      await(dut.clock, csr.ar.ready, s"read of word $word")
-      dut.clock.step()
-      csr.ar.valid.poke(false.B)
-      await(dut.clock, csr.r.valid, s"read data of word $word")
-      assert(csr.r.bits.resp.peek().litValue == 0, "read response not OKAY")
-      val data = csr.r.bits.data.peek().litValue
-      csr.r.ready.poke(true.B)
-      dut.clock.step()
-      csr.r.ready.poke(false.B)
-      data
-    }
-    def stream(codes: Seq[SampleCodes]): Int = CsrBus.stream(dut.clock, dut.io, codes)
-    def irq: Boolean = dut.io.irq.peek().litToBoolean
+  def axiLite(dut: ReducerLoadAxi): CsrBus = new CsrBus {
+    dut.in.tvalid.poke(false.B); dut.out.tready.poke(true.B)
+    private val lite = new AxiLiteMaster(dut.csr, () => dut.clock.step())
+    def write(word: Int, data: BigInt): Unit = lite.write(word, data)
+    def read(word: Int): BigInt = lite.read(word)
+    def stream(codes: Seq[SampleCodes]): Int =
+      CsrBus.stream(dut.clock, dut.p, dut.in.tvalid, dut.in.tdata, dut.in.tready, codes)
+    def irq: Boolean = dut.irq.irq.peek().litToBoolean
     def step(n: Int): Unit = dut.clock.step(n)
   }
 }
@@ -171,7 +135,7 @@ object CsrBus {
  * interrupt status, mask, line and W1C.
  */
 class AvalonCsrSpec extends AnyFlatSpec with ChiselScalatestTester {
-  behavior of "MonitoredArmAvalon"
+  behavior of "the reducer_load wrapper's registers (monitored planar3)"
 
   /** The test on any bus: the expected values computed here, the bus driven by the returned check. */
   private def scenario(label: String): CsrBus => Unit = {
@@ -248,7 +212,7 @@ class AvalonCsrSpec extends AnyFlatSpec with ChiselScalatestTester {
   it should "read the identification block and a snapshot of the monitor through Avalon-MM as the models say" in {
     val c = RegMapDesign.compiled
     val check = scenario("avalon")
-    test(new MonitoredArmAvalon(c.arm, c.monitor.get, RegMapDesign.map))
+    test(new ReducerLoadAvalon(c.arm, c.monitor, RegMapDesign.map, "reducer_load"))
       .withAnnotations(SimBackend.annotations) { dut =>
         dut.clock.setTimeout(0)
         check(CsrBus.avalon(dut))
@@ -258,7 +222,7 @@ class AvalonCsrSpec extends AnyFlatSpec with ChiselScalatestTester {
   it should "read and write the same registers through AXI4-Lite (byte addresses, handshakes, responses)" in {
     val c = RegMapDesign.compiled
     val check = scenario("axi4-lite")
-    test(new MonitoredArmAxiLite(c.arm, c.monitor.get, RegMapDesign.map))
+    test(new ReducerLoadAxi(c.arm, c.monitor, RegMapDesign.map, "reducer_load"))
       .withAnnotations(SimBackend.annotations) { dut =>
         dut.clock.setTimeout(0)
         check(CsrBus.axiLite(dut))

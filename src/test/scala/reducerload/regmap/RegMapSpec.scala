@@ -257,15 +257,15 @@ class RegMapSpec extends AnyFlatSpec {
     val c = RegMapDesign.compiled
     val verilog = Emit.withBlackBoxes(
       circt.stage.ChiselStage.emitSystemVerilog(
-        new MonitoredArmAvalon(c.arm, c.monitor.get, map),
+        new ReducerLoadAvalon(c.arm, c.monitor, map, "reducer_load"),
         Array.empty[String],
         Emit.firtoolOpts
       )
     )
     val d = Scratch.dir("regmap-lint-")
-    val sv = d.resolve("MonitoredArmAvalon.sv")
+    val sv = d.resolve("reducer_load.sv")
     Files.write(sv, verilog.getBytes(StandardCharsets.UTF_8))
-    val top = s"MonitoredArmAvalon_${c.arm.tag}"
+    val top = "reducer_load"
     val log = new StringBuilder
     val status =
       Seq("verilator", "--lint-only", "-Wall", "--top-module", top, "lint/waivers.vlt", sv.toString)
@@ -275,7 +275,7 @@ class RegMapSpec extends AnyFlatSpec {
     val lines = verilog.linesIterator.toIndexedSeq
     val first = lines.indexWhere(_.startsWith(s"module $top(")) + 1
     val last = lines.indexWhere(_.startsWith("endmodule"), first) + 1
-    val warning = """%Warning-[A-Z]+: [^:]*MonitoredArmAvalon\.sv:(\d+):.*""".r
+    val warning = """%Warning-[A-Z]+: [^:]*reducer_load\.sv:(\d+):.*""".r
     val (own, others) = log.toString.linesIterator
       .collect { case l @ warning(line) => (line.toInt, l) }
       .toSeq

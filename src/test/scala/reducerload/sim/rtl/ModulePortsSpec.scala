@@ -1,5 +1,7 @@
 package reducerload.sim.rtl
 
+import reducerload.regmap.{ReducerLoadRegisters, WrapperPorts}
+
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.app.{Cli, Emission, Emit, Simulate, Top}
 import reducerload.arm.ArmIO
@@ -26,13 +28,27 @@ class ModulePortsSpec extends AnyFlatSpec {
   it should "name every port of planar3's datapath and monitored arm, and of the sin/cos unit, as firtool does" in {
     val plain = params("--robot", "planar3")
     val arm = plain.arm
-    assert(derived(ModulePorts(new ArmIO(arm))) == inVerilog(Emit.emit(plain, Top.Load, "test")))
+    assert(derived(ModulePorts(new ArmIO(arm))) == inVerilog(Emit.emit(Emit.bare(plain), Top.Load, "test")))
 
     val monitored = params(monitoredPlanar3: _*)
     val io = new MonitoredArmIO(monitored.arm, monitored.monitor.get)
     val ports = ModulePorts(io)
-    assert(derived(ports) == inVerilog(Emit.emit(monitored, Top.Load, "test")))
+    assert(derived(ports) == inVerilog(Emit.emit(Emit.bare(monitored), Top.Load, "test")))
     assert(ports(io.host.readAddress).name == "io_host_readAddress")
+    // The wrappers' port lists (report, packaging) as firtool names them.
+    def wrapper(c: reducerload.compiler.Compiled, bus: reducerload.config.BusKind) = {
+      val ports = bus match {
+        case reducerload.config.BusKind.Axi => WrapperPorts.axi(c.arm, ReducerLoadRegisters(c))
+        case _                              => WrapperPorts.avalon(c.arm, ReducerLoadRegisters(c))
+      }
+      val e = Emit.emit(c.copy(config = c.config.copy(bus = c.config.bus.copy(kind = bus))), Top.Load, "test")
+      assert(
+        ports.map(p => (p.name, if (p.direction == "in") "input" else "output", p.width)) == inVerilog(e),
+        s"${bus.name} wrapper ports"
+      )
+    }
+    wrapper(monitored, reducerload.config.BusKind.Avalon)
+    wrapper(plain, reducerload.config.BusKind.Axi)
     assert(
       ports(io.in.bits.q(2)) == ModulePort("io_in_bits_q_2", PortDirection.In, arm.numerics.angleBits, false)
     )

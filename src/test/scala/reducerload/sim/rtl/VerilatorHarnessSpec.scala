@@ -27,7 +27,7 @@ class VerilatorHarnessSpec extends AnyFlatSpec {
   ).isSuccess
 
   private def emitted(p: LoadParams) =
-    Emit.emit(reducerload.compiler.Compiler.compile(p, "test"), Top.Load, "test")
+    Emit.emit(Emit.bare(reducerload.compiler.Compiler.compile(p, "test")), Top.Load, "test")
 
   /**
    * Golden traces, then seeded random samples (1 in 8 beyond the declared ranges), then every port at its
