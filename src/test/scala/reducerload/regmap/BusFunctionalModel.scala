@@ -24,8 +24,8 @@ final case class BfmRun(exit: Int, results: Map[String, String], reads: Int, wri
  * The bus of a C program as the simulated RTL's: each request line the program writes (`R <byte offset>`, `W
  * <byte offset> <value>`, hexadecimal) becomes `read(word)` or `write(word, data)`, a read's value goes back
  * on its standard input; every other line is a result `key value`. The functions are the only link to the
- * simulator, so the same model serves any DUT with a word-addressed register bus ([[CsrBus]] on
- * MonitoredArmAvalon, or another Avalon-MM slave).
+ * simulator, so the same model serves any DUT with a word-addressed register bus ([[CsrBus]] on the
+ * `reducer_load` wrapper, [[RegisterFileModel]], or another word-addressed slave).
  */
 final class BusFunctionalModel(read: Int => BigInt, write: (Int, BigInt) => Unit) {
   private def word(hexOffset: String): Int = {

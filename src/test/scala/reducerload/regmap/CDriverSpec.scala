@@ -110,11 +110,13 @@ object CDriverScenario {
 
 /**
  * The C driver (driver/reducer_load.c) compiled with gcc -std=c99 -Wall -Wextra -Werror -pedantic against the
- * monitored planar arm's generated headers, run against the RTL (MonitoredArmAvalon on Verilator or the JVM
- * simulator) through [[BusFunctionalModel]]: driver calls -> bus requests -> Avalon-MM transactions. The
- * identification check, a monitor snapshot after seeded samples against MonitorModel fed by ArmModel, torque
- * codes against FixedFormat; the ABB load-data conversion against a rotation built another way. The payload
- * and sample blocks are not in this design's map yet: the driver must say RL_ERR_UNSUPPORTED there.
+ * monitored planar arm's generated headers, run against the RTL (the `reducer_load` Avalon wrapper on
+ * Verilator or the JVM simulator) through [[BusFunctionalModel]]: driver calls -> bus requests -> Avalon-MM
+ * transactions. The identification check, a monitor snapshot after seeded samples against MonitorModel fed by
+ * ArmModel, torque codes against FixedFormat; the ABB load-data conversion against a rotation built another
+ * way; the sample mode through the datapath. The planar arm has no run-time payload (the driver must say
+ * RL_ERR_UNSUPPORTED): the payload round trip runs on the UR5's register-file model, and [[CDriverScenario]]
+ * inside another simulation.
  */
 class CDriverSpec extends AnyFlatSpec with ChiselScalatestTester {
   behavior of "the C driver"
@@ -276,38 +278,46 @@ class CDriverSpec extends AnyFlatSpec with ChiselScalatestTester {
     }
     val codes = samples.map(model.encode)
     val expected = CDriverExpect.monitor(c, AvalonCsrExpect.monitorBank(c, codes))
+    assert(expected("j1.samples") != Left(BigInt(0)), "the stream must reach the monitor")
     val independent = AvalonCsrExpect.independent(c.monitor.get.joints)
-    test(new MonitoredArmAvalon(c.arm, c.monitor.get, map)).withAnnotations(SimBackend.annotations) { dut =>
-      dut.clock.setTimeout(0)
-      val bus = CsrBus.avalon(dut)
-      bus.step(1)
-      bus.stream(codes)
-      bus.step(c.arm.latency + 2)
-      val payload = Seq("1", "0", "0", "0.01", "0.001", "0", "0", "0.001", "0", "0.001")
-      val run = new BusFunctionalModel(bus.read, bus.write)
-        .serve(Seq(exe.toString, "snapshot") ++ ("payload" +: payload))
-      assert(run.exit == 0, s"exit ${run.exit}: ${run.errors}")
-      assert(run("init") == "0")
-      assert(BigInt(run("id.magic")) == independent("id_magic"))
-      assert(BigInt(run("id.version")) == independent("id_version"))
-      assert(BigInt(run("id.joints")) == independent("id_shape"))
-      assert(BigInt(run("id.design_hash")) == ReducerLoadRegisters.designHash(c))
-      assert(run("snapshot") == "0")
-      val wrong = expected.toSeq.sortBy(_._1).flatMap { case (key, want) =>
-        val got = run(key)
-        val ok = want match {
-          case Left(count)                             => BigInt(got) == count
-          case Right(si) if key.endsWith("damage_sum") => math.abs(got.toDouble - si) <= 1e-15 * math.abs(si)
-          case Right(si)                               => got.toDouble == si
+    test(new ReducerLoadAvalon(c.arm, c.monitor, map, "reducer_load"))
+      .withAnnotations(SimBackend.annotations) { dut =>
+        dut.clock.setTimeout(0)
+        val bus = CsrBus.avalon(dut)
+        bus.step(1)
+        bus.stream(codes)
+        bus.step(c.arm.latency + 2)
+        val payload = Seq("1", "0", "0", "0.01", "0.001", "0", "0", "0.001", "0", "0.001")
+        val run = new BusFunctionalModel(bus.read, bus.write)
+          .serve(Seq(exe.toString, "snapshot") ++ ("payload" +: payload))
+        assert(run.exit == 0, s"exit ${run.exit}: ${run.errors}")
+        assert(run("init") == "0")
+        assert(BigInt(run("id.magic")) == independent("id_magic"))
+        assert(BigInt(run("id.version")) == independent("id_version"))
+        assert(BigInt(run("id.joints")) == independent("id_shape"))
+        assert(BigInt(run("id.design_hash")) == ReducerLoadRegisters.designHash(c))
+        assert(run("snapshot") == "0")
+        val wrong = expected.toSeq.sortBy(_._1).flatMap { case (key, want) =>
+          val got = run(key)
+          val ok = want match {
+            case Left(count) => BigInt(got) == count
+            case Right(si) if key.endsWith("damage_sum") =>
+              math.abs(got.toDouble - si) <= 1e-15 * math.abs(si)
+            case Right(si) => got.toDouble == si
+          }
+          if (ok) None else Some(s"$key: C $got, model $want")
         }
-        if (ok) None else Some(s"$key: C $got, model $want")
+        assert(wrong.isEmpty, wrong.mkString("; "))
+        assert(run("payload.write") == unsupported, "the payload block is reserved in this map")
+        println(
+          s"[c driver] seed $seed: ${codes.size} samples, ${expected.size} monitor figures equal, " +
+            s"${run.reads} reads and ${run.writes} writes through the bus"
+        )
+        // The register-driven sample mode on the same RTL, through the datapath, against ArmModel.
+        val sampleRun = CDriverScenario.run(c, exe, bus.read, bus.write, seed)
+        println(
+          s"[c driver] seed $seed: sample mode on reducer_load (Avalon-MM): ${sampleRun("sample.tau1")} N.m"
+        )
       }
-      assert(wrong.isEmpty, wrong.mkString("; "))
-      assert(run("payload.write") == unsupported, "the payload block is reserved in this map")
-      println(
-        s"[c driver] seed $seed: ${codes.size} samples, ${expected.size} monitor figures equal, " +
-          s"${run.reads} reads and ${run.writes} writes through the bus"
-      )
-    }
   }
 }
