@@ -10,7 +10,14 @@ import reducerload.monitor.MonitoredArm
 import reducerload.config.BusKind
 import reducerload.packaging.Packaging
 import reducerload.pipeline.MultiplierImpl
-import reducerload.regmap.{CsrEmitters, CsrFile, ReducerLoadAvalon, ReducerLoadAxi, ReducerLoadRegisters}
+import reducerload.regmap.{
+  CsrEmitters,
+  CsrFile,
+  DriverLayout,
+  ReducerLoadAvalon,
+  ReducerLoadAxi,
+  ReducerLoadRegisters
+}
 import reducerload.util.{InputError, OutputFile}
 
 import java.nio.file.Path
@@ -181,11 +188,15 @@ object Emit {
         c.config,
         Seq("Effective configuration of this emission; regenerate with:", s"  $command")
       )
+    // The register map's files and the C driver's layout tables, for a design with registers.
+    def withRegisters = {
+      val map = ReducerLoadRegisters(c)
+      CsrEmitters.all(map, command) :+ CsrFile(s"${map.name}_layout.h", DriverLayout(c, command))
+    }
     val registerFiles = (top, c.monitor) match {
-      case (Top.Load, Some(_)) => CsrEmitters.all(ReducerLoadRegisters(c), command)
-      case (Top.Load, None) if c.config.bus.kind != BusKind.Bare =>
-        CsrEmitters.all(ReducerLoadRegisters(c), command)
-      case _ => Nil
+      case (Top.Load, Some(_))                                   => withRegisters
+      case (Top.Load, None) if c.config.bus.kind != BusKind.Bare => withRegisters
+      case _                                                     => Nil
     }
     Emission(r.moduleName, header + body, r.markdown, r.json, config, registerFiles ++ component)
   }
