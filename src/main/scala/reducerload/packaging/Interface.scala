@@ -120,9 +120,8 @@ object Interfaces {
     def in(d: Data): Boolean = DataMirror.directionOf(d) == ActualDirection.Input
     d match {
       // A ready/valid (or valid-only) stream of one word: an Avalon-ST or AXI4-Stream endpoint.
-      case r: Record if stream(r) =>
-        val valid = r.elements("valid")
-        val payload = r.elements.get("bits").orElse(r.elements.get("data")).get
+      case r: Record if stream(r).isDefined =>
+        val (valid, payload, ready) = stream(r).get
         val kind = (bus, in(valid)) match {
           case (BusKind.Avalon, true)  => InterfaceKind.AvalonStSink
           case (BusKind.Avalon, false) => InterfaceKind.AvalonStSource
@@ -136,8 +135,9 @@ object Interfaces {
         Interface(
           name,
           kind,
-          Seq(Role.Data -> port(payload), Role.Valid -> port(valid)) ++
-            r.elements.get("ready").map(rd => Role.Ready -> port(rd))
+          Seq(Role.Data -> port(payload), Role.Valid -> port(valid)) ++ ready.map(rd =>
+            Role.Ready -> port(rd)
+          )
         )
       // An Avalon-MM slave: the spec's signal names as fields, the address an input.
       case r: Record
@@ -169,15 +169,21 @@ object Interfaces {
     }
   }
 
-  /** `valid`, a one-word payload (`bits` or `data`) and optionally `ready`: a stream endpoint. */
-  private def stream(r: Record): Boolean = {
+  /**
+   * `valid`, a one-word payload (`bits` or `data`) and optionally `ready`, or the same under AXI4-Stream's
+   * names (`tvalid`, `tdata`, `tready`): a stream endpoint's valid, payload and ready.
+   */
+  private def stream(r: Record): Option[(Data, Data, Option[Data])] = {
     val f = r.elements
-    val payload = f.get("bits").orElse(f.get("data"))
-    val expected =
-      Set("valid", if (f.contains("bits")) "bits" else "data") ++ f.keySet.intersect(Set("ready"))
-    f.get("valid").exists(_.isInstanceOf[Bool]) && payload.exists(
-      _.isInstanceOf[Element]
-    ) && f.keySet == expected
+    Seq(("valid", Seq("bits", "data"), "ready"), ("tvalid", Seq("tdata"), "tready")).flatMap {
+      case (valid, payloads, ready) =>
+        for {
+          v <- f.get(valid).filter(_.isInstanceOf[Bool])
+          name <- payloads.find(f.contains)
+          payload <- f.get(name).filter(_.isInstanceOf[Element])
+          if f.keySet == Set(valid, name) ++ f.keySet.intersect(Set(ready))
+        } yield (v, payload, f.get(ready))
+    }.headOption
   }
 
   /** The channels' handshakes and payloads under their AMBA names; a Bundle payload's fields by name. */

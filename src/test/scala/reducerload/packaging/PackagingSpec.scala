@@ -344,8 +344,8 @@ class PackagingSpec extends AnyFlatSpec {
     }
     val irqLine = tcl.linesIterator.find(_.startsWith("add_interface_port irq ")).get
     val widened = tcl.replace(irqLine, irqLine.replaceAll(" 1$", " 2"))
-    assert(problems(widened).exists(_.contains("io_irq: declared 2 bits")))
-    assert(problems(tcl.replace(irqLine + "\n", "")).exists(_.contains("io_irq: in no interface")))
+    assert(problems(widened).exists(_.contains("irq_irq: declared 2 bits")))
+    assert(problems(tcl.replace(irqLine + "\n", "")).exists(_.contains("irq_irq: in no interface")))
     assert(problems(tcl.replace(irqLine, irqLine + "\n" + irqLine)).exists(_.contains("in 2 interfaces")))
     assert(
       problems(tcl.replace(irqLine, irqLine.replace(" irq Output", " interrupt Output"))).exists(
@@ -353,7 +353,7 @@ class PackagingSpec extends AnyFlatSpec {
       )
     )
     // A command Platform Designer does not have fails under the stubs.
-    assert(runStub(tcl + "add_interface_prot irq io_irq irq Output 1\n")._1 != 0)
+    assert(runStub(tcl + "add_interface_prot irq irq_irq irq Output 1\n")._1 != 0)
   }
 
   /**
@@ -450,7 +450,14 @@ class PackagingSpec extends AnyFlatSpec {
     val axiLite = "AWADDR AWVALID AWREADY WDATA WSTRB WVALID WREADY BRESP BVALID BREADY " +
       "ARADDR ARVALID ARREADY RDATA RRESP RVALID RREADY"
     assert(csr._2.map(_._1).sorted == axiLite.split(' ').toSeq.sorted)
-    assert(buses("irq") == ("interrupt", Seq("INTERRUPT" -> "io_irq")))
+    assert(buses("irq") == ("interrupt", Seq("INTERRUPT" -> "irq_irq")))
+    // The wrapper's sample streams are AXI4-Stream interfaces, not loose ports.
+    Seq("in", "out").foreach(s =>
+      assert(
+        buses(s)._1 == "axis" && buses(s)._2.map(_._1).sorted == Seq("TDATA", "TREADY", "TVALID"),
+        buses(s)
+      )
+    )
     assert(buses("clock")._2 == Seq("CLK" -> "clock") && buses("reset")._2 == Seq("RST" -> "reset"))
     val range = (doc \\ "addressBlock" \ "range").text.toInt
     assert(range == 4 * RegMapDesign.map.words)
