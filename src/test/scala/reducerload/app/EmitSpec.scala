@@ -19,9 +19,12 @@ class EmitSpec extends AnyFlatSpec {
   it should "write the reducer_load wrapper by default, the datapath inside, with its register files" in {
     val d = tempDir()
     Main.run(Seq("emit", "--target-dir", d.toString))
-    val regs = Seq("reducer_load_regs.h", "reducer_load_regs.md", "reducer_load_regs.rdl")
+    // The register map's files, the C driver's layout tables and the Platform Designer component.
+    val regs =
+      Seq("reducer_load_regs.h", "reducer_load_regs.md", "reducer_load_regs.rdl", "reducer_load_layout.h")
     assert(
-      listing(d) == (Seq("config.conf", "reducer_load.sv") ++ regs ++ Seq("report.json", "report.md")).sorted
+      listing(d) == (Seq("config.conf", "reducer_load.sv", "reducer_load_hw.tcl") ++ regs ++
+        Seq("report.json", "report.md")).sorted
     )
     val sv = new String(Files.readAllBytes(d.resolve("reducer_load.sv")), "UTF-8")
     assert(sv.contains("module reducer_load(") && sv.contains("module LoadDatapath_exact("))

@@ -124,7 +124,13 @@ class RegMapSpec extends AnyFlatSpec {
     val d = Scratch.dir("regmap-emit-")
     Main.run(Seq("emit") ++ RegMapDesign.args ++ Seq("--target-dir", d.toString))
     val listing = Files.list(d).iterator().asScala.map(_.getFileName.toString).toSet
-    val files = Seq("reducer_load_regs.h", "reducer_load_regs.md", "reducer_load_regs.rdl")
+    val files = Seq(
+      "reducer_load_regs.h",
+      "reducer_load_regs.md",
+      "reducer_load_regs.rdl",
+      "reducer_load_layout.h",
+      "reducer_load_hw.tcl"
+    )
     assert(files.forall(listing), listing)
     val sv = listing.find(_.endsWith(".sv")).get
     val command =
