@@ -115,22 +115,22 @@ rl_status rl_si_to_angle(double rad, uint32_t *code) {
   return RL_OK;
 }
 
-rl_status rl_si_to_velocity(double rad_s, int32_t *code) {
+/* A port code that fits 32 bits (the qd and qdd ports). */
+static rl_status to_code32(double x, int frac_bits, int width, int32_t *code) {
   int64_t c = 0;
   rl_status s;
   if (code == NULL) return RL_ERR_ARG;
-  s = to_code(rad_s, RL_PORT_QD_FRAC_BITS, RL_PORT_QD_WIDTH, &c);
+  s = to_code(x, frac_bits, width, &c);
   if (s == RL_OK) *code = (int32_t)c;
   return s;
 }
 
+rl_status rl_si_to_velocity(double rad_s, int32_t *code) {
+  return to_code32(rad_s, RL_PORT_QD_FRAC_BITS, RL_PORT_QD_WIDTH, code);
+}
+
 rl_status rl_si_to_acceleration(double rad_s2, int32_t *code) {
-  int64_t c = 0;
-  rl_status s;
-  if (code == NULL) return RL_ERR_ARG;
-  s = to_code(rad_s2, RL_PORT_QDD_FRAC_BITS, RL_PORT_QDD_WIDTH, &c);
-  if (s == RL_OK) *code = (int32_t)c;
-  return s;
+  return to_code32(rad_s2, RL_PORT_QDD_FRAC_BITS, RL_PORT_QDD_WIDTH, code);
 }
 
 /* ---- ABB load data -> payload: I = R diag(ix, iy, iz) R^T, R the rotation of the unit quaternion aom ---- */
@@ -208,6 +208,17 @@ static void parameter_write(const rl_device *dev, int index, int64_t code) {
   for (w = 0; w < pl->words; w++) wr(dev, pl->offset + 4u * (uint32_t)w, (uint32_t)(w < 2 ? raw >> (32 * w) : 0u));
 }
 
+/* Check every value before writing any: a refused set leaves the staged one whole. */
+static rl_status parameters_write(const rl_device *dev, const int *index, const double *v, int n) {
+  int64_t raw[10];
+  int i;
+  rl_status s;
+  for (i = 0; i < n; i++)
+    if ((s = parameter_code(index[i], v[i], &raw[i])) != RL_OK) return s;
+  for (i = 0; i < n; i++) parameter_write(dev, index[i], raw[i]);
+  return RL_OK;
+}
+
 static double parameter_value(const rl_device *dev, int index) {
   const rl_parameter_layout *pl = &rl_parameters[index];
   uint64_t raw = rd(dev, pl->offset);
@@ -221,18 +232,12 @@ rl_status rl_payload_write(const rl_device *dev, const rl_payload *p) {
   static const int index[10] = {RL_PARAM_MASS, RL_PARAM_CX,  RL_PARAM_CY,  RL_PARAM_CZ,  RL_PARAM_IXX,
                                 RL_PARAM_IXY,  RL_PARAM_IXZ, RL_PARAM_IYY, RL_PARAM_IYZ, RL_PARAM_IZZ};
   double v[10];
-  int64_t raw[10];
   int i;
-  rl_status s;
   if (dev == NULL || p == NULL) return RL_ERR_ARG;
   v[0] = p->mass;
   for (i = 0; i < 3; i++) v[1 + i] = p->com[i];
   for (i = 0; i < 6; i++) v[4 + i] = p->inertia[i];
-  /* Check all ten before writing any: a refused payload leaves the staged one whole. */
-  for (i = 0; i < 10; i++)
-    if ((s = parameter_code(index[i], v[i], &raw[i])) != RL_OK) return s;
-  for (i = 0; i < 10; i++) parameter_write(dev, index[i], raw[i]);
-  return RL_OK;
+  return parameters_write(dev, index, v, 10);
 #else
   (void)dev;
   (void)p;
@@ -269,14 +274,8 @@ rl_status rl_payload_read_staged(const rl_device *dev, rl_payload *p) {
 rl_status rl_gravity_write(const rl_device *dev, const double g[3]) {
 #if RL_LAYOUT_PARAMETERS > 0 && RL_PARAM_GX >= 0
   static const int index[3] = {RL_PARAM_GX, RL_PARAM_GY, RL_PARAM_GZ};
-  int64_t raw[3];
-  int i;
-  rl_status s;
   if (dev == NULL || g == NULL) return RL_ERR_ARG;
-  for (i = 0; i < 3; i++)
-    if ((s = parameter_code(index[i], g[i], &raw[i])) != RL_OK) return s;
-  for (i = 0; i < 3; i++) parameter_write(dev, index[i], raw[i]);
-  return RL_OK;
+  return parameters_write(dev, index, g, 3);
 #else
   (void)dev;
   (void)g;

@@ -124,6 +124,12 @@ object FixedFormat {
     else if (raw < min) (min, true)
     else (raw, false)
 
+  /**
+   * The signed value of a `width`-bit two's-complement code given as its unsigned bits (0 <= raw < 2^width).
+   */
+  def fromTwosComplement(raw: BigInt, width: Int): BigInt =
+    if (raw.testBit(width - 1)) raw - (BigInt(1) << width) else raw
+
   /** Clamp to the format: (clamped raw, was it out of range?). Model of FixedHw.saturate. */
   def saturate(raw: BigInt, to: FixedFormat): (BigInt, Boolean) = clamp(raw, to.minRaw, to.maxRaw)
 }

@@ -1,5 +1,7 @@
 package reducerload.monitor
 
+import reducerload.fixedpoint.FixedFormat
+
 /** One per-joint figure of the monitor's state, as the register map and the summary name it. */
 sealed abstract class JointField(val name: String, val meaning: String)
 
@@ -109,7 +111,7 @@ final case class RegisterEntry(
   def decode(ws: Seq[BigInt]): BigInt = {
     require(ws.size == words, s"register $name: ${ws.size} words, expected $words")
     val raw = ws.zipWithIndex.map { case (w, i) => w << (32 * i) }.sum
-    if (signed && raw.testBit(32 * words - 1)) raw - (BigInt(1) << (32 * words)) else raw
+    if (signed) FixedFormat.fromTwosComplement(raw, 32 * words) else raw
   }
 }
 

@@ -1,5 +1,7 @@
 package reducerload.regmap
 
+import reducerload.fixedpoint.FixedFormat
+
 /** A generated file: its name (beside the Verilog) and text. */
 final case class CsrFile(name: String, text: String)
 
@@ -23,7 +25,8 @@ object CsrEmitters {
 
   /** A reset value as the description gives it: hexadecimal, signed fields with their decimal value. */
   def resetText(f: Field): String =
-    if (f.signed && f.reset.testBit(f.width - 1)) s"${hex(f.reset)} (${f.reset - (BigInt(1) << f.width)})"
+    if (f.signed && f.reset.testBit(f.width - 1))
+      s"${hex(f.reset)} (${FixedFormat.fromTwosComplement(f.reset, f.width)})"
     else hex(f.reset)
 
   /** How a field converts, in words. */

@@ -3,6 +3,7 @@ package reducerload.regmap
 import chisel3._
 import chisel3.util._
 import reducerload.arm.{ArmParams, JointSample, PayloadedArm}
+import reducerload.fixedpoint.FixedFormat
 import reducerload.monitor.MonitorParams
 import reducerload.pipeline.MultiplierImpl
 
@@ -60,19 +61,12 @@ object StreamLayout {
   /** The codes of a beat, signed fields sign-extended. */
   def unpack(fields: Seq[StreamField], beat: BigInt): Seq[BigInt] = fields.map { f =>
     val raw = (beat >> f.lsb) & ((BigInt(1) << f.width) - 1)
-    if (f.signed && raw.testBit(f.width - 1)) raw - (BigInt(1) << f.width) else raw
+    if (f.signed) FixedFormat.fromTwosComplement(raw, f.width) else raw
   }
 }
 
-/** An Avalon-ST sink: `data`, `valid` in, `ready` out (ready latency 0). */
-class AvalonStreamSink(width: Int) extends Bundle {
-  val data = Input(UInt(width.W))
-  val valid = Input(Bool())
-  val ready = Output(Bool())
-}
-
-/** An Avalon-ST source: `data`, `valid` out, `ready` in (ready latency 0). */
-class AvalonStreamSource(width: Int) extends Bundle {
+/** An Avalon-ST source: `data`, `valid` out, `ready` in (ready latency 0); `Flipped`, the sink. */
+class AvalonStream(width: Int) extends Bundle {
   val data = Output(UInt(width.W))
   val valid = Output(Bool())
   val ready = Input(Bool())
@@ -83,15 +77,8 @@ class InterruptSender extends Bundle {
   val irq = Output(Bool())
 }
 
-/** An AXI4-Stream slave: `tdata` (a multiple of 8 bits), `tvalid` in, `tready` out. */
-class AxiStreamSlave(width: Int) extends Bundle {
-  val tdata = Input(UInt(width.W))
-  val tvalid = Input(Bool())
-  val tready = Output(Bool())
-}
-
-/** An AXI4-Stream master: `tdata`, `tvalid` out, `tready` in. */
-class AxiStreamMaster(width: Int) extends Bundle {
+/** An AXI4-Stream master: `tdata` (a multiple of 8 bits), `tvalid` out, `tready` in; `Flipped`, the slave. */
+class AxiStream(width: Int) extends Bundle {
   val tdata = Output(UInt(width.W))
   val tvalid = Output(Bool())
   val tready = Input(Bool())
@@ -132,10 +119,11 @@ class ReducerLoadAvalon(
     multiplierImpl: MultiplierImpl
 ) extends Module {
   override def desiredName = topName
-  val in = IO(new AvalonStreamSink(StreamLayout.width(StreamLayout.input(p))))
-  val out = IO(new AvalonStreamSource(StreamLayout.width(StreamLayout.output(p))))
-  val csr = IO(new AvalonSlave(map.addressBits))
-  val irq = IO(new InterruptSender)
+  private val faces = new AvalonInterfaces(p, map)
+  val in = IO(faces.in)
+  val out = IO(faces.out)
+  val csr = IO(faces.csr)
+  val irq = IO(faces.irq)
 
   private val core = Module(new ReducerLoadCore(p, monitor, map))
   core.io.in.valid := in.valid
@@ -157,11 +145,11 @@ class ReducerLoadAxi(val p: ArmParams, val monitor: Option[MonitorParams], val m
     implicit multiplierImpl: MultiplierImpl
 ) extends Module {
   override def desiredName = topName
-  private def bytes(w: Int) = (w + 7) / 8 * 8
-  val in = IO(new AxiStreamSlave(bytes(StreamLayout.width(StreamLayout.input(p)))))
-  val out = IO(new AxiStreamMaster(bytes(StreamLayout.width(StreamLayout.output(p)))))
-  val csr = IO(new AxiLiteSlave(map.addressBits + 2))
-  val irq = IO(new InterruptSender)
+  private val faces = new AxiInterfaces(p, map)
+  val in = IO(faces.in)
+  val out = IO(faces.out)
+  val csr = IO(faces.csr)
+  val irq = IO(faces.irq)
 
   private val core = Module(new ReducerLoadCore(p, monitor, map))
   core.io.in.valid := in.tvalid
@@ -174,6 +162,35 @@ class ReducerLoadAxi(val p: ArmParams, val monitor: Option[MonitorParams], val m
   bridge.io.axi <> csr
   core.io.csr <> bridge.io.avalon
   irq.irq := core.io.irq
+}
+
+/**
+ * A wrapper's interfaces, declared once: the module takes its IO from here and [[WrapperPorts]] lists the
+ * same Bundles for the report without elaborating. Each call is a fresh Chisel type.
+ */
+sealed abstract class WrapperInterfaces {
+  def in: Data
+  def out: Data
+  def csr: Data
+  def irq: InterruptSender = new InterruptSender
+  def all: Seq[(String, Data)] = Seq("in" -> in, "out" -> out, "csr" -> csr, "irq" -> irq)
+}
+
+/** Avalon-ST sink and source (one sample per beat), Avalon-MM slave (word addresses), interrupt. */
+final class AvalonInterfaces(p: ArmParams, map: CsrMap) extends WrapperInterfaces {
+  def in: AvalonStream = Flipped(new AvalonStream(StreamLayout.width(StreamLayout.input(p))))
+  def out: AvalonStream = new AvalonStream(StreamLayout.width(StreamLayout.output(p)))
+  def csr: AvalonSlave = new AvalonSlave(map.addressBits)
+}
+
+/**
+ * AXI4-Stream slave and master (`tdata` padded to whole bytes), AXI4-Lite slave (byte addresses), interrupt.
+ */
+final class AxiInterfaces(p: ArmParams, map: CsrMap) extends WrapperInterfaces {
+  private def bytes(w: Int) = (w + 7) / 8 * 8
+  def in: AxiStream = Flipped(new AxiStream(bytes(StreamLayout.width(StreamLayout.input(p)))))
+  def out: AxiStream = new AxiStream(bytes(StreamLayout.width(StreamLayout.output(p))))
+  def csr: AxiLiteSlave = new AxiLiteSlave(map.addressBits + 2)
 }
 
 /** A port of the wrapper: its Verilog name, direction ("in" or "out") and width. */
@@ -216,21 +233,7 @@ object WrapperPorts {
       interfaces.flatMap { case (n, d) => flatten(n, d, flip = false, None) }
   }
 
-  def avalon(p: ArmParams, map: CsrMap): Seq[WrapperPort] = of(
-    Seq(
-      "in" -> new AvalonStreamSink(StreamLayout.width(StreamLayout.input(p))),
-      "out" -> new AvalonStreamSource(StreamLayout.width(StreamLayout.output(p))),
-      "csr" -> new AvalonSlave(map.addressBits),
-      "irq" -> new InterruptSender
-    )
-  )
+  def avalon(p: ArmParams, map: CsrMap): Seq[WrapperPort] = of(new AvalonInterfaces(p, map).all)
 
-  def axi(p: ArmParams, map: CsrMap): Seq[WrapperPort] = of(
-    Seq(
-      "in" -> new AxiStreamSlave((StreamLayout.width(StreamLayout.input(p)) + 7) / 8 * 8),
-      "out" -> new AxiStreamMaster((StreamLayout.width(StreamLayout.output(p)) + 7) / 8 * 8),
-      "csr" -> new AxiLiteSlave(map.addressBits + 2),
-      "irq" -> new InterruptSender
-    )
-  )
+  def axi(p: ArmParams, map: CsrMap): Seq[WrapperPort] = of(new AxiInterfaces(p, map).all)
 }

@@ -9,7 +9,7 @@ import reducerload.dynamics.{RandomChains, Rnea}
 import reducerload.fixedpoint.Rounding
 import reducerload.graph.{InertialParameter, SampleCodes, ScheduleRequest, Signal, Storage}
 import reducerload.robot.{Mat3, RigidBody, Vec3}
-import reducerload.testutil.{ArmGolden, Seeds, SimBackend}
+import reducerload.testutil.{ArmGolden, PayloadDesigns, Seeds, SimBackend}
 
 import scala.collection.mutable.ArrayBuffer
 import scala.util.Random
@@ -280,17 +280,7 @@ class PayloadedArmSpec extends AnyFlatSpec with ChiselScalatestTester {
 
   it should "compute every UR5 sample with the payload and gravity committed when it was taken, bit-exact " +
     "with the model, and say which" in {
-      val p = Compiler.arm(
-        ArmGolden
-          .of("ur5")
-          .head
-          .config
-          .copy(
-            payload = PayloadSettings(enabled = true, maxMass = 5.0),
-            gravity = GravitySettings(runtime = true),
-            schedule = ScheduleRequest(clocksPerSample = Some(88), storage = Some(Storage.Memory))
-          )
-      )
+      val p = Compiler.arm(PayloadDesigns.ur5)
       stream("ur5", p, goldenRows("ur5", pickEvery = 10, random = 20), 3105L)
     }
 

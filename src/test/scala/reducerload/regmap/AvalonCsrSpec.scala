@@ -19,6 +19,18 @@ import scala.util.Random
 object AvalonCsrExpect {
 
   /**
+   * `n` seeded samples, sample i within `scale(i)` times the declared ranges (beyond 1: clamped, flagged).
+   */
+  def samples(c: reducerload.compiler.Compiled, rng: Random, n: Int)(
+      scale: Int => Double
+  ): IndexedSeq[ArmSample] =
+    IndexedSeq.tabulate(n) { i =>
+      val (q, qd, qdd) =
+        RandomChains.sample(rng, c.arm.maxVelocity.map(_ * scale(i)), c.arm.maxAcceleration.map(_ * scale(i)))
+      ArmSample(q, qd, qdd)
+    }
+
+  /**
    * Every identification register's value, from the description (its constants are what the RTL must hold).
    */
   def id(map: CsrMap): Seq[(PlacedRegister, BigInt)] =
@@ -145,12 +157,7 @@ class AvalonCsrSpec extends AnyFlatSpec with ChiselScalatestTester {
     val seed = Seeds(s"AvalonCsrSpec $label", 32)
     val rng = new Random(seed)
     val model = new ArmModel(c.arm)
-    val samples = IndexedSeq.tabulate(SimBackend.scale(300)) { i =>
-      val scale = if (i % 25 == 7) 1.4 else 0.95
-      val (q, qd, qdd) =
-        RandomChains.sample(rng, c.arm.maxVelocity.map(_ * scale), c.arm.maxAcceleration.map(_ * scale))
-      ArmSample(q, qd, qdd)
-    }
+    val samples = AvalonCsrExpect.samples(c, rng, SimBackend.scale(300))(i => if (i % 25 == 7) 1.4 else 0.95)
     val codes = samples.map(model.encode)
     val outOfRange = codes.count(s => model.evaluate(s).outOfRange.exists(identity))
     val bank = AvalonCsrExpect.monitorBank(c, codes)

@@ -87,7 +87,7 @@ final class RegisterFileModel(
   private def code(r: PlacedRegister): BigInt = {
     val f = r.register.fields.head
     val raw = (values(r.word) & f.mask) >> f.lsb
-    if (f.signed && raw.testBit(f.width - 1)) raw - (BigInt(1) << f.width) else raw
+    if (f.signed) reducerload.fixedpoint.FixedFormat.fromTwosComplement(raw, f.width) else raw
   }
   private var committed: IndexedSeq[BigInt] =
     bySource { case Source.Parameter(_, 0) => true; case _ => false }.map(r => code(r)).toIndexedSeq

@@ -270,12 +270,7 @@ class CDriverSpec extends AnyFlatSpec with ChiselScalatestTester {
     val seed = Seeds("CDriverSpec monitor", 32)
     val rng = new Random(seed)
     val model = new ArmModel(c.arm)
-    val samples = IndexedSeq.tabulate(SimBackend.scale(200)) { i =>
-      val scale = if (i % 20 == 3) 1.3 else 0.97
-      val (q, qd, qdd) =
-        RandomChains.sample(rng, c.arm.maxVelocity.map(_ * scale), c.arm.maxAcceleration.map(_ * scale))
-      ArmSample(q, qd, qdd)
-    }
+    val samples = AvalonCsrExpect.samples(c, rng, SimBackend.scale(200))(i => if (i % 20 == 3) 1.3 else 0.97)
     val codes = samples.map(model.encode)
     val expected = CDriverExpect.monitor(c, AvalonCsrExpect.monitorBank(c, codes))
     assert(expected("j1.samples") != Left(BigInt(0)), "the stream must reach the monitor")
