@@ -101,6 +101,33 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       VecInit(sorted.map(_._2))(select)
     }
 
+  /**
+   * A shared unit's operand in each phase, multiplexed among its distinct sources (operations that read one
+   * register share an input: [[BindingProblem]] binds them to one unit so). The select is a register loaded
+   * in the cycle before with the next phase's source, decoded from the phase flags: the decode is off the
+   * multiplexer's path. It resets to residue 0's source, the phase of the first cycle after reset.
+   */
+  private def bySource(entries: Seq[(Int, PortSource, SInt)]): SInt = {
+    val sources = entries.map(_._2).distinct
+    if (sources.size == 1) entries.head._3
+    else {
+      val inputs = sources.map(src => entries.find(_._2 == src).get._3)
+      val byResidue = entries.map { case (r, src, _) => r -> sources.indexOf(src) }.toMap
+      // residues nothing uses repeat the source before them (as byPhase)
+      val index = (0 until ii)
+        .scanLeft(byResidue(entries.map(_._1).min))((prev, r) => byResidue.getOrElse(r, prev))
+        .tail
+      // each select bit: the OR of the phase flags of the residues before those that set it (a table indexed
+      // by the phase would be a ROM, and a block RAM each for the open-tool estimate)
+      val w = log2Ceil(sources.size)
+      val next =
+        (0 until w).map(b => (0 until ii).filter(r => (index((r + 1) % ii) >> b & 1) == 1).map(phaseIs))
+      val select = RegInit(index(0).U(w.W))
+      select := VecInit(next.map(rs => if (rs.isEmpty) false.B else rs.reduce(_ || _))).asUInt
+      VecInit(inputs)(select)
+    }
+  }
+
   /** Cycles a registered select is looked up ahead of its use: the lookup, then a hop. */
   private val selectAhead = 2
 
@@ -260,21 +287,19 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
     schedule.mulBindings.zipWithIndex.foreach { case (bound, u) =>
       val shape = shapeOfUnit(u)
-      def operands(id: NodeId): (SInt, SInt) = {
-        val Mul(a, b) = graph(id): @unchecked
-        val r = schedule.slot(id).get.issue
-        def tap(x: NodeId) = graph(x) match {
-          case Const(_) => constant(x)
-          case _        => values(x.index)(r)
-        }
-        val (wide, narrow) =
-          if (analysis(a).format.width >= analysis(b).format.width) (tap(a), tap(b)) else (tap(b), tap(a))
-        (wide.pad(shape.wide), narrow.pad(shape.narrow))
-      }
-      def select(pick: ((SInt, SInt)) => SInt): SInt = byPhase(bound.map { case (r, id) =>
-        r -> pick(operands(id))
+      def port(k: Int, width: Int): SInt = bySource(bound.map { case (r, id) =>
+        val x = if (k == 0) schedule.ports(id)._1 else schedule.ports(id)._2
+        val issue = schedule.slot(id).get.issue
+        (
+          r,
+          schedule.portSource(x, issue),
+          (graph(x) match {
+            case Const(_) => constant(x)
+            case _        => values(x.index)(issue)
+          }).pad(width)
+        )
       })
-      val product = PipelinedMultiplier(select(_._1), select(_._2))
+      val product = PipelinedMultiplier(port(0, shape.wide), port(1, shape.narrow))
       products(u) := FixedHw.delay(product, p.multiplierLatency - 1)
     }
     // An output may be a constant (a joint whose torque folds to zero: nothing it moves has mass).

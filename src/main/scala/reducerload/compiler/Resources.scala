@@ -256,7 +256,10 @@ object ResourceModel {
       if (s.dedicated) 0.0
       else
         s.mulBindings.indices
-          .map(u => math.max(0, s.mulBindings(u).size - 1) * (units(u).wide + units(u).narrow))
+          .map { u =>
+            val Seq(wide, narrow) = s.portSources(u): @unchecked
+            math.max(0, wide.size - 1) * units(u).wide + math.max(0, narrow.size - 1) * units(u).narrow
+          }
           .sum
           .toDouble
     p.banked match {

@@ -447,8 +447,42 @@ final class Schedule(
   val ready: IndexedSeq[Option[Int]] = state.ready
   def apply(id: NodeId): Option[Int] = ready(id.index)
 
+  /** A multiply's operands in the order of its unit's ports: the wider first (the first on a tie). */
+  def ports(id: NodeId): (NodeId, NodeId) = {
+    val Mul(a, b) = graph(id): @unchecked
+    if (analysis(a).format.width >= analysis(b).format.width) (a, b) else (b, a)
+  }
+
+  /** What a unit's port reads for operand `x` of an operation issued in cycle `issue`. */
+  def portSource(x: NodeId, issue: Int): PortSource =
+    if (isConst(x)) PortSource.Literal(x) else PortSource.Held(x, (issue - ready(x.index).get) / ii)
+
+  /**
+   * Each shared multiply's unit: with registers storage, the list scheduler's binding improved so that the
+   * units' operand multiplexers have the fewest inputs ([[BindingProblem]]; no cycle changes); dedicated
+   * units and memory storage (whose banks are bound with the units) keep the scheduler's.
+   */
+  private lazy val boundUnit: Map[NodeId, Int] =
+    if (dedicated || request.stored != Storage.Registers) Map.empty
+    else {
+      val problem = BindingProblem(
+        muls.map { id =>
+          val issue = state.slots(id.index).get.issue
+          val (wide, narrow) = ports(id)
+          BindOp(
+            classUnits(classOf(id)),
+            issue % ii,
+            IndexedSeq(portSource(wide, issue), portSource(narrow, issue))
+          )
+        },
+        u => IndexedSeq(unitShapes(u).wide, unitShapes(u).narrow)
+      )
+      muls.zip(problem.best(muls.map(id => state.slots(id.index).get.unit.get))).toMap
+    }
+
   /** Each node's issue: the cycle it reads its operands, and its unit. */
-  def slot(id: NodeId): Option[Slot] = state.slots(id.index)
+  def slot(id: NodeId): Option[Slot] =
+    state.slots(id.index).map(sl => boundUnit.get(id).fold(sl)(u => sl.copy(unit = Some(u))))
 
   /** Each angle's CORDIC unit and issue cycle. */
   def angleSlot(angle: AngleSum): Slot = state.angleSlots(angle)
@@ -461,7 +495,7 @@ final class Schedule(
 
   /** Cycles at which each node is read: by its users at their issue, and by the output stage. */
   val reads: IndexedSeq[Seq[Int]] = {
-    val byUsers = ids.flatMap(id => graph(id).operands.map(x => x.index -> slot(id).get.issue))
+    val byUsers = ids.flatMap(id => graph(id).operands.map(x => x.index -> state.slots(id.index).get.issue))
     val byOutputs = graph.outputs.map(o => o.node.index -> outputsReady)
     val all = (byUsers ++ byOutputs).groupMap(_._1)(_._2)
     ids.map(id => all.getOrElse(id.index, Nil).distinct.sorted)
@@ -472,10 +506,23 @@ final class Schedule(
     angles.filter(_.joints.contains(j)).map(a => angleSlot(a).issue).distinct.sorted
 
   /** Multiplies bound to each multiplier unit, with their residues. */
-  val mulBindings: IndexedSeq[Seq[(Int, NodeId)]] = {
+  lazy val mulBindings: IndexedSeq[Seq[(Int, NodeId)]] = {
     val bound =
       muls.map(id => slot(id).get).zip(muls).groupMap(_._1.unit.get) { case (sl, id) => (sl.issue % ii, id) }
     (0 until multiplierUnits).map(u => bound.getOrElse(u, Nil).sortBy(_._1))
+  }
+
+  /**
+   * The distinct sources of each port of unit `u` (wide, narrow): its operand multiplexers' inputs (one per
+   * operation at II = 1).
+   */
+  def portSources(u: Int): IndexedSeq[Seq[PortSource]] = {
+    val bound = mulBindings(u).map(_._2)
+    def on(k: Int) = bound.map { id =>
+      val x = if (k == 0) ports(id)._1 else ports(id)._2
+      portSource(x, slot(id).get.issue)
+    }.distinct
+    IndexedSeq(on(0), on(1))
   }
 
   /** Angles bound to each CORDIC unit, with their residues. */
