@@ -23,6 +23,7 @@ Run from the repository root (the venv of golden/requirements-arms.txt):
     .venv-golden/bin/python tools/bench/pinocchio_rnea.py [--cpp]
 """
 import argparse
+import csv
 import glob
 import hashlib
 import os
@@ -126,6 +127,7 @@ def main():
     parser.add_argument("--cpp", action="store_true", help="also time from C++ (compiles pinocchio_rnea.cpp)")
     parser.add_argument("--codegen", action="store_true",
                         help="also time RNEA generated per robot with its constants folded (CasADi -> C, gcc -O3 -march=native)")
+    parser.add_argument("--csv", help="also write the rows to this CSV (docs/sweep/cpu.csv: the sweep's CPU anchors)")
     parser.add_argument("--build-dir", default=os.path.join(ROOT, "target", "bench"),
                         help="where --cpp keeps the compiled benchmark and model files (default target/bench)")
     args = parser.parse_args()
@@ -154,6 +156,7 @@ def main():
     print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     print(f"| (empty model: binding overhead) | 0 | {overhead * 1e6:.3f} | {1 / overhead:,.0f} | - | - | - | - | - "
           f"| {overhead_best * 1e6:.3f} / - / - |")
+    rows = []
     for name, model in models:
         t, t_best = time_per_call(model, args.calls, args.reps)
         c, c_best = cpp.get(name, (None, None))
@@ -162,7 +165,25 @@ def main():
         rate = lambda x: "-" if x is None else f"{1 / x:,.0f}"
         print(f"| {name} | {model.nv} | {us(t)} | {rate(t)} | {us(c)} | {rate(c)} | {us(g)} | {rate(g)} "
               f"| {'-' if ops is None else ops} | {us(t_best)} / {us(c_best)} / {us(g_best)} |")
-    print(f"\nload average after the run: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+        for engine, (x, best), n in [("pinocchio-python", (t, t_best), ""), ("pinocchio-cpp", (c, c_best), ""),
+                                     ("generated-c", (g, g_best), "" if ops is None else ops)]:
+            if x is not None:
+                rows.append([name, model.nv, engine, f"{x * 1e6:.3f}", f"{1 / x:.0f}", f"{best * 1e6:.3f}", n])
+    load = " ".join(f"{x:.2f}" for x in os.getloadavg())
+    print(f"\nload average after the run: {load}")
+    if args.csv:
+        # the machine and the load beside every row: a CPU figure means little without them
+        # no commas: the sweep reads the file as plain comma-separated cells
+        machine = f"{cpu_model()} ({os.cpu_count()} CPUs: 1 used; load after {load})".replace(",", " ")
+        tmp = args.csv + ".tmp"
+        with open(tmp, "w", newline="") as out:
+            w = csv.writer(out)
+            w.writerow(["robot", "joints", "engine", "us_per_call", "calls_per_s", "us_fastest_rep", "operations",
+                        "machine"])
+            for r in rows:
+                w.writerow(r + [machine])
+        os.replace(tmp, args.csv)
+        print(f"wrote {args.csv}")
 
 
 if __name__ == "__main__":

@@ -2,7 +2,8 @@ package reducerload.app
 
 import circt.stage.ChiselStage
 import reducerload.arm.{ArmDatapath, ArmGolden, ArmModel, ArmParams}
-import reducerload.graph.{ScheduleRequest, Storage}
+import reducerload.config.LoadParams
+import reducerload.graph.{ListOrder, Reassociation, ScheduleRequest, Storage}
 import reducerload.util.{InputError, OutputFile}
 
 import java.nio.file.Path
@@ -28,26 +29,57 @@ object ArmSweep {
   val robots: Seq[String] = Seq("planar3", "ur5", "panda")
 
   /**
-   * The schedule axis: intervals from one clock to hundreds, and the fewest clocks within an EP4CE30's 66
-   * blocks; then two of them with the fraction bits fitted to 1e-3 N·m (`numeric.target-error`); then values
-   * in block-RAM banks (`schedule.storage = memory`) at 1e-3 N·m from 32 to 512 clocks (88: the UR5 design
-   * that meets issue 12's targets; 114: the Panda's, and at 114 with 5 adder units, which the Panda's latency
-   * target needs).
+   * One point of the schedule axis: its name, the schedule asked for, the per-torque error target (none: the
+   * default fraction bits) and whether sums are rebuilt as trees (`datapath.reassociate`).
    */
-  val schedules: Seq[(String, ScheduleRequest, Seq[Double])] =
-    Seq(1, 4, 16, 64, 256).map(c => (s"ii$c", ScheduleRequest(clocksPerSample = Some(c)), Nil)) ++ Seq(
-      ("budget66", ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)), Nil),
-      ("budget66-t1e-3", ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)), Seq(1e-3)),
-      ("ii64-t1e-3", ScheduleRequest(clocksPerSample = Some(64)), Seq(1e-3))
+  final case class Point(
+      name: String,
+      request: ScheduleRequest,
+      targetError: Seq[Double] = Nil,
+      reassociate: Reassociation = Reassociation.Off
+  ) {
+
+    /** The robot's golden-trace configuration with this point's settings. */
+    def config(base: LoadParams): LoadParams =
+      base.copy(
+        targetError = targetError,
+        schedule = request,
+        datapath = base.datapath.copy(reassociate = reassociate)
+      )
+  }
+
+  /**
+   * The schedule axis: intervals from one clock to hundreds, and the fewest clocks within an EP4CE30's 66
+   * blocks; then two of them with the fraction bits fitted to 1e-3 N·m (`numeric.target-error`); then the
+   * fewest clocks within 66 blocks at 1e-3 with the shortest latency (sums rebuilt as trees, the list placed
+   * by height: issue 33's UR5 point); then values in block-RAM banks (`schedule.storage = memory`) at 1e-3
+   * N·m from 32 to 512 clocks (88: the UR5 design that meets issue 12's targets; 114: the Panda's, and at 114
+   * with 5 adder units, which the Panda's latency target needs).
+   */
+  val schedules: Seq[Point] =
+    Seq(1, 4, 16, 64, 256).map(c => Point(s"ii$c", ScheduleRequest(clocksPerSample = Some(c)))) ++ Seq(
+      Point("budget66", ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66))),
+      Point("budget66-t1e-3", ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)), Seq(1e-3)),
+      Point("ii64-t1e-3", ScheduleRequest(clocksPerSample = Some(64)), Seq(1e-3)),
+      Point(
+        "fast66-t1e-3",
+        ScheduleRequest(
+          clocksPerSample = None,
+          maxMultipliers = Some(66),
+          listOrder = Some(ListOrder.ByHeight)
+        ),
+        Seq(1e-3),
+        Reassociation.Sums
+      )
     ) ++
       Seq(32, 64, 88, 114, 128, 512).map(c =>
-        (
+        Point(
           s"mem-ii$c-t1e-3",
           ScheduleRequest(clocksPerSample = Some(c), storage = Some(Storage.Memory)),
           Seq(1e-3)
         )
       ) :+
-      (
+      Point(
         "mem-ii114-a5-t1e-3",
         ScheduleRequest(clocksPerSample = Some(114), storage = Some(Storage.Memory), adderUnits = Some(5)),
         Seq(1e-3)
@@ -132,19 +164,78 @@ object ArmSweep {
    * arms.md from the cells of arms.csv and the command that made them: a function of the CSV alone, so the
    * docs' freshness test can regenerate the committed markdown from the committed CSV.
    */
-  def markdown(cells: Seq[Seq[String]], fmax: Boolean, command: String): String =
+  def markdown(
+      cells: Seq[Seq[String]],
+      fmax: Boolean,
+      command: String,
+      cpu: Option[Seq[Seq[String]]] = None
+  ): String =
     (Seq(
       s"Arm sweep ${if (fmax) "with" else "without"} the ECP5 Fmax proxy. Regenerate: `$command`.",
       s"Latency in ns and samples/s at ${if (fmax) "the Fmax proxy" else s"$nominalMhz MHz"}. Errors: max |torque - Pinocchio| over the golden " +
         "traces per joint (bit-accurate model, equal to the RTL); bound: derived worst case over the declared ranges.",
       "Resources: open-tool Cyclone IV E estimate (tools/estimate/README.md); mult_blocks: the schedule's 18x18 blocks; est_m9k: the estimate's 9-kbit M9K blocks. EP4CE30: 28,848 LEs, 66 multipliers, 66 M9K blocks.",
       ""
-    ) ++ Sweep.table(cells)).mkString("", "\n", "\n")
+    ) ++ Sweep.table(cells) ++ cpu.toSeq.flatMap(c =>
+      Seq(
+        "",
+        "Beside the CPU (cpu.csv, `tools/bench/pinocchio_rnea.py --codegen --csv docs/sweep/cpu.csv`: plain " +
+          "Pinocchio and RNEA generated with the robot's constants folded, one core of the machine named):",
+        ""
+      ) ++ anchors(cells, c)
+    )).mkString("", "\n", "\n")
+
+  /**
+   * The FPGA beside the CPU, per robot of `cpu` (the rows tools/bench/pinocchio_rnea.py --csv wrote,
+   * docs/sweep/cpu.csv): the sweep's points that fit an EP4CE30 (multiplier blocks, estimated LEs and M9K
+   * within it) with the most samples/s and with the least latency, then each CPU engine, one sample a call. A
+   * function of the two CSVs: arms.md and the README's table are made from it.
+   */
+  def anchors(arms: Seq[Seq[String]], cpu: Seq[Seq[String]], detail: Boolean = true): Seq[String] = {
+    def rows(cells: Seq[Seq[String]]) = cells.tail.map(r => cells.head.zip(r).toMap)
+    val device = reducerload.config.Device.EP4CE30
+    val fits = rows(arms).filter(r =>
+      r("mult_blocks").toInt <= device.multiplierBlocks && r("est_les").toInt <= device.logicElements &&
+        r("est_m9k").toInt <= device.memoryBlocks
+    )
+    val engines = rows(cpu)
+    def rate(x: Double) = f"${x / 1e6}%.2f M"
+    val header = Seq("robot", "engine", "samples/s", "latency (us)", "what")
+    val lines = engines.map(_("robot")).distinct.flatMap { robot =>
+      val mine = fits.filter(_("robot") == robot)
+      // the fastest (of equal rates the shorter latency), then the shortest latency (of equal, the faster)
+      val fastest = mine.maxByOption(r => (r("samples_per_s").toDouble, -r("latency_ns").toDouble))
+      val shortest = mine.minByOption(r => (r("latency_ns").toDouble, -r("samples_per_s").toDouble))
+      val fpga = (fastest.toSeq ++ shortest.toSeq).distinct.map { r =>
+        val clock =
+          if (r("fmax_ecp5_mhz").isEmpty) s"$nominalMhz MHz assumed"
+          else s"${r("fmax_ecp5_mhz")} MHz ECP5 proxy"
+        Seq(
+          robot,
+          s"EP4CE30, `${r("schedule")}`",
+          rate(r("samples_per_s").toDouble),
+          f"${r("latency_ns").toDouble / 1000}%.2f",
+          s"${r("clocks_per_sample")} clocks per sample, ${r("latency_cycles")} cycles, $clock; " +
+            s"${r("mult_blocks")} blocks, ~${r("est_les")} LEs, ${r("est_m9k")} M9K; max error ${r("max_error_nm")} N·m"
+        )
+      }
+      fpga ++ engines.filter(_("robot") == robot).map { e =>
+        Seq(
+          robot,
+          e("engine"),
+          rate(e("calls_per_s").toDouble),
+          f"${e("us_per_call").toDouble}%.2f",
+          (if (e("operations").isEmpty) "" else s"${e("operations")} operations; ") + e("machine")
+        )
+      }
+    }
+    Sweep.table(if (detail) header +: lines else (header +: lines).map(_.take(4)))
+  }
 
   /** Which points a sweep covers: every robot and schedule, or the ones `--robots` and `--schedules` name. */
   final case class Selection(robots: Seq[String], schedules: Seq[String])
   object Selection {
-    val all: Selection = Selection(ArmSweep.robots, ArmSweep.schedules.map(_._1))
+    val all: Selection = Selection(ArmSweep.robots, ArmSweep.schedules.map(_.name))
 
     /** From comma-separated lists (None: all), each name checked against the sweep's own. */
     def of(robotList: Option[String], scheduleList: Option[String]): Selection = {
@@ -158,7 +249,7 @@ object ArmSweep {
       }
       Selection(
         names("robots", robotList, ArmSweep.robots),
-        names("schedules", scheduleList, ArmSweep.schedules.map(_._1))
+        names("schedules", scheduleList, ArmSweep.schedules.map(_.name))
       )
     }
   }
@@ -200,9 +291,9 @@ object ArmSweep {
       val config = ArmGolden.of(robot).head.config
       // Fitted with its own schedule: per-node fraction-bit caps are kept only where they make that schedule cheaper.
       val points =
-        schedules.filter(s => selection.schedules.contains(s._1)).map { case (point, request, target) =>
-          point -> reducerload.compiler.Compiler.arm(config.copy(targetError = target, schedule = request))
-        }
+        schedules
+          .filter(s => selection.schedules.contains(s.name))
+          .map(point => point.name -> reducerload.compiler.Compiler.arm(point.config(config)))
       // The errors depend on the numerics only: measured once per distinct fit.
       def numericsOf(p: ArmParams) = (p.numerics, p.fracBitLimits)
       val errorsOf =
@@ -239,10 +330,20 @@ object ArmSweep {
     rows
   }
 
+  /** The CPU anchors beside a sweep's output (`cpu.csv` in its directory), if there. */
+  def cpuAnchors(dir: Path): Option[Seq[Seq[String]]] = {
+    val file = dir.resolve("cpu.csv")
+    Option.when(java.nio.file.Files.exists(file))(
+      Sweep.cellsOf(
+        new String(java.nio.file.Files.readAllBytes(file), java.nio.charset.StandardCharsets.UTF_8)
+      )
+    )
+  }
+
   /** The sweep's files from its rows: the one writer of arms.csv, arms.md and the plot. */
   def write(out: Path, rows: Seq[Row], fmax: Boolean, command: String): Unit = {
     val cells = header +: rows.map(_.cells)
-    val md = markdown(cells, fmax, command)
+    val md = markdown(cells, fmax, command, cpuAnchors(out))
     OutputFile.writeAll(out, Seq("arms.csv" -> Sweep.csv(cells), "arms.md" -> md))
     println(md)
     val plot = Seq("python3", "tools/sweep/plot_arms.py", out.resolve("arms.csv").toString, out.toString)

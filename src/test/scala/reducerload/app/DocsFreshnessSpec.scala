@@ -31,7 +31,8 @@ class DocsFreshnessSpec extends AnyFlatSpec {
     val out = Some(sweepDir.toString)
     name match {
       case "sweep" => Sweep.markdown(cells, fmax, out)
-      case "arms"  => ArmSweep.markdown(cells, fmax, Sweep.command(arms = true, out, fmax))
+      case "arms" =>
+        ArmSweep.markdown(cells, fmax, Sweep.command(arms = true, out, fmax), ArmSweep.cpuAnchors(sweepDir))
     }
   }
 
@@ -42,6 +43,13 @@ class DocsFreshnessSpec extends AnyFlatSpec {
     "./sbt --error \"run presets-table\"" -> (() => linesOf(PresetsTable.markdown)),
     "docs/sweep/sweep.md" -> (() => linesOf(sweepMarkdown("sweep"))),
     "docs/sweep/arms.md" -> (() => linesOf(sweepMarkdown("arms"))),
+    "docs/sweep/arms.csv docs/sweep/cpu.csv" -> (() =>
+      ArmSweep.anchors(
+        Sweep.cellsOf(read(sweepDir.resolve("arms.csv"))),
+        ArmSweep.cpuAnchors(sweepDir).get,
+        detail = false
+      )
+    ),
     "./sbt --error \"runMain reducerload.monitor.MonitorDoc\"" -> (() =>
       linesOf(MonitorDoc.text).drop(1).dropRight(1)
     ),

@@ -73,9 +73,8 @@ object ResourceModelSpec {
 
   lazy val armPoints: Seq[Point] = csv("docs/sweep/arms.csv").map { row =>
     val robot = row("robot")
-    val (_, request, target) = ArmSweep.schedules.find(_._1 == row("schedule")).get
-    val config = ArmGolden.of(robot).head.config
-    val p = Compiler.arm(config.copy(targetError = target, schedule = request))
+    val point = ArmSweep.schedules.find(_.name == row("schedule")).get
+    val p = Compiler.arm(point.config(ArmGolden.of(robot).head.config))
     Point("arms", s"$robot ${row("schedule")}", p, row("est_les").toInt, Some(row("est_m9k").toInt))
   }
 
