@@ -131,6 +131,10 @@ def main():
     parser.add_argument("--build-dir", default=os.path.join(ROOT, "target", "bench"),
                         help="where --cpp keeps the compiled benchmark and model files (default target/bench)")
     args = parser.parse_args()
+    if args.csv and not os.access(os.path.dirname(os.path.abspath(args.csv)), os.W_OK):
+        sys.exit(f"error: --csv {args.csv}: its directory is not writable")
+    if args.csv and os.path.exists(args.csv) and not os.access(args.csv, os.W_OK):
+        sys.exit(f"error: --csv {args.csv}: the file is read-only")
     if hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
     print(f"Pinocchio {pin.__version__}, numpy {np.__version__}, Python {platform.python_version()}; "

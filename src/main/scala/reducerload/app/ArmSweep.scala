@@ -330,14 +330,39 @@ object ArmSweep {
     rows
   }
 
-  /** The CPU anchors beside a sweep's output (`cpu.csv` in its directory), if there. */
+  /** The columns of cpu.csv the anchors read, and which of them are numbers. */
+  private val cpuColumns: Seq[(String, Boolean)] =
+    Seq(
+      "robot" -> false,
+      "engine" -> false,
+      "us_per_call" -> true,
+      "calls_per_s" -> true,
+      "operations" -> false,
+      "machine" -> false
+    )
+
+  /**
+   * The CPU anchors beside a sweep's output (`cpu.csv` in its directory), if there, checked: a missing column
+   * or a cell that is not a number is named with its line, as an input error.
+   */
   def cpuAnchors(dir: Path): Option[Seq[Seq[String]]] = {
     val file = dir.resolve("cpu.csv")
-    Option.when(java.nio.file.Files.exists(file))(
-      Sweep.cellsOf(
+    Option.when(java.nio.file.Files.exists(file)) {
+      val cells = Sweep.cellsOf(
         new String(java.nio.file.Files.readAllBytes(file), java.nio.charset.StandardCharsets.UTF_8)
       )
-    )
+      def bad(line: Int, what: String) = throw new InputError(s"$file: line $line: $what")
+      val header = cells.headOption.getOrElse(bad(1, "empty"))
+      cpuColumns.foreach { case (c, _) => if (!header.contains(c)) bad(1, s"no column '$c'") }
+      cells.zipWithIndex.tail.foreach { case (row, i) =>
+        if (row.size != header.size) bad(i + 1, s"${row.size} cells, the header has ${header.size}")
+        cpuColumns.collect { case (c, true) => c }.foreach { c =>
+          val v = row(header.indexOf(c))
+          if (v.toDoubleOption.forall(x => !(x > 0))) bad(i + 1, s"$c '$v' is not a positive number")
+        }
+      }
+      cells
+    }
   }
 
   /** The sweep's files from its rows: the one writer of arms.csv, arms.md and the plot. */

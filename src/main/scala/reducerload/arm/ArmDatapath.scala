@@ -102,13 +102,13 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     }
 
   /**
-   * A shared unit's operand in each phase, multiplexed among its distinct sources (operations that read one
-   * register share an input: [[BindingProblem]] binds them to one unit so). The select is a register loaded
-   * in the cycle before with the next phase's source, decoded from the phase flags: the decode is off the
-   * multiplexer's path. It resets to residue 0's source, the phase of the first cycle after reset.
+   * A shared unit's operand in each phase, multiplexed among its distinct `sources` (Schedule.portSources:
+   * operations that read one register share an input, and [[BindingProblem]] binds them to one unit so);
+   * `entries` give each residue's source and its value. The select is a register loaded in the cycle before
+   * with the next phase's source, decoded from the phase flags: the decode is off the multiplexer's path. It
+   * resets to residue 0's source, the phase of the first cycle after reset.
    */
-  private def bySource(entries: Seq[(Int, PortSource, SInt)]): SInt = {
-    val sources = entries.map(_._2).distinct
+  private def bySource(sources: Seq[PortSource], entries: Seq[(Int, PortSource, SInt)]): SInt =
     if (sources.size == 1) entries.head._3
     else {
       val inputs = sources.map(src => entries.find(_._2 == src).get._3)
@@ -126,7 +126,6 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       select := VecInit(next.map(rs => if (rs.isEmpty) false.B else rs.reduce(_ || _))).asUInt
       VecInit(inputs)(select)
     }
-  }
 
   /** Cycles a registered select is looked up ahead of its use: the lookup, then a hop. */
   private val selectAhead = 2
@@ -287,18 +286,21 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
     schedule.mulBindings.zipWithIndex.foreach { case (bound, u) =>
       val shape = shapeOfUnit(u)
-      def port(k: Int, width: Int): SInt = bySource(bound.map { case (r, id) =>
-        val x = if (k == 0) schedule.ports(id)._1 else schedule.ports(id)._2
-        val issue = schedule.slot(id).get.issue
-        (
-          r,
-          schedule.portSource(x, issue),
-          (graph(x) match {
-            case Const(_) => constant(x)
-            case _        => values(x.index)(issue)
-          }).pad(width)
-        )
-      })
+      def port(k: Int, width: Int): SInt = bySource(
+        schedule.portSources(u)(k),
+        bound.map { case (r, id) =>
+          val x = schedule.ports(id)(k)
+          val issue = schedule.slot(id).get.issue
+          (
+            r,
+            schedule.portSource(x, issue),
+            (graph(x) match {
+              case Const(_) => constant(x)
+              case _        => values(x.index)(issue)
+            }).pad(width)
+          )
+        }
+      )
       val product = PipelinedMultiplier(port(0, shape.wide), port(1, shape.narrow))
       products(u) := FixedHw.delay(product, p.multiplierLatency - 1)
     }

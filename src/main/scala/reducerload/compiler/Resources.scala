@@ -256,10 +256,12 @@ object ResourceModel {
       if (s.dedicated) 0.0
       else
         s.mulBindings.indices
-          .map { u =>
-            val Seq(wide, narrow) = s.portSources(u): @unchecked
-            math.max(0, wide.size - 1) * units(u).wide + math.max(0, narrow.size - 1) * units(u).narrow
-          }
+          .map(u =>
+            s.portSources(u)
+              .zip(units(u).widths)
+              .map { case (sources, w) => math.max(0, sources.size - 1) * w }
+              .sum
+          )
           .sum
           .toDouble
     p.banked match {

@@ -42,12 +42,12 @@ final case class BindingProblem(ops: IndexedSeq[BindOp], portBits: Int => Indexe
       .sum
 
   /**
-   * A binding at most as costly as `start` (a valid one, the list scheduler's): swaps of two units'
-   * operations within one residue (or a move to a unit free there), each kept if it removes multiplexer
-   * inputs, pass after pass until none does. Deterministic: the order is the operations'.
+   * A binding at most as costly as `start` (a valid one, the list scheduler's): the cheapest of `start`
+   * [[improved]], [[greedy]] improved and `start` itself (annealing may end above its start), the first on a
+   * tie. Deterministic.
    */
   def best(start: IndexedSeq[Int]): IndexedSeq[Int] =
-    Seq(improved(start), improved(greedy)).minBy(cost)
+    Seq(improved(start), improved(greedy), start).minBy(cost)
 
   /**
    * Operations in order, each to the unit of its class free in its residue that already has the most of its
@@ -67,6 +67,12 @@ final case class BindingProblem(ops: IndexedSeq[BindOp], portBits: Int => Indexe
     }
   }
 
+  /**
+   * `start` improved: seeded annealing, then a descent. A move trades an operation's unit with the operation
+   * on another unit of its class in its residue (or moves it there if that unit is free there); the descent
+   * keeps a move only if it removes multiplexer input bits, pass after pass until none does (at most
+   * [[BindingProblem.maxPasses]]).
+   */
   def improved(start: IndexedSeq[Int]): IndexedSeq[Int] = {
     require(start.size == ops.size, s"BindingProblem: ${start.size} units for ${ops.size} operations")
     val unit = start.toArray

@@ -103,6 +103,9 @@ object ScheduleRequest {
 final case class MulShape(wide: Int, narrow: Int) {
   def blocks: Int = PipelinedMultiplier.blocks(wide, narrow)
   def max(o: MulShape): MulShape = MulShape(math.max(wide, o.wide), math.max(narrow, o.narrow))
+
+  /** Each port's width, in the order of [[Schedule.ports]]: wide, narrow. */
+  def widths: IndexedSeq[Int] = IndexedSeq(wide, narrow)
   override def toString: String = s"${wide}x$narrow"
 }
 object MulShape {
@@ -447,11 +450,17 @@ final class Schedule(
   val ready: IndexedSeq[Option[Int]] = state.ready
   def apply(id: NodeId): Option[Int] = ready(id.index)
 
-  /** A multiply's operands in the order of its unit's ports: the wider first (the first on a tie). */
-  def ports(id: NodeId): (NodeId, NodeId) = {
+  /**
+   * A multiply's operands in the order of its unit's ports ([[MulShape.widths]]): the wider first (the first
+   * on a tie).
+   */
+  def ports(id: NodeId): IndexedSeq[NodeId] = {
     val Mul(a, b) = graph(id): @unchecked
-    if (analysis(a).format.width >= analysis(b).format.width) (a, b) else (b, a)
+    if (analysis(a).format.width >= analysis(b).format.width) IndexedSeq(a, b) else IndexedSeq(b, a)
   }
+
+  /** The cycle an operation reads its operands (its unit may still be rebound: see `slot`). */
+  private def issue(id: NodeId): Int = state.slots(id.index).get.issue
 
   /** What a unit's port reads for operand `x` of an operation issued in cycle `issue`. */
   def portSource(x: NodeId, issue: Int): PortSource =
@@ -466,16 +475,10 @@ final class Schedule(
     if (dedicated || request.stored != Storage.Registers) Map.empty
     else {
       val problem = BindingProblem(
-        muls.map { id =>
-          val issue = state.slots(id.index).get.issue
-          val (wide, narrow) = ports(id)
-          BindOp(
-            classUnits(classOf(id)),
-            issue % ii,
-            IndexedSeq(portSource(wide, issue), portSource(narrow, issue))
-          )
-        },
-        u => IndexedSeq(unitShapes(u).wide, unitShapes(u).narrow)
+        muls.map(id =>
+          BindOp(classUnits(classOf(id)), issue(id) % ii, ports(id).map(portSource(_, issue(id))))
+        ),
+        unitShapes(_).widths
       )
       muls.zip(problem.best(muls.map(id => state.slots(id.index).get.unit.get))).toMap
     }
@@ -495,7 +498,7 @@ final class Schedule(
 
   /** Cycles at which each node is read: by its users at their issue, and by the output stage. */
   val reads: IndexedSeq[Seq[Int]] = {
-    val byUsers = ids.flatMap(id => graph(id).operands.map(x => x.index -> state.slots(id.index).get.issue))
+    val byUsers = ids.flatMap(id => graph(id).operands.map(x => x.index -> issue(id)))
     val byOutputs = graph.outputs.map(o => o.node.index -> outputsReady)
     val all = (byUsers ++ byOutputs).groupMap(_._1)(_._2)
     ids.map(id => all.getOrElse(id.index, Nil).distinct.sorted)
@@ -513,17 +516,13 @@ final class Schedule(
   }
 
   /**
-   * The distinct sources of each port of unit `u` (wide, narrow): its operand multiplexers' inputs (one per
-   * operation at II = 1).
+   * The distinct sources of each port of unit `u` (wide, narrow), in the order its operations first read
+   * them: its operand multiplexers' inputs (one at II = 1).
    */
-  def portSources(u: Int): IndexedSeq[Seq[PortSource]] = {
-    val bound = mulBindings(u).map(_._2)
-    def on(k: Int) = bound.map { id =>
-      val x = if (k == 0) ports(id)._1 else ports(id)._2
-      portSource(x, slot(id).get.issue)
-    }.distinct
-    IndexedSeq(on(0), on(1))
-  }
+  def portSources(u: Int): IndexedSeq[Seq[PortSource]] =
+    IndexedSeq(0, 1).map(k =>
+      mulBindings(u).map { case (_, id) => portSource(ports(id)(k), issue(id)) }.distinct
+    )
 
   /** Angles bound to each CORDIC unit, with their residues. */
   val cordicBindings: IndexedSeq[Seq[(Int, AngleSum)]] = {

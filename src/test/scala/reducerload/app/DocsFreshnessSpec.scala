@@ -148,6 +148,30 @@ class DocsFreshnessSpec extends AnyFlatSpec {
     }
   }
 
+  it should "refuse a CPU-anchor file with a missing column or a bad number, naming the file and line" in {
+    val dir = Files.createTempDirectory("cpu-anchors")
+    val good = read(sweepDir.resolve("cpu.csv"))
+    def refused(text: String, expected: String): Unit = {
+      Files.write(dir.resolve("cpu.csv"), text.getBytes(StandardCharsets.UTF_8))
+      val e = intercept[reducerload.util.InputError](ArmSweep.cpuAnchors(dir))
+      assert(
+        e.getMessage.contains(dir.resolve("cpu.csv").toString) && e.getMessage.contains(expected),
+        e.getMessage
+      )
+    }
+    refused(good.replace("calls_per_s", "calls"), "line 1: no column 'calls_per_s'")
+    val lines = good.linesIterator.toSeq
+    val cells = lines(2).split(",", -1)
+    cells(lines.head.split(",").indexOf("us_per_call")) = "fast"
+    refused(
+      (lines.take(2) :+ cells.mkString(",")).mkString("\n"),
+      "line 3: us_per_call 'fast' is not a positive number"
+    )
+    refused((lines.take(2) :+ (lines(2) + ",x")).mkString("\n"), "line 3: 9 cells, the header has 8")
+    Files.write(dir.resolve("cpu.csv"), good.getBytes(StandardCharsets.UTF_8))
+    assert(ArmSweep.cpuAnchors(dir).get.size == lines.size)
+  }
+
   it should "keep the README short and every link inside the repository and alive" in {
     val size = Files.size(readme)
     assert(size < 20000, s"README.md is $size bytes; keep it under 20 KB (details belong in docs/)")

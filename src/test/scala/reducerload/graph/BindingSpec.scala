@@ -90,8 +90,22 @@ class BindingSpec extends AnyFlatSpec {
       )
     )
     val s = p.schedule
-    val perOperation = s.mulBindings.indices.map(u => 2L * (s.mulBindings(u).size - 1)).sum
-    val distinct = s.mulBindings.indices.map(u => s.portSources(u).map(_.size.toLong - 1).sum).sum
+    val g = p.graph
+    val ii = s.clocksPerSample
+    // counted here from the graph, the formats and the cycles: an operand is a constant's code, or a value's
+    // register at the stage its reader's cycle needs; the wider operand on one port, the other on the other
+    def sources(id: NodeId): Seq[(Int, Int, Int)] = {
+      val Op.Mul(a, b) = g(id): @unchecked
+      val issue = s.slot(id).get.issue
+      val wideFirst = if (p.analysis(a).format.width >= p.analysis(b).format.width) Seq(a, b) else Seq(b, a)
+      wideFirst.zipWithIndex.map { case (x, port) =>
+        (port, x.index, s(x).fold(-1)(ready => (issue - ready) / ii))
+      }
+    }
+    val muls = g.ids.filter(id => g(id).isInstanceOf[Op.Mul])
+    val byUnit = muls.groupBy(id => s.slot(id).get.unit.get)
+    val perOperation = byUnit.values.map(ops => 2L * (ops.size - 1)).sum
+    val distinct = byUnit.values.map(ops => ops.flatMap(sources).distinct.size.toLong - 2).sum
     info(
       s"UR5 at 17 clocks: $distinct operand-multiplexer inputs beyond the first, $perOperation with one per operation"
     )
