@@ -167,6 +167,12 @@ final case class ArmReport(
         s"; latency at least ${b.dependenceBound} cycles from the dependences (achieved ${p.latency})"
       )
 
+  /** Register bits holding values between cycles (at one clock per sample: the delay lines, as built). */
+  private def heldBits: Long = if (schedule.dedicated) schedule.heldBits else p.heldRegisterBits
+
+  /** Block-RAM delays of held values in a shared registers datapath. */
+  private def heldDelays: Int = p.graph.ids.flatMap(p.heldTaps(_)).map(_.delayed.size).sum
+
   def summaryLines: Seq[String] = estimate.toSeq.flatMap(_.lines) ++ Seq(
     s"Computes: ${p.dynamics.description}",
     s"Robot: ${p.chain.name}, ${joints.size} moving joints (numbered from the base), gravity ${p.chain.gravity.toSeq.mkString("(", ", ", ")")} m/s^2" +
@@ -178,7 +184,8 @@ final case class ArmReport(
     s"Schedule: $throughput, latency ${p.latency} cycles; multiplier units: ${schedule.unitSummary} (operand bits)" +
       s", ${schedule.multiplierBlocks} 18x18 blocks${schedule.request.maxMultipliers.fold("")(b => s" (budget $b)")}; " +
       s"${schedule.cordicUnits} CORDIC units for ${counts.sinCos} angles; " + p.banked.fold(
-        s"${counts.additions + counts.negations} adders; ${schedule.heldBits} register bits hold values between cycles"
+        s"${counts.additions + counts.negations} adders; $heldBits register bits hold values between cycles" +
+          (if (heldDelays == 0) "" else s", $heldDelays block-RAM delays the longer stretches")
       )(b =>
         s"storage memory: ${b.adderUnits} adder units for ${counts.additions + counts.negations} additions, ${b.banks.size} banks of block RAM " +
           s"(two read ports each, ${b.memoryBits} bits), latency bound from dependences ${b.dependenceBound} cycles; list order ${b.listOrder} (" +
@@ -301,7 +308,7 @@ final case class ArmReport(
         "max_multipliers" -> schedule.request.maxMultipliers.map(Int.box).orNull,
         "cordic_units" -> schedule.cordicUnits,
         "storage" -> schedule.request.stored.name,
-        "held_register_bits" -> p.banked.fold(schedule.heldBits)(_ => 0L),
+        "held_register_bits" -> p.banked.fold(heldBits)(_ => 0L),
         "adder_units" -> p.banked.fold(counts.additions + counts.negations)(_.adderUnits),
         "bank_memory_bits" -> p.banked.fold(0L)(_.memoryBits),
         "clocks_per_sample_lower_bound" -> clocksFloor.map(Int.box).orNull,

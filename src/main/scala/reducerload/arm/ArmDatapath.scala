@@ -5,7 +5,13 @@ import chisel3.util._
 import reducerload.cordic.CordicSinCos
 import reducerload.fixedpoint.{Clamped, FixedHw, Rounding}
 import reducerload.graph._
-import reducerload.pipeline.{MemoryDelay, MultiplierImpl, PipelinedMultiplier, ShiftAddMultiplier}
+import reducerload.pipeline.{
+  DelayPointer,
+  MemoryDelay,
+  MultiplierImpl,
+  PipelinedMultiplier,
+  ShiftAddMultiplier
+}
 
 /**
  * Every joint torque of a serial arm: the hardware interpretation of the graph in `p.graph` at the cycles and
@@ -127,6 +133,11 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       VecInit(inputs)(select)
     }
 
+  /** One write pointer per length of block-RAM delay of held values, shared by every delay of that length. */
+  private val delayPointers = scala.collection.mutable.Map.empty[Int, DelayPointer]
+  private def delayPointer(cycles: Int): DelayPointer =
+    delayPointers.getOrElseUpdate(cycles, new DelayPointer(cycles))
+
   /** Cycles a registered select is looked up ahead of its use: the lookup, then a hop. */
   private val selectAhead = 2
 
@@ -135,9 +146,15 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
   /**
    * `stage0`, a register written at the end of cycle `ready - 1` of every sample, as seen in each cycle of
-   * `reads`: one delay line at II = 1, else a chain of registers written at the same phase.
+   * `reads`: one delay line at II = 1, else a chain of registers written at the same phase, long stretches of
+   * either in block RAM ([[HeldTaps]]).
    */
-  private def held[T <: Data](stage0: T, ready: Int, reads: Seq[Int]): Map[Int, T] = {
+  private def held[T <: Data](
+      stage0: T,
+      ready: Int,
+      reads: Seq[Int],
+      inBlockRam: Boolean = true
+  ): Map[Int, T] = {
     require(
       reads.forall(_ >= ready),
       s"ArmDatapath: a value ready in cycle $ready is read earlier, in ${reads.min}"
@@ -150,9 +167,14 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
         }
         ._1
     else {
-      val depth = reads.map(r => (r - ready) / ii).maxOption.getOrElse(0)
-      val stages = (1 to depth).scanLeft(stage0)((prev, _) => RegEnable(prev, during(ready - 1)))
-      reads.map(r => r -> stages((r - ready) / ii)).toMap
+      // memory storage keeps its few held values (angles, flags) in registers: its block RAM is its banks'
+      val taps = HeldTaps(ii, ready, reads, if (p.banked.isEmpty && inBlockRam) p.memoryDelayMinCycles else 0)
+      val stages = (1 to taps.chain).scanLeft(stage0)((prev, _) => RegEnable(prev, during(ready - 1)))
+      val delayed = taps.delayed.map(k => k -> MemoryDelay.shared(stage0, delayPointer(k * ii))).toMap
+      reads.map { r =>
+        val k = (r - ready) / ii
+        r -> delayed.getOrElse(k, stages(k))
+      }.toMap
     }
   }
 
@@ -227,7 +249,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   /** Each output's value in cycle `outAt`, from the storage the schedule asks for. */
   private val outputValues: IndexedSeq[SInt] = p.banked match {
     case Some(banked) =>
-      new MemoryStorage(p, banked, residueCounter, during, held[SInt], signal, cordicOutputs).outputs
+      new MemoryStorage(p, banked, residueCounter, during, held[SInt](_, _, _), signal, cordicOutputs).outputs
     case None => registerStorage()
   }
 
@@ -334,7 +356,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
   /** Each joint's input flag as read in cycle `cycle` of the output stage. */
   private def jointFlags(cycle: Int): Seq[Bool] =
-    jointFlagRegisters.map(flag => held(flag, ArmDatapath.flagCycle, Seq(cycle))(cycle))
+    jointFlagRegisters.map(flag => held(flag, ArmDatapath.flagCycle, Seq(cycle), inBlockRam = false)(cycle))
   private val outBits = Reg(new ArmOutput(p)) // data: no reset; `valid` says when it counts
   if (p.outputStages == Schedule.outputStages) {
     val results =

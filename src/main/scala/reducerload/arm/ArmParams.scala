@@ -132,7 +132,7 @@ final case class ArmParams(
   lazy val rangeHints: RangeHints = built._2
   lazy val analysis: Analysis = new Analysis(graph, numerics, rangeHints, fracBitLimits)
   private def scheduleFor(request: ScheduleRequest) =
-    new Schedule(analysis, request, cordic, multiplierLatency, ArmDatapath.inputCycle)
+    new Schedule(analysis, request, cordic, multiplierLatency, ArmDatapath.inputCycle, memoryDelayMinCycles)
 
   /**
    * The schedule and, with memory storage, its banks. With memory storage and an automatic interval, the
@@ -165,6 +165,26 @@ final case class ArmParams(
    * [[BankedSchedule]]).
    */
   lazy val banked: Option[BankedSchedule] = scheduled._2
+
+  /**
+   * How each value reaches its reads in a shared registers datapath ([[HeldTaps]]; None: a constant, a
+   * product forwarded to its one reader, or a design with one clock per sample or memory storage).
+   */
+  def heldTaps(id: NodeId): Option[HeldTaps] =
+    if (schedule.dedicated || banked.isDefined || schedule.forwarded(id)) None
+    else
+      (schedule(id), schedule.reads(id.index)) match {
+        case (Some(ready), reads) if reads.nonEmpty =>
+          Some(HeldTaps(schedule.clocksPerSample, ready, reads, memoryDelayMinCycles))
+        case _ => None
+      }
+
+  /**
+   * Register bits holding values between their cycles in a shared registers datapath: each value's first
+   * register and its chain, the stretches in block RAM left out ([[HeldTaps]]).
+   */
+  def heldRegisterBits: Long =
+    graph.ids.flatMap(id => heldTaps(id).map(_.registerBits(analysis(id).format.width))).sum
 
   /** Cycles from a sample on the input port to its torques on the output port. */
   def latency: Int = banked.fold(schedule.latency)(_.latency)

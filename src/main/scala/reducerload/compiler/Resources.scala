@@ -2,7 +2,7 @@ package reducerload.compiler
 
 import reducerload.arm.{ArmDatapath, ArmParams}
 import reducerload.config.{Device, DeviceFamily}
-import reducerload.graph.{BankedSchedule, Operand, OperandSource, PlacedOp, Schedule, UnitKind}
+import reducerload.graph.{BankedSchedule, HeldTaps, Operand, OperandSource, PlacedOp, Schedule, UnitKind}
 import reducerload.monitor.MonitorParams
 import reducerload.pipeline.SignedMultiply
 
@@ -110,7 +110,21 @@ object ResourceModel {
           heldArrays(p, "angle delay", p.numerics.angleBits, 1, s.angleReads(j))
         )
         values ++ angles
-      case None => Nil
+      case None =>
+        // registers storage at 2 clocks per sample or more: the block-RAM taps of held values (HeldTaps)
+        def delays(what: String, width: Int, taps: HeldTaps) =
+          taps.delayed.map(k => MemoryArray(what, k * s.clocksPerSample - 1, width))
+        val g = p.graph
+        val values =
+          g.ids.flatMap(id => p.heldTaps(id).toSeq.flatMap(delays("delay", p.analysis(id).format.width, _)))
+        val angles = p.chain.joints.indices.flatMap(j =>
+          delays(
+            "angle delay",
+            p.numerics.angleBits,
+            HeldTaps(s.clocksPerSample, 1, s.angleReads(j), p.memoryDelayMinCycles)
+          )
+        )
+        values ++ angles
     }
     cordic ++ storage
   }
@@ -267,7 +281,7 @@ object ResourceModel {
     p.banked match {
       case None =>
         LogicFeatures(
-          if (s.dedicated) registerBitsAtOne(p).toDouble else s.heldBits.toDouble,
+          if (s.dedicated) registerBitsAtOne(p).toDouble else p.heldRegisterBits.toDouble,
           operandBits,
           cordicBits,
           partial,
@@ -294,7 +308,8 @@ object ResourceModel {
    * (docs/device.md). An operand-multiplexer input costs about an LE per bit since each is a distinct
    * register (before the binding, 0.47: repeated inputs were merged by synthesis).
    */
-  val coefficients: Seq[Double] = Seq(0.766, 0.917, 0.898, 1.194, 0.643, 4.075)
+  val coefficients: Seq[Double] =
+    Seq(reducerload.graph.LogicCost.heldBit, reducerload.graph.LogicCost.muxBit, 0.898, 1.194, 0.643, 4.075)
   val fixedLogic: Double = 645.0
 
   /** The prediction's tolerance against the open-tool estimate over the committed points (see above). */

@@ -23,8 +23,8 @@ import reducerload.graph.Reassociation
  * @param multiplierLatency
  *   registers after each multiplier (>= 1; more lets Quartus retime into the DSP)
  * @param memoryDelayMinCycles
- *   pipeline-balancing delays of at least this many cycles use block RAM (M9K) instead of registers; 0 keeps
- *   every delay in registers
+ *   values held at least this many cycles wait in block RAM (M9K) instead of registers
+ *   ([[reducerload.graph.HeldTaps]] at 2 clocks per sample or more); 0 keeps every delay in registers
  * @param reassociate
  *   whether sums of several terms are rebuilt as trees, the earliest terms first
  *   ([[reducerload.graph.Reassociate]]): a shorter critical path; the same values, their formats and bounds

@@ -477,7 +477,9 @@ object Settings {
   val datapathMemoryDelayMinCycles = new Natural(
     "datapath.memory-delay-min-cycles",
     "cycles",
-    "delays this long or longer use block RAM (0: registers only)",
+    "values held this long or longer wait in block RAM instead of registers: stretches of a delay line at one " +
+      "clock per sample, reads an interval or more after a value's first register with storage registers " +
+      "(0: registers only; the device fit uses 0 where only these delays' block RAM keeps a design off the device)",
     Nil,
     _.datapath.memoryDelayMinCycles
   )
@@ -563,6 +565,16 @@ object Settings {
       "priority raised by 0 or 1 (seeded, so the same every run); the shortest kept",
     Nil,
     _.schedule.listTries
+  )
+
+  val scheduleRefinement = new Natural(
+    "schedule.refinement",
+    "steps per operation",
+    "storage registers, clocks-per-sample >= 2: annealing steps (seeded, so the same every run) moving the list " +
+      "schedule's cycles, units and operand order so that operand multiplexers and held registers take the fewest " +
+      "logic elements at no more latency (0: the list schedule as it is)",
+    Nil,
+    _.schedule.refinement
   )
 
   val scheduleAdderUnits = new Count(
@@ -771,6 +783,7 @@ object Settings {
     scheduleConstantMultiplies,
     scheduleListOrder,
     scheduleListTries,
+    scheduleRefinement,
     scheduleAdderUnits,
     deviceName,
     deviceMaxLogicFraction,
@@ -923,7 +936,8 @@ object Settings {
           v(scheduleConstantMultiplies),
           v(scheduleListOrder),
           v(scheduleAdderUnits),
-          v(scheduleListTries)
+          v(scheduleListTries),
+          v(scheduleRefinement)
         ),
         monitor = MonitorSettings(
           enabled = v(monitorEnabled),

@@ -39,6 +39,9 @@ object ConstantMultiplies {
  * @param listTries
  *   memory storage: by-height schedules tried, the first in the plain order, the others with perturbed
  *   priorities
+ * @param refinement
+ *   registers storage at 2 clocks per sample or more: annealing steps per operation refining the list
+ *   schedule ([[RefinementProblem]]; 0: the list schedule as it is)
  */
 final case class ScheduleRequest(
     clocksPerSample: Option[Int] = None,
@@ -48,7 +51,8 @@ final case class ScheduleRequest(
     constantMultiplies: ConstantMultiplies = ConstantMultiplies.Blocks,
     listOrder: Option[ListOrder] = None,
     adderUnits: Option[Int] = None,
-    listTries: Int = ScheduleRequest.defaultListTries
+    listTries: Int = ScheduleRequest.defaultListTries,
+    refinement: Int = ScheduleRequest.defaultRefinement
 ) {
   require(
     listOrder.isEmpty || stored == Storage.Memory || listOrder.contains(ListOrder.ByHeight),
@@ -69,6 +73,10 @@ final case class ScheduleRequest(
   def stored: Storage = storage.getOrElse(Storage.Registers)
 
   require(listTries >= 1 && listTries <= 1024, s"schedule.list-tries must be in 1..1024, got $listTries")
+  require(
+    refinement >= 0 && refinement <= 1000000,
+    s"schedule.refinement must be in 0..1000000 steps per operation, got $refinement"
+  )
   require(
     constantMultiplies == ConstantMultiplies.Blocks || stored == Storage.Registers,
     "schedule.constant-multiplies = shift-add needs schedule.storage = registers " +
@@ -95,6 +103,14 @@ object ScheduleRequest {
    * percent less latency than the plain order, and a try costs tens of milliseconds.
    */
   val defaultListTries: Int = 32
+
+  /**
+   * Refinement steps per operation by default: on the UR5 at 17 clocks per sample (1e-3 N·m) 20,000 (8.4 M
+   * steps, about 2 s) take the operand-multiplexer input bits from 10,176 to 7,208, the held register bits
+   * from 8,586 to 7,060 and the block-RAM delays from 74 to 57 at the list schedule's latency; 100,000 (five
+   * times the time) save about 400 LEs more (docs/benchmarks.md, SchedulerComparison).
+   */
+  val defaultRefinement: Int = 20000
 }
 
 /**
@@ -163,13 +179,17 @@ private final case class ScheduleState(
  * @param inputCycle
  *   cycle at which the clamped velocities and accelerations are in registers (the angles are in the input
  *   register from cycle 1)
+ * @param memoryDelayMinCycles
+ *   `datapath.memory-delay-min-cycles`: values held that long or longer wait in block RAM ([[HeldTaps]]),
+ *   which the refinement counts
  */
 final class Schedule(
     val analysis: Analysis,
     val request: ScheduleRequest,
     cordic: CordicParams,
     multiplierLatency: Int,
-    val inputCycle: Int
+    val inputCycle: Int,
+    memoryDelayMinCycles: Int = 0
 ) {
   import Op._
   private val graph = analysis.graph
@@ -431,7 +451,6 @@ final class Schedule(
             // A shared unit's product is on its output for one cycle, then captured. A product with this
             // adder as its only reader is taken straight from the unit in that cycle when the other
             // operand is ready by then: the adder's register holds it, no capture register, one cycle less.
-            def forwardable(x: NodeId) = !dedicated && graph(x).isInstanceOf[Mul] && uses(x.index) == 1
             def earliest(x: NodeId) = if (forwardable(x)) at(x) - 1 else at(x)
             val r = op.operands.map(earliest).max
             val direct = op.operands.filter(x => forwardable(x) && at(x) - 1 == r)
@@ -441,63 +460,167 @@ final class Schedule(
   }
 
   /**
-   * Multiplies whose only reader takes the product from the unit's output in the cycle before `ready`: they
-   * have no register.
+   * A multiply whose only reader is an addition (no other use, not an output): its reader may take the
+   * product off the unit's output the cycle before it is captured.
    */
-  def forwarded(id: NodeId): Boolean = state.forwarded(id)
+  private def forwardable(x: NodeId) = !dedicated && graph(x).isInstanceOf[Mul] && uses(x.index) == 1
 
-  /** Cycle from which each node's value of the current sample is in its register (None: a constant). */
-  val ready: IndexedSeq[Option[Int]] = state.ready
-  def apply(id: NodeId): Option[Int] = ready(id.index)
-
-  /**
-   * A multiply's operands in the order of its unit's ports ([[MulShape.widths]]): the wider first (the first
-   * on a tie).
-   */
-  def ports(id: NodeId): IndexedSeq[NodeId] = {
+  /** A multiply's operands ordered by width for its unit's ports ([[MulShape.widths]]): the wider first. */
+  private def byWidth(id: NodeId): IndexedSeq[NodeId] = {
     val Mul(a, b) = graph(id): @unchecked
     if (analysis(a).format.width >= analysis(b).format.width) IndexedSeq(a, b) else IndexedSeq(b, a)
   }
 
+  /**
+   * The schedule as a [[RefinementProblem]] with the list schedule as its start (registers storage, 2 clocks
+   * per sample or more): additions keep their own adders, the inputs and the sin/cos their cycles, and the
+   * outputs must be ready when the list schedule has them.
+   */
+  lazy val refinementProblem: Option[(RefinementProblem, Refined)] =
+    if (dedicated || request.stored != Storage.Registers) None
+    else {
+      val nodes = ids.map { id =>
+        val f = analysis(id).format
+        graph(id) match {
+          case Const(_)              => RefineNode.Literal(f.width)
+          case Input(_) | Trig(_, _) => RefineNode.Fixed(state.ready(id.index).get, f.width)
+          case Mul(_, _) if !shiftAdded(id) =>
+            val units = classUnits(classOf(id))
+            val widths = byWidth(id).map(analysis(_).format.width)
+            RefineNode.Shared(
+              byWidth(id).map(_.index),
+              mulLatency(id),
+              f.width,
+              units,
+              swappable = widths.forall(_ <= unitShapes(units.head).narrow),
+              forwardable = forwardable(id) && graph.outputs.forall(_.node != id)
+            )
+          case op =>
+            val latency = state.ready(id.index).get - state.slots(id.index).get.issue
+            RefineNode.Own(
+              op.operands.map(_.index).toIndexedSeq,
+              latency,
+              f.width,
+              forwardable = forwardable(id) && graph.outputs.forall(_.node != id),
+              takesForwarded = !shiftAdded(id)
+            )
+        }
+      }
+      val problem = RefinementProblem(
+        ii,
+        nodes,
+        graph.outputs.map(_.node.index),
+        graph.outputs.flatMap(o => state.ready(o.node.index)).maxOption.getOrElse(inputCycle),
+        unitShapes(_).widths,
+        LogicCost.muxBit,
+        LogicCost.heldBit,
+        memoryDelayMinCycles,
+        LogicCost.blockRamTap
+      )
+      val start = Refined(
+        ids.map(id => state.slots(id.index).fold(-1)(_.issue)),
+        ids.map(id =>
+          if (nodes(id.index).isInstanceOf[RefineNode.Shared]) state.slots(id.index).get.unit.get else -1
+        ),
+        ids.map(_ => false)
+      )
+      Some((problem, start))
+    }
+
+  /**
+   * The list schedule refined (`request.refinement` > 0): issue cycles, units and port order moved so that
+   * the operand multiplexers and the held registers take the fewest logic elements, at no more latency.
+   */
+  private lazy val refined: Option[Refined] =
+    refinementProblem.filter(_ => request.refinement > 0).map { case (problem, start) =>
+      val movable = problem.nodes.count {
+        case _: RefineNode.Own | _: RefineNode.Shared => true
+        case _                                        => false
+      }
+      problem.anneal(start, request.refinement.toLong * movable, Schedule.refinementSeed)
+    }
+
   /** The cycle an operation reads its operands (its unit may still be rebound: see `slot`). */
-  private def issue(id: NodeId): Int = state.slots(id.index).get.issue
+  private def issue(id: NodeId): Int = refined.fold(state.slots(id.index).get.issue)(_.issue(id.index))
+
+  /** Cycle from which each node's value of the current sample is in its register (None: a constant). */
+  lazy val ready: IndexedSeq[Option[Int]] = refined match {
+    case None => state.ready
+    case Some(r) =>
+      ids.map { id =>
+        graph(id) match {
+          case Const(_)              => None
+          case Input(_) | Trig(_, _) => state.ready(id.index)
+          case _ => Some(r.issue(id.index) + state.ready(id.index).get - state.slots(id.index).get.issue)
+        }
+      }
+  }
+  def apply(id: NodeId): Option[Int] = ready(id.index)
+
+  /**
+   * Multiplies whose only reader takes the product from the unit's output in the cycle before `ready`: they
+   * have no register.
+   */
+  private lazy val forwardedSet: Set[NodeId] = refined match {
+    case None => state.forwarded
+    case Some(r) =>
+      ids
+        .filter(x =>
+          forwardable(x) && graph.outputs.forall(_.node != x) && {
+            val reader = ids.find(id => graph(id).operands.contains(x)).get
+            !graph(reader).isInstanceOf[Mul] && r.issue(reader.index) == ready(x.index).get - 1
+          }
+        )
+        .toSet
+  }
+  def forwarded(id: NodeId): Boolean = forwardedSet(id)
+
+  /**
+   * A multiply's operands in the order of its unit's ports ([[MulShape.widths]]): the wider first (the first
+   * on a tie), unless the refinement swapped them.
+   */
+  def ports(id: NodeId): IndexedSeq[NodeId] =
+    if (refined.exists(_.swapped(id.index))) byWidth(id).reverse else byWidth(id)
 
   /** What a unit's port reads for operand `x` of an operation issued in cycle `issue`. */
   def portSource(x: NodeId, issue: Int): PortSource =
     if (isConst(x)) PortSource.Literal(x) else PortSource.Held(x, (issue - ready(x.index).get) / ii)
 
   /**
-   * Each shared multiply's unit: with registers storage, the list scheduler's binding improved so that the
-   * units' operand multiplexers have the fewest inputs ([[BindingProblem]]; no cycle changes); dedicated
-   * units and memory storage (whose banks are bound with the units) keep the scheduler's.
+   * Each shared multiply's unit: the refinement's, or with registers storage the list scheduler's binding
+   * improved so that the units' operand multiplexers have the fewest inputs ([[BindingProblem]]; no cycle
+   * changes); dedicated units and memory storage (whose banks are bound with the units) keep the scheduler's.
    */
   private lazy val boundUnit: Map[NodeId, Int] =
     if (dedicated || request.stored != Storage.Registers) Map.empty
-    else {
-      val problem = BindingProblem(
-        muls.map(id =>
-          BindOp(classUnits(classOf(id)), issue(id) % ii, ports(id).map(portSource(_, issue(id))))
-        ),
-        unitShapes(_).widths
-      )
-      muls.zip(problem.best(muls.map(id => state.slots(id.index).get.unit.get))).toMap
-    }
+    else
+      refined match {
+        case Some(r) => muls.map(id => id -> r.unit(id.index)).toMap
+        case None =>
+          val problem = BindingProblem(
+            muls.map(id =>
+              BindOp(classUnits(classOf(id)), issue(id) % ii, ports(id).map(portSource(_, issue(id))))
+            ),
+            unitShapes(_).widths
+          )
+          muls.zip(problem.best(muls.map(id => state.slots(id.index).get.unit.get))).toMap
+      }
 
   /** Each node's issue: the cycle it reads its operands, and its unit. */
   def slot(id: NodeId): Option[Slot] =
-    state.slots(id.index).map(sl => boundUnit.get(id).fold(sl)(u => sl.copy(unit = Some(u))))
+    state.slots(id.index).map(sl => Slot(boundUnit.get(id).orElse(sl.unit), issue(id)))
 
   /** Each angle's CORDIC unit and issue cycle. */
   def angleSlot(angle: AngleSum): Slot = state.angleSlots(angle)
 
   /** Cycle at which every output is in its register: the output stage reads them then. */
-  val outputsReady: Int = graph.outputs.flatMap(o => apply(o.node)).maxOption.getOrElse(inputCycle)
+  lazy val outputsReady: Int = graph.outputs.flatMap(o => apply(o.node)).maxOption.getOrElse(inputCycle)
 
   /** Cycles from a sample on the input port to its torques on the output port (output stage included). */
-  val latency: Int = outputsReady + Schedule.outputStages
+  lazy val latency: Int = outputsReady + Schedule.outputStages
 
   /** Cycles at which each node is read: by its users at their issue, and by the output stage. */
-  val reads: IndexedSeq[Seq[Int]] = {
+  lazy val reads: IndexedSeq[Seq[Int]] = {
     val byUsers = ids.flatMap(id => graph(id).operands.map(x => x.index -> issue(id)))
     val byOutputs = graph.outputs.map(o => o.node.index -> outputsReady)
     val all = (byUsers ++ byOutputs).groupMap(_._1)(_._2)
@@ -580,6 +703,9 @@ final class Schedule(
 }
 
 object Schedule {
+
+  /** The refinement's seed: the same schedule every run. */
+  val refinementSeed: Long = 1L
 
   /**
    * Registers of the output stage, after every output is ready: each torque rounded and saturated on its own,

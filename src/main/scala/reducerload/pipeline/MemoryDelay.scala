@@ -16,20 +16,29 @@ import chisel3.util._
  */
 class MemoryDelay(width: Int, cycles: Int) extends Module {
   require(width >= 1, s"MemoryDelay: width must be >= 1, got $width")
-  require(cycles >= 3, s"MemoryDelay: use registers below 3 cycles, got $cycles")
   override def desiredName = s"MemoryDelay_w${width}_d$cycles"
   val io = IO(new Bundle {
     val in = Input(UInt(width.W))
     val out = Output(UInt(width.W))
   })
-  private val depth = cycles - 1
-  private val last = (depth - 1).U
-  private val write = RegInit(0.U(log2Ceil(depth).max(1).W))
-  private val next = Mux(write === last, 0.U, write + 1.U)
+  // no prefix from io.out on the pointer and the buffer: the module's Verilog as before the pointer was shared
+  io.out := RegNext(chisel3.experimental.noPrefix(MemoryDelay.read(io.in, new DelayPointer(cycles))))
+}
+
+/**
+ * The write pointer of block-RAM delays of `cycles` clocks, in the module it is made in: every such delay of
+ * the module can share it ([[MemoryDelay.shared]]), one counter for all instead of one each. Resets to 0.
+ */
+final class DelayPointer(val cycles: Int) {
+  require(cycles >= 3, s"MemoryDelay: use registers below 3 cycles, got $cycles")
+
+  /** Slots of the circular buffer: the synchronous read and the output register give the last two clocks. */
+  val depth: Int = cycles - 1
+  val write: UInt = RegInit(0.U(log2Ceil(depth).max(1).W))
+
+  /** The slot read this clock: the one written `depth - 1` clocks ago. */
+  val next: UInt = Mux(write === (depth - 1).U, 0.U, write + 1.U)
   write := next
-  private val buffer = SyncReadMem(depth, UInt(width.W))
-  buffer.write(write, io.in)
-  io.out := RegNext(buffer.read(next, true.B))
 }
 
 object MemoryDelay {
@@ -38,6 +47,19 @@ object MemoryDelay {
   def balanced[T <: Data](x: T, cycles: Int, memoryMinCycles: Int): T =
     if (memoryMinCycles > 0 && cycles >= memoryMinCycles) apply(x, cycles)
     else reducerload.fixedpoint.FixedHw.delay(x, cycles)
+
+  /** `x` written into a circular buffer at `pointer`, and the word read (one clock short of the delay). */
+  private def read(x: UInt, pointer: DelayPointer): UInt = {
+    val buffer = SyncReadMem(pointer.depth, UInt(x.getWidth.W))
+    buffer.write(pointer.write, x)
+    buffer.read(pointer.next, true.B)
+  }
+
+  /**
+   * `x` delayed by `pointer.cycles` clocks in a block RAM of the current module, at a shared pointer, the
+   * word read into an output register.
+   */
+  def shared[T <: Data](x: T, pointer: DelayPointer): T = RegNext(read(x.asUInt, pointer)).asTypeOf(x)
 
   /** `x` delayed by `cycles` clocks through a [[MemoryDelay]]. */
   def apply[T <: Data](x: T, cycles: Int): T = {

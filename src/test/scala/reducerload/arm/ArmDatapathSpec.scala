@@ -171,15 +171,16 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     )
   }
 
-  it should "fit the UR5 with reassociated sums, placed by height, in the 66 multiplier blocks of an EP4CE30 " +
-    "with a 1e-3 N·m target, bit-exact under back-pressure" in {
+  it should "fit the UR5 with reassociated sums, placed by height, refined as the sweep's fast point, in the " +
+    "66 multiplier blocks of an EP4CE30 with a 1e-3 N·m target, bit-exact under back-pressure" in {
       runRobot(
         "ur5",
         58L,
         ScheduleRequest(
           clocksPerSample = None,
           maxMultipliers = Some(66),
-          listOrder = Some(ListOrder.ByHeight)
+          listOrder = Some(ListOrder.ByHeight),
+          refinement = reducerload.app.ArmSweep.fastRefinement
         ),
         targetError = Seq(1e-3),
         reassociate = Reassociation.Sums

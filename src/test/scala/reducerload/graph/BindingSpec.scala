@@ -86,7 +86,8 @@ class BindingSpec extends AnyFlatSpec {
     val p = Compiler.arm(
       config.copy(
         targetError = Seq(1e-3),
-        schedule = ScheduleRequest(clocksPerSample = Some(17), maxMultipliers = Some(66))
+        // the list scheduler's cycles, bound by BindingProblem (no refinement moving them)
+        schedule = ScheduleRequest(clocksPerSample = Some(17), maxMultipliers = Some(66), refinement = 0)
       )
     )
     val s = p.schedule
