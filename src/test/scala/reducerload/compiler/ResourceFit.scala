@@ -1,0 +1,52 @@
+package reducerload.compiler
+
+/**
+ * The LE prediction's coefficients fitted anew to the committed open-tool estimates (docs/sweep/arms.csv and
+ * sweep.csv): least squares of the relative error, the fixed logic and one weight per feature of
+ * [[ResourceModel.LogicFeatures]]. Prints them and the fit's errors; ResourceModelSpec checks the ones in the
+ * code. After a sweep re-run:
+ *
+ * {{{
+ * ./sbt "Test/runMain reducerload.compiler.ResourceFit"
+ * }}}
+ */
+object ResourceFit {
+  def main(args: Array[String]): Unit = {
+    val rows = ResourceModelSpec.rows
+    val x = rows.map(r => (1.0 +: r.features.toSeq).map(_ / r.estLes).toArray).toArray
+    val k = x.head.length
+    // normal equations of min sum (x c - 1)^2
+    val a = Array.tabulate(k, k)((i, j) => x.map(row => row(i) * row(j)).sum)
+    val b = Array.tabulate(k)(i => x.map(_(i)).sum)
+    val c = solve(a, b)
+    println(f"fixed ${c(0)}%.1f, per bit: ${c.tail.map(v => f"$v%.3f").mkString(", ")}")
+    val errors = rows.zip(x).map { case (r, row) =>
+      val predicted = row.zip(c).map { case (v, w) => v * w }.sum * r.estLes
+      (predicted - r.estLes) / r.estLes
+    }
+    println(
+      f"${rows.size} points: rms ${100 * math.sqrt(errors.map(e => e * e).sum / errors.size)}%.1f %%, " +
+        f"largest ${100 * errors.map(math.abs).max}%.1f %%"
+    )
+  }
+
+  /** Gaussian elimination with partial pivoting. */
+  private def solve(a0: Array[Array[Double]], b0: Array[Double]): Array[Double] = {
+    val n = b0.length
+    val a = a0.map(_.clone)
+    val b = b0.clone
+    for (col <- 0 until n) {
+      val pivot = (col until n).maxBy(r => math.abs(a(r)(col)))
+      val (ra, rb) = (a(col), b(col))
+      a(col) = a(pivot); b(col) = b(pivot); a(pivot) = ra; b(pivot) = rb
+      for (r <- col + 1 until n) {
+        val f = a(r)(col) / a(col)(col)
+        for (j <- col until n) a(r)(j) -= f * a(col)(j)
+        b(r) -= f * b(col)
+      }
+    }
+    val x = new Array[Double](n)
+    for (r <- (0 until n).reverse) x(r) = (b(r) - (r + 1 until n).map(j => a(r)(j) * x(j)).sum) / a(r)(r)
+    x
+  }
+}
