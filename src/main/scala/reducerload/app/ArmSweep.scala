@@ -49,6 +49,12 @@ object ArmSweep {
   }
 
   /**
+   * `schedule.refinement` of the fast point: on the UR5 five times the default takes another ~400 LEs off
+   * (15,229 -> 14,832 estimated) for about 10 s more.
+   */
+  val fastRefinement: Int = 100000
+
+  /**
    * The schedule axis: intervals from one clock to hundreds, and the fewest clocks within an EP4CE30's 66
    * blocks; then two of them with the fraction bits fitted to 1e-3 N·m (`numeric.target-error`); then the
    * fewest clocks within 66 blocks at 1e-3 with the shortest latency (sums rebuilt as trees, the list placed
@@ -57,12 +63,6 @@ object ArmSweep {
    * meets issue 12's targets; 114: the Panda's, and at 114 with 5 adder units, which the Panda's latency
    * target needs).
    */
-  /**
-   * `schedule.refinement` of the fast point: on the UR5 five times the default takes another ~400 LEs off
-   * (15,229 -> 14,832 estimated) for about 10 s more.
-   */
-  val fastRefinement: Int = 100000
-
   val schedules: Seq[Point] =
     Seq(1, 4, 16, 64, 256).map(c => Point(s"ii$c", ScheduleRequest(clocksPerSample = Some(c)))) ++ Seq(
       Point("budget66", ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66))),

@@ -4,7 +4,7 @@ import reducerload.arm.{ArmDatapath, ArmParams}
 import reducerload.config.{Device, DeviceFamily}
 import reducerload.graph.{BankedSchedule, HeldTaps, Operand, OperandSource, PlacedOp, Schedule, UnitKind}
 import reducerload.monitor.MonitorParams
-import reducerload.pipeline.SignedMultiply
+import reducerload.pipeline.{MemoryDelay, SignedMultiply}
 
 /**
  * A design's use of a device's resources: 18x18 multiplier blocks, memory blocks, logic cells (predicted).
@@ -85,7 +85,8 @@ object ResourceModel {
     else {
       val taps = reads.distinct.sorted
       (ready +: taps).zip(taps).collect {
-        case (t, r) if r - t >= p.memoryDelayMinCycles => MemoryArray(what, r - t - 1, width)
+        case (t, r) if MemoryDelay.inBlockRam(r - t, p.memoryDelayMinCycles) =>
+          MemoryArray(what, r - t - 1, width)
       }
     }
 
@@ -215,7 +216,7 @@ object ResourceModel {
       val t = m.powerTables(j)
       val delay = p.latency - ArmDatapath.inputCycle
       Seq(MemoryArray("monitor power table", t.base.size, t.baseBits + t.deltaBits + t.shiftBits)) ++
-        (if (p.memoryDelayMinCycles > 0 && delay >= p.memoryDelayMinCycles)
+        (if (MemoryDelay.inBlockRam(delay, p.memoryDelayMinCycles))
            Seq(MemoryArray("monitor velocity delay", delay - 1, p.numerics.velocityFormats(j).width))
          else Nil)
     }
@@ -249,7 +250,7 @@ object ResourceModel {
       (ready +: taps)
         .zip(taps)
         .map { case (t, r) =>
-          if (p.memoryDelayMinCycles > 0 && r - t >= p.memoryDelayMinCycles) 1L else (r - t).toLong
+          if (MemoryDelay.inBlockRam(r - t, p.memoryDelayMinCycles)) 1L else (r - t).toLong
         }
         .sum * width
     }

@@ -1,5 +1,7 @@
 package reducerload.graph
 
+import reducerload.pipeline.MemoryDelay
+
 /**
  * How a value of a shared registers datapath (2 clocks per sample or more) reaches the cycles it is read in.
  * Its first register is written once per sample, in the cycle before it is ready, and holds it for the
@@ -29,7 +31,7 @@ object HeldTaps {
     require(interval >= 2, s"HeldTaps: at $interval clock per sample values wait in delay lines")
     val stages = reads.map(r => (r - ready) / interval).distinct.sorted
     val (delayed, chained) =
-      stages.partition(k => k >= 1 && memoryMinCycles > 0 && k * interval >= memoryMinCycles)
+      stages.partition(k => k >= 1 && MemoryDelay.inBlockRam(k * interval, memoryMinCycles))
     HeldTaps(chained.maxOption.getOrElse(0), delayed)
   }
 }

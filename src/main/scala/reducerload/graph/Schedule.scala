@@ -465,6 +465,9 @@ final class Schedule(
    */
   private def forwardable(x: NodeId) = !dedicated && graph(x).isInstanceOf[Mul] && uses(x.index) == 1
 
+  /** A forwardable multiply that is not an output too: the refinement may forward it to its one reader. */
+  private def forwardableToReader(x: NodeId) = forwardable(x) && graph.outputs.forall(_.node != x)
+
   /** A multiply's operands ordered by width for its unit's ports ([[MulShape.widths]]): the wider first. */
   private def byWidth(id: NodeId): IndexedSeq[NodeId] = {
     val Mul(a, b) = graph(id): @unchecked
@@ -493,7 +496,7 @@ final class Schedule(
               f.width,
               units,
               swappable = widths.forall(_ <= unitShapes(units.head).narrow),
-              forwardable = forwardable(id) && graph.outputs.forall(_.node != id)
+              forwardable = forwardableToReader(id)
             )
           case op =>
             val latency = state.ready(id.index).get - state.slots(id.index).get.issue
@@ -501,7 +504,7 @@ final class Schedule(
               op.operands.map(_.index).toIndexedSeq,
               latency,
               f.width,
-              forwardable = forwardable(id) && graph.outputs.forall(_.node != id),
+              forwardable = forwardableToReader(id),
               takesForwarded = !shiftAdded(id)
             )
         }
@@ -566,7 +569,7 @@ final class Schedule(
     case Some(r) =>
       ids
         .filter(x =>
-          forwardable(x) && graph.outputs.forall(_.node != x) && {
+          forwardableToReader(x) && {
             val reader = ids.find(id => graph(id).operands.contains(x)).get
             !graph(reader).isInstanceOf[Mul] && r.issue(reader.index) == ready(x.index).get - 1
           }

@@ -43,9 +43,16 @@ final class DelayPointer(val cycles: Int) {
 
 object MemoryDelay {
 
-  /** `x` delayed by `cycles` clocks: in block RAM from `memoryMinCycles` on (0: never), else in registers. */
+  /**
+   * The one rule of `datapath.memory-delay-min-cycles`: a delay of `cycles` clocks is in block RAM from
+   * `memoryMinCycles` on (0: never), else in registers.
+   */
+  def inBlockRam(cycles: Int, memoryMinCycles: Int): Boolean =
+    memoryMinCycles > 0 && cycles >= memoryMinCycles
+
+  /** `x` delayed by `cycles` clocks: in block RAM or in registers ([[inBlockRam]]). */
   def balanced[T <: Data](x: T, cycles: Int, memoryMinCycles: Int): T =
-    if (memoryMinCycles > 0 && cycles >= memoryMinCycles) apply(x, cycles)
+    if (inBlockRam(cycles, memoryMinCycles)) apply(x, cycles)
     else reducerload.fixedpoint.FixedHw.delay(x, cycles)
 
   /** `x` written into a circular buffer at `pointer`, and the word read (one clock short of the delay). */
