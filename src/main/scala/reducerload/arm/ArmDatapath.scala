@@ -56,14 +56,14 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
    * One flip-flop per residue, high while the phase equals it, so the enables of the many registers written
    * at one phase leave a flip-flop, not a comparator (a compare driving that fan-out limits the clock).
    * Registers storage compares the phase with the residue before, a cycle early (the compare does not wait
-   * for the counter's increment; residues nothing uses are removed). Memory storage at up to
-   * [[ArmDatapath.ringMaxInterval]] clocks passes one token around a ring of II flip-flops instead: no
+   * for the counter's increment; residues nothing uses are removed). Memory storage and registered routes at
+   * up to [[ArmDatapath.ringMaxInterval]] clocks pass one token around a ring of II flip-flops instead: no
    * counter, so no compare shared between the counter's wrap and the flag of residue 0, which the placer
    * would pull between the counter and that flag's loads.
    */
   private val phaseIs: IndexedSeq[Bool] =
     if (ii == 1) IndexedSeq(true.B)
-    else if (p.banked.isDefined && ii <= ArmDatapath.ringMaxInterval) {
+    else if ((p.banked.isDefined || schedule.routed) && ii <= ArmDatapath.ringMaxInterval) {
       val ring = (0 until ii).map(r => RegInit((r == 0).B))
       ring.indices.foreach(r => ring(r) := ring((r + ii - 1) % ii))
       ring
@@ -90,10 +90,12 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
    * from a counter [[selectAhead]] cycles ahead of the phase, then registered that many times, so the lookup
    * sits between two flip-flops of its own and the select's route to the multiplexer is a
    * register-to-register hop. For a select that reaches far (a CORDIC unit's input among the angle sums: a
-   * select decoded from the phase, even a cycle early, keeps the decode on the route). In the first cycles
-   * after reset the select is 0: those cycles' CORDIC inputs belong to samples taken before the reset.
+   * select decoded from the phase, even a cycle early, keeps the decode on the route). With `fromReset` the
+   * select is right from the first cycle after reset (registered routes issue angles from cycle 1); without
+   * it (memory storage, as measured) it is 0 in the first cycles, whose CORDIC inputs belong to samples taken
+   * before the reset.
    */
-  private def byPhaseRegistered[T <: Data](entries: Seq[(Int, T)]): T =
+  private def byPhaseRegistered[T <: Data](entries: Seq[(Int, T)], fromReset: Boolean = false): T =
     if (entries.size == 1) entries.head._2
     else {
       val sorted = entries.sortBy(_._1)
@@ -101,8 +103,9 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       val index = (0 until ii).map(r => sorted.lastIndexWhere(_._1 <= r).max(0))
       val ahead = residueCounter(selectAhead)
       val select =
-        (0 until selectAhead).foldLeft(VecInit(index.map(_.U(log2Ceil(sorted.size).W)))(ahead))((v, _) =>
-          RegNext(v, 0.U)
+        (1 to selectAhead).foldLeft(VecInit(index.map(_.U(log2Ceil(sorted.size).W)))(ahead))((v, k) =>
+          // the k-th register holds in cycle 0 the index of residue selectAhead - k
+          RegNext(v, (if (fromReset) index(selectAhead - k) else 0).U)
         )
       VecInit(sorted.map(_._2))(select)
     }
@@ -133,6 +136,58 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       VecInit(inputs)(select)
     }
 
+  /**
+   * With registered routes: a shared unit's operand as [[bySource]] gives it, two clocks later, through two
+   * registered multiplexer levels. The sources in groups ([[ArmDatapath.routeGroups]]), each group's
+   * multiplexer into a register of its own (the placer puts it beside its sources), then the groups'
+   * registers into the operand register beside the unit. The source read in residue r is in its group's
+   * register in r + 1 and in the operand register in r + 2.
+   */
+  private def bySourceRouted(sources: Seq[PortSource], entries: Seq[(Int, PortSource, SInt)]): SInt = {
+    val inputs = sources.map(src => entries.find(_._2 == src).get._3)
+    val width = inputs.map(_.getWidth).max
+    def register(v: SInt): SInt = FixedHw.delay(v.pad(width), 1)
+    val read = entries.map { case (r, src, _) => r -> sources.indexOf(src) }.toMap
+    // the source read in each residue; residues nothing reads repeat the one before (as bySource)
+    val index = (0 until ii).scanLeft(read(entries.map(_._1).min))((prev, r) => read.getOrElse(r, prev)).tail
+    val grouping = ArmDatapath.routeGroups(sources)
+    val groupOf = grouping.zipWithIndex.flatMap { case (members, g) => members.map(_ -> g) }.toMap
+    val groups = grouping.zipWithIndex.map { case (members, g) =>
+      // in residue r the member read then, or the one it took last (its register is not read meanwhile)
+      val member = (0 until ii)
+        .scanLeft(0)((prev, r) => if (groupOf(index(r)) == g) members.indexOf(index(r)) else prev)
+        .tail
+      register(
+        if (members.size == 1) inputs(members.head) else VecInit(members.map(inputs))(decodedAhead(member))
+      )
+    }
+    // in residue r the operand register takes the group of the source read in r - 1
+    register(
+      if (groups.size == 1) groups.head
+      else VecInit(groups)(decodedAhead((0 until ii).map(r => groupOf(index((r + ii - 1) % ii)))))
+    )
+  }
+
+  /**
+   * A register whose value in residue r is `table(r)`, decoded from the phase flags two clocks ahead: each
+   * bit the OR of up to four flags into a register, then the OR of those into the select. No select waits on
+   * a decode of flags from across the chip (with registered routes those paths limit the clock next).
+   */
+  private def decodedAhead(table: IndexedSeq[Int]): UInt = {
+    val bits = (0 until log2Ceil(table.max + 1).max(1)).map { b =>
+      def set(r: Int) = (table(r % ii) >> b & 1) == 1
+      val residues = (0 until ii).filter(r => set(r + 2))
+      if (residues.isEmpty) false.B
+      else {
+        // in residue r: whether residue r - 1 is one of the group's (in cycle 0: residue II - 1)
+        val partial =
+          residues.grouped(4).toSeq.map(g => RegNext(g.map(phaseIs).reduce(_ || _), g.contains(ii - 1).B))
+        RegNext(partial.reduce(_ || _), set(0).B)
+      }
+    }
+    VecInit(bits).asUInt
+  }
+
   /** One write pointer per length of block-RAM delay of held values, shared by every delay of that length. */
   private val delayPointers = scala.collection.mutable.Map.empty[Int, DelayPointer]
   private def delayPointer(cycles: Int): DelayPointer =
@@ -143,6 +198,32 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
   /** True in cycle `cycle` of every sample (and in every cycle at II = 1). */
   private def during(cycle: Int): Bool = phaseIs(cycle % ii)
+
+  /** Routes between value registers and shared units pass registers (`datapath.registered-routes`). */
+  private val routed = schedule.routed
+
+  /** Copies of each residue's phase flag handed out so far, and the first-level copies they come from. */
+  private val enablesHanded = Array.fill(ii)(0)
+  private val firstLevelEnables = scala.collection.mutable.Map.empty[(Int, Int), Bool]
+
+  /**
+   * The write enable of a held register written in cycle `cycle`: [[during]], or with registered routes a
+   * kept copy of the phase flag of its own, from a kept copy per [[ArmDatapath.enableFanout]] registers, so
+   * that no flag reaches hundreds of registers across the chip. Each copy is the flag two (one) clocks late
+   * of the residue two (one) before, its reset value the flag's in cycle 0.
+   */
+  private def enable(cycle: Int): Bool =
+    if (!routed) during(cycle)
+    else {
+      val r = cycle % ii
+      val n = enablesHanded(r)
+      enablesHanded(r) = n + 1
+      val first = firstLevelEnables.getOrElseUpdate(
+        (r, n / ArmDatapath.enableFanout),
+        FixedHw.kept(RegNext(phaseIs((r + ii - 2) % ii), ((r + ii - 1) % ii == 0).B))
+      )
+      FixedHw.kept(RegNext(first, (r == 0).B))
+    }
 
   /**
    * `stage0`, a register written at the end of cycle `ready - 1` of every sample, as seen in each cycle of
@@ -169,7 +250,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     else {
       // memory storage keeps its few held values (angles, flags) in registers: its block RAM is its banks'
       val taps = HeldTaps(ii, ready, reads, if (p.banked.isEmpty && inBlockRam) p.memoryDelayMinCycles else 0)
-      val stages = (1 to taps.chain).scanLeft(stage0)((prev, _) => RegEnable(prev, during(ready - 1)))
+      val stages = (1 to taps.chain).scanLeft(stage0)((prev, _) => RegEnable(prev, enable(ready - 1)))
       val delayed = taps.delayed.map(k => k -> MemoryDelay.shared(stage0, delayPointer(k * ii))).toMap
       reads.map { r =>
         val k = (r - ready) / ii
@@ -180,7 +261,9 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
   io.in.ready := during(0)
   private val accept = io.in.valid && io.in.ready
-  private val angles = RegEnable(io.in.bits.q, during(0))
+  // With registered routes each input register has its own copy of the flag (`enable`): io.in.ready into
+  // every clamp's set and reset across the chip limited the clock next.
+  private val angles = RegEnable(io.in.bits.q, enable(0))
 
   // Cycle 0: velocities and accelerations clamped to the declared ranges straight from the port, in
   // each joint's own format, into their registers for cycle 1 (a register before the clamp would
@@ -192,7 +275,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   private def clampTo(x: SInt, lo: BigInt, hi: BigInt, width: Int): (SInt, Bool) = {
     val (value, outside) = FixedHw.clamp(x, lo, hi, width)
     if (p.banked.isDefined) (RegNext(value), RegNext(outside))
-    else (RegEnable(value, during(0)), RegEnable(outside, during(0)))
+    else (RegEnable(value, enable(0)), RegEnable(outside, enable(0)))
   }
   private val velocities = (0 until joints).map(j =>
     clamp(io.in.bits.qd(j), numerics.velocityLimitRaw(j), numerics.velocityFormats(j).width)
@@ -213,7 +296,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     Option.when(parameters.nonEmpty)(numerics.parameters.map(parameters(_)._2).reduce(_ || _))
   private val jointFlagRegisters = (0 until joints).map { j =>
     val inputs = velocities(j)._2 || accelerations(j)._2
-    RegEnable(payloadOutside.fold(inputs)(inputs || _), during(ArmDatapath.inputCycle))
+    RegEnable(payloadOutside.fold(inputs)(inputs || _), enable(ArmDatapath.inputCycle))
   }
 
   // Angles: each joint's code from the input register, at the cycles its sums are issued.
@@ -232,9 +315,15 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     }
     // no data register waits on valid; the datapath's own valid chain says which samples count
     unit.io.in.valid := true.B
-    // Memory storage: the select registered (its route reaches across the larger designs); registers
-    // storage keeps the phase-decoded one, which does not limit the clock of its designs.
-    unit.io.in.bits := RegNext(if (p.banked.isDefined) byPhaseRegistered(sums) else byPhase(sums))
+    // Memory storage and registered routes: the select registered (its route reaches across the larger
+    // designs; with registered routes a phase decode, and then a select decoded from the scattered phase
+    // flags, limited the clock next); registers storage keeps the phase-decoded one, which does not limit
+    // the clock of its designs.
+    unit.io.in.bits := RegNext(
+      if (p.banked.isDefined) byPhaseRegistered(sums)
+      else if (routed) byPhaseRegistered(sums, fromReset = true)
+      else byPhase(sums)
+    )
     unit.io.out.bits
   }
 
@@ -274,7 +363,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       def fit(v: SInt): SInt = FixedHw.fitWidth(v, f.width)
       val ready = schedule(id)
       def issue = schedule.slot(id).get.issue
-      def register(v: SInt, cycle: Int): SInt = RegEnable(fit(v), during(cycle))
+      def register(v: SInt, cycle: Int): SInt = RegEnable(fit(v), enable(cycle))
 
       /** The value's register, seen by its readers. */
       def kept(stage0: SInt): Map[Int, SInt] = held(stage0, ready.get, schedule.reads(id.index))
@@ -286,7 +375,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
         case Trig(fn, a) =>
           val out = cordicOutputs(schedule.angleSlot(a).unit.get)
           val v = if (fn == TrigFn.Cos) out.cos else out.sin
-          kept(if (schedule.capturesCordic) RegEnable(v, during(ready.get - 1)) else v)
+          kept(if (schedule.capturesCordic) RegEnable(v, enable(ready.get - 1)) else v)
         case Add(a, b) => kept(register(aligned(a, issue) + aligned(b, issue), issue))
         case Sub(a, b) => kept(register(aligned(a, issue) - aligned(b, issue), issue))
         case Neg(a)    => kept(register(-aligned(a, issue), issue))
@@ -301,14 +390,14 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
           val captured = !schedule.dedicated || rule.rounding != Rounding.Truncate
           if (schedule.forwarded(id))
             Map(ready.get - 1 -> rounded) // its one reader takes it off the unit's output
-          else kept(if (captured) RegEnable(rounded, during(ready.get - 1)) else rounded)
+          else kept(if (captured) RegEnable(rounded, enable(ready.get - 1)) else rounded)
       }
       done :+ taps
     }
 
     schedule.mulBindings.zipWithIndex.foreach { case (bound, u) =>
       val shape = shapeOfUnit(u)
-      def port(k: Int, width: Int): SInt = bySource(
+      def port(k: Int, width: Int): SInt = (if (routed) bySourceRouted _ else bySource _) (
         schedule.portSources(u)(k),
         bound.map { case (r, id) =>
           val x = schedule.ports(id)(k)
@@ -324,7 +413,8 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
         }
       )
       val product = PipelinedMultiplier(port(0, shape.wide), port(1, shape.narrow))
-      products(u) := FixedHw.delay(product, p.multiplierLatency - 1)
+      // with registered routes one more register, beside the unit, before the product travels to its readers
+      products(u) := FixedHw.delay(product, p.multiplierLatency - 1 + (if (routed) 1 else 0))
     }
     // An output may be a constant (a joint whose torque folds to zero: nothing it moves has mass).
     graph.outputs.map(o =>
@@ -342,9 +432,9 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   // decided on the unrounded value beside the rounding adder (FixedHw.roundSaturateDecision); then
   // every joint's flag ORs in the saturation of any torque. Registers storage: two registers deep
   // (Schedule.outputStages), the bound multiplexer before the first (rounding, saturation and the
-  // OR across the joints in one clock would be too long a path). Memory storage: three
-  // (BankedSchedule.outputStages), the compares registered before the multiplexer and the OR
-  // registered before the flags, so that neither limits the faster clock those designs reach.
+  // OR across the joints in one clock would be too long a path). Memory storage and registered
+  // routes: three (BankedSchedule.outputStages), the compares registered before the multiplexer and
+  // the OR registered before the flags, so that neither limits the faster clock those designs reach.
   require(
     p.latency == outAt + p.outputStages,
     s"ArmDatapath: latency ${p.latency} is not the output stage's ${p.outputStages} cycles after cycle $outAt"
@@ -370,8 +460,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   } else {
     require(
       p.outputStages == BankedSchedule.outputStages && ii >= 2,
-      "ArmDatapath: a three-register output stage holds the torques a cycle: it " +
-        "needs memory storage's II >= 2"
+      "ArmDatapath: a three-register output stage holds the torques a cycle: it needs II >= 2"
     )
     // The torques' port registers are loaded a cycle before the flags' and held (II >= 2) until then.
     val registered = decisions.map(_.registered(during(outAt)))
@@ -384,6 +473,24 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 }
 
 object ArmDatapath {
+
+  /** Sources per first-level multiplexer with registered routes: a 4:1 multiplexer is two LUT4s per bit. */
+  val routeGroup: Int = 4
+
+  /**
+   * A port's sources (indices into `sources`) in the first-level groups of registered routes: held values and
+   * literals in groups of their own. A literal among held values would let synthesis turn its select into the
+   * group register's synchronous set and reset, a net that reaches every bit of the register, which sit
+   * beside their own sources across the chip (it limited the clock at 109 MHz on the UR5).
+   */
+  def routeGroups(sources: Seq[reducerload.graph.PortSource]): Seq[Seq[Int]] = {
+    val (literals, held) =
+      sources.indices.partition(k => sources(k).isInstanceOf[reducerload.graph.PortSource.Literal])
+    held.grouped(routeGroup).toSeq ++ literals.grouped(routeGroup).toSeq
+  }
+
+  /** Held registers served by one first-level copy of a phase flag with registered routes. */
+  val enableFanout: Int = 16
 
   /**
    * Longest interval whose phase flags come from a ring: a ring costs II flip-flops, a logic element each,

@@ -132,7 +132,15 @@ final case class ArmParams(
   lazy val rangeHints: RangeHints = built._2
   lazy val analysis: Analysis = new Analysis(graph, numerics, rangeHints, fracBitLimits)
   private def scheduleFor(request: ScheduleRequest) =
-    new Schedule(analysis, request, cordic, multiplierLatency, ArmDatapath.inputCycle, memoryDelayMinCycles)
+    new Schedule(
+      analysis,
+      request,
+      cordic,
+      multiplierLatency,
+      ArmDatapath.inputCycle,
+      memoryDelayMinCycles,
+      datapath.registeredRoutes
+    )
 
   /**
    * The schedule and, with memory storage, its banks. With memory storage and an automatic interval, the
@@ -192,8 +200,11 @@ final case class ArmParams(
   /** Cycle at which every torque is in its register, before the output stage. */
   def outputsReady: Int = banked.fold(schedule.outputsReady)(_.outputsReady)
 
-  /** Registers of the output stage: memory storage has one more ([[BankedSchedule.outputStages]]). */
-  def outputStages: Int = banked.fold(Schedule.outputStages)(_ => BankedSchedule.outputStages)
+  /**
+   * Registers of the output stage: memory storage and registered routes have one more
+   * ([[Schedule.outputStages]]).
+   */
+  def outputStages: Int = banked.fold(schedule.outputStages)(_ => BankedSchedule.outputStages)
 
   /**
    * Worst-case |torque - exact double RNEA at the unquantized inputs| per joint, N·m, for inputs in range.

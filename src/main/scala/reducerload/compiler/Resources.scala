@@ -2,7 +2,16 @@ package reducerload.compiler
 
 import reducerload.arm.{ArmDatapath, ArmParams}
 import reducerload.config.{Device, DeviceFamily}
-import reducerload.graph.{BankedSchedule, HeldTaps, Operand, OperandSource, PlacedOp, Schedule, UnitKind}
+import reducerload.graph.{
+  BankedSchedule,
+  HeldTaps,
+  MulShape,
+  Operand,
+  OperandSource,
+  PlacedOp,
+  Schedule,
+  UnitKind
+}
 import reducerload.monitor.MonitorParams
 import reducerload.pipeline.{MemoryDelay, SignedMultiply}
 
@@ -260,6 +269,25 @@ object ResourceModel {
       p.chain.joints.indices.map(j => line(p.numerics.angleBits, 1, s.angleReads(j))).sum
   }
 
+  /**
+   * Register bits registered routes add (ArmDatapath, `datapath.registered-routes`): per unit port a register
+   * per group of sources and the operand register, per unit its product's register, per held register its
+   * enable's copy (and the first-level copies). Not calibrated: counted as held bits, which is high where a
+   * register packs with the multiplexer that feeds it.
+   */
+  private def routeRegisterBits(p: ArmParams, units: IndexedSeq[MulShape]): Double = {
+    val s = p.schedule
+    val operands = s.mulBindings.indices.map { u =>
+      val ports = s.portSources(u).zip(units(u).widths).map { case (sources, w) =>
+        (ArmDatapath.routeGroups(sources).size + 1) * w
+      }
+      ports.sum + units(u).wide + units(u).narrow
+    }.sum
+    val heldRegisters = p.graph.ids.flatMap(id => p.heldTaps(id).map(_.chain + 1)).sum
+    (operands + heldRegisters + ceilDiv(heldRegisters, ArmDatapath.enableFanout)).toDouble
+  }
+  private def ceilDiv(a: Int, b: Int): Int = (a + b - 1) / b
+
   def features(p: ArmParams): LogicFeatures = {
     val s: Schedule = p.schedule
     val c = p.cordic
@@ -282,7 +310,8 @@ object ResourceModel {
     p.banked match {
       case None =>
         LogicFeatures(
-          if (s.dedicated) registerBitsAtOne(p).toDouble else p.heldRegisterBits.toDouble,
+          if (s.dedicated) registerBitsAtOne(p).toDouble
+          else p.heldRegisterBits.toDouble + (if (s.routed) routeRegisterBits(p, units) else 0.0),
           operandBits,
           cordicBits,
           partial,

@@ -25,6 +25,11 @@ import reducerload.graph.Reassociation
  * @param memoryDelayMinCycles
  *   values held at least this many cycles wait in block RAM (M9K) instead of registers
  *   ([[reducerload.graph.HeldTaps]] at 2 clocks per sample or more); 0 keeps every delay in registers
+ * @param registeredRoutes
+ *   registers storage at 2 clocks per sample or more: every route from a value's register to a shared
+ *   multiplier, and from the multiplier to its readers, passes registers
+ *   ([[reducerload.graph.Schedule.routeStages]] more clocks per multiply), so that the design routes and
+ *   clocks on a full device (design.md, "Registered routes")
  * @param reassociate
  *   whether sums of several terms are rebuilt as trees, the earliest terms first
  *   ([[reducerload.graph.Reassociate]]): a shorter critical path; the same values, their formats and bounds
@@ -39,6 +44,7 @@ final case class DatapathParams(
     productRounding: Rounding = Rounding.Truncate,
     multiplierLatency: Int = 1,
     memoryDelayMinCycles: Int = 4,
+    registeredRoutes: Boolean = false,
     reassociate: Reassociation = Reassociation.Off
 ) {
   reducerload.graph.Numerics.checkFracBits(

@@ -484,6 +484,17 @@ object Settings {
     _.datapath.memoryDelayMinCycles
   )
 
+  val datapathRegisteredRoutes = new Switch(
+    "datapath.registered-routes",
+    "",
+    "registers storage at 2 clocks per sample or more: each shared multiplier's operands pass two registered " +
+      "multiplexer levels and its product a register before its readers, no product is forwarded, each held " +
+      "register has a copy of its write enable of its own (3 clocks more per multiply, one more output " +
+      "register): designs that route and clock on a full device",
+    Nil,
+    _.datapath.registeredRoutes
+  )
+
   val datapathReassociate = new Choice(
     "datapath.reassociate",
     "",
@@ -775,6 +786,7 @@ object Settings {
     datapathProductRounding,
     datapathMultiplierLatency,
     datapathMemoryDelayMinCycles,
+    datapathRegisteredRoutes,
     datapathReassociate,
     scheduleClocksPerSample,
     scheduleMaxMultipliers,
@@ -923,6 +935,7 @@ object Settings {
           productRounding = v(datapathProductRounding),
           multiplierLatency = v(datapathMultiplierLatency),
           memoryDelayMinCycles = v(datapathMemoryDelayMinCycles),
+          registeredRoutes = v(datapathRegisteredRoutes),
           reassociate = v(datapathReassociate)
         ),
         targetError = v(numericTargetError),

@@ -7,6 +7,16 @@ import chisel3.util._
 object FixedHw {
 
   /**
+   * `r`, a register, kept by synthesis (Verilog `keep` and `preserve`: Yosys and Quartus would merge
+   * registers with the same input), so copies of one signal can each sit beside their own loads.
+   */
+  def kept[T <: Data](r: T): T = {
+    dontTouch(r)
+    chisel3.experimental.annotate(r)(Seq("keep", "preserve").map(firrtl.AttributeAnnotation(r.toTarget, _)))
+    r
+  }
+
+  /**
    * `n` registers in a row, without reset, keeping `x`'s width (chisel3.util.ShiftRegister leaves the width
    * to inference, which elaboration-time width checks cannot read).
    */

@@ -182,6 +182,9 @@ private final case class ScheduleState(
  * @param memoryDelayMinCycles
  *   `datapath.memory-delay-min-cycles`: values held that long or longer wait in block RAM ([[HeldTaps]]),
  *   which the refinement counts
+ * @param registeredRoutes
+ *   `datapath.registered-routes`: with shared units, [[Schedule.routeStages]] more clocks per multiply on a
+ *   unit, no product forwarded, and a three-register output stage (see `routed`)
  */
 final class Schedule(
     val analysis: Analysis,
@@ -189,7 +192,8 @@ final class Schedule(
     cordic: CordicParams,
     multiplierLatency: Int,
     val inputCycle: Int,
-    memoryDelayMinCycles: Int = 0
+    memoryDelayMinCycles: Int = 0,
+    registeredRoutes: Boolean = false
 ) {
   import Op._
   private val graph = analysis.graph
@@ -296,6 +300,13 @@ final class Schedule(
   val dedicated: Boolean = ii == 1
 
   /**
+   * Routes between value registers and shared units pass registers (`datapath.registered-routes`; the
+   * hardware in ArmDatapath): registers storage with shared units only (memory storage's routes pass
+   * registers already). The bit-accurate model does not change.
+   */
+  val routed: Boolean = registeredRoutes && !dedicated && request.stored == Storage.Registers
+
+  /**
    * Each multiplier unit's shape: one unit per multiply at II = 1, else per class the fewest that fit its
    * multiplies in II slots.
    */
@@ -367,7 +378,8 @@ final class Schedule(
     if (shiftAdded(id)) ShiftAddMultiplier.latency(shiftAddOperands(id)._2) + capture
     else {
       val shape = if (dedicated) shapeOf(id) else classes(classOf(id)).shape
-      PipelinedMultiplier.latency(shape.wide, shape.narrow) + multiplierLatency - 1 + capture
+      PipelinedMultiplier.latency(shape.wide, shape.narrow) + multiplierLatency - 1 + capture +
+        (if (routed) Schedule.routeStages else 0)
     }
   }
 
@@ -463,7 +475,8 @@ final class Schedule(
    * A multiply whose only reader is an addition (no other use, not an output): its reader may take the
    * product off the unit's output the cycle before it is captured.
    */
-  private def forwardable(x: NodeId) = !dedicated && graph(x).isInstanceOf[Mul] && uses(x.index) == 1
+  private def forwardable(x: NodeId) =
+    !dedicated && !routed && graph(x).isInstanceOf[Mul] && uses(x.index) == 1
 
   /** A forwardable multiply that is not an output too: the refinement may forward it to its one reader. */
   private def forwardableToReader(x: NodeId) = forwardable(x) && graph.outputs.forall(_.node != x)
@@ -619,8 +632,14 @@ final class Schedule(
   /** Cycle at which every output is in its register: the output stage reads them then. */
   lazy val outputsReady: Int = graph.outputs.flatMap(o => apply(o.node)).maxOption.getOrElse(inputCycle)
 
+  /**
+   * Registers of the output stage: [[Schedule.outputStages]], or with registered routes memory storage's
+   * three ([[BankedSchedule.outputStages]]: the OR of every torque's saturation then has a clock of its own).
+   */
+  def outputStages: Int = if (routed) BankedSchedule.outputStages else Schedule.outputStages
+
   /** Cycles from a sample on the input port to its torques on the output port (output stage included). */
-  lazy val latency: Int = outputsReady + Schedule.outputStages
+  lazy val latency: Int = outputsReady + outputStages
 
   /** Cycles at which each node is read: by its users at their issue, and by the output stage. */
   lazy val reads: IndexedSeq[Seq[Int]] = {
@@ -716,4 +735,11 @@ object Schedule {
    * [[BankedSchedule.outputStages]]).
    */
   val outputStages: Int = 2
+
+  /**
+   * Clocks a multiply on a shared unit takes more with `datapath.registered-routes`: its operands pass two
+   * registered multiplexer levels (the first beside each group of sources, the second beside the unit), and
+   * its product a register beside the unit before it travels to the registers of its readers.
+   */
+  val routeStages: Int = 3
 }

@@ -28,7 +28,9 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       seed: Long,
       schedule: ScheduleRequest = ScheduleRequest(),
       targetError: Seq[Double] = Nil,
-      reassociate: Reassociation = Reassociation.Off
+      reassociate: Reassociation = Reassociation.Off,
+      routed: Boolean = false,
+      memoryDelayMinCycles: Option[Int] = None
   ): Unit = {
     val traces = ArmGolden.of(robot)
     traces.foreach(t =>
@@ -44,7 +46,11 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       config.copy(
         targetError = targetError,
         schedule = schedule,
-        datapath = config.datapath.copy(reassociate = reassociate)
+        datapath = config.datapath.copy(
+          reassociate = reassociate,
+          registeredRoutes = routed,
+          memoryDelayMinCycles = memoryDelayMinCycles.getOrElse(config.datapath.memoryDelayMinCycles)
+        )
       )
     )
     assert(
@@ -59,7 +65,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     val label = (if (p.schedule.clocksPerSample == 1) robot else s"$robot II=${p.schedule.clocksPerSample}") +
       (if (p.banked.isDefined) " memory" else "") +
       (if (targetError.isEmpty) "" else s" target ${targetError.mkString(",")} (F=${p.internalFracBits})") +
-      (if (reassociate == Reassociation.Off) "" else s" reassociate $reassociate")
+      (if (reassociate == Reassociation.Off) "" else s" reassociate $reassociate") +
+      (if (routed) " registered routes" else "")
     ArmChecks.run(
       this,
       label,
@@ -121,10 +128,17 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
   }
 
   it should "share multipliers and CORDIC units on planar3 (2, 3 and 40 clocks per " +
-    "sample), bit-exact under back-pressure" in {
+    "sample; at 3 and 40 also with registered routes), bit-exact under back-pressure" in {
       runRobot("planar3", 44L, ScheduleRequest(clocksPerSample = Some(2)))
       runRobot("planar3", 45L, ScheduleRequest(clocksPerSample = Some(3), cordicUnits = Some(1)))
       runRobot("planar3", 46L, ScheduleRequest(clocksPerSample = Some(40)))
+      runRobot(
+        "planar3",
+        59L,
+        ScheduleRequest(clocksPerSample = Some(3), cordicUnits = Some(1)),
+        routed = true
+      )
+      runRobot("planar3", 60L, ScheduleRequest(clocksPerSample = Some(40)), routed = true)
     }
 
   it should "fit the UR5 in the 66 multiplier blocks of an EP4CE30, bit-exact under back-pressure" in {
@@ -162,14 +176,23 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       )
     }
 
-  it should "meet a 1e-3 N·m target on the UR5 with the fewest fraction bits, in 66 blocks" in {
-    runRobot(
-      "ur5",
-      48L,
-      ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)),
-      targetError = Seq(1e-3)
-    )
-  }
+  it should "meet a 1e-3 N·m target on the UR5 with registered routes at 17 clocks per sample, the sweep's " +
+    "routed point, in 66 blocks, bit-exact under back-pressure" in {
+      runRobot(
+        "ur5",
+        48L,
+        ScheduleRequest(
+          clocksPerSample = Some(17),
+          maxMultipliers = Some(66),
+          listOrder = Some(ListOrder.ByHeight),
+          refinement = reducerload.app.ArmSweep.fastRefinement
+        ),
+        targetError = Seq(1e-3),
+        reassociate = Reassociation.Sums,
+        routed = true,
+        memoryDelayMinCycles = Some(0)
+      )
+    }
 
   it should "fit the UR5 with reassociated sums, placed by height, refined as the sweep's fast point, in the " +
     "66 multiplier blocks of an EP4CE30 with a 1e-3 N·m target, bit-exact under back-pressure" in {

@@ -26,6 +26,9 @@ class ScheduleSpec extends AnyFlatSpec {
     val s = p.schedule
     val g = p.graph
     val ii = s.clocksPerSample
+    // Registered routes (shared registers storage): two registered multiplexer levels before a unit and a
+    // register after it, so 3 clocks more per multiply; the OR of the saturations gets a register of its own.
+    val routed = p.datapath.registeredRoutes && ii > 1 && s.request.stored == Storage.Registers
     g.ids.foreach { id =>
       val op = g(id)
       op match {
@@ -66,7 +69,8 @@ class ScheduleSpec extends AnyFlatSpec {
                 p.productRounding != reducerload.fixedpoint.Rounding.Truncate
               PipelinedMultiplier
                 .latency(shape.wide, shape.narrow) + p.multiplierLatency - 1 + (if (ii > 1 || rounds) 1
-                                                                                else 0)
+                                                                                else 0) +
+                (if (routed) 3 else 0)
             case Op.Trig(_, _) =>
               1 + p.cordic.latency + (if (ii > 1 || s.cordicUnits < g.angles.size) 1 else 0)
             case Op.Input(_) => 1
@@ -92,7 +96,8 @@ class ScheduleSpec extends AnyFlatSpec {
     )
     // Readers: the output stage reads after every output is ready; latency is that plus its registers.
     g.outputs.foreach(o => assert(s(o.node).get <= s.outputsReady))
-    assert(s.latency == g.outputs.map(o => s(o.node).get).max + Schedule.outputStages)
+    assert(s.latency == g.outputs.map(o => s(o.node).get).max + (if (routed) 3 else 2))
+    if (routed) assert(g.ids.forall(x => !s.forwarded(x)), "a product forwarded past its registered route")
     s.request.maxMultipliers.foreach(b =>
       assert(s.multiplierBlocks <= b, s"${s.multiplierBlocks} blocks above the budget $b")
     )
@@ -216,6 +221,26 @@ class ScheduleSpec extends AnyFlatSpec {
       shiftAddInBanks.getMessage
     )
   }
+
+  it should "pass every route between units through registers (datapath.registered-routes): 3 clocks more " +
+    "per multiply on a unit, no product forwarded, a three-register output stage" in {
+      Seq(2, 17, 40).foreach { ii =>
+        Seq("planar3" -> planar3, "ur5" -> ur5).foreach { case (name, p) =>
+          val request = ScheduleRequest(clocksPerSample = Some(ii))
+          val direct = check(scheduled(p, request))
+          val routes = scheduled(p.copy(datapath = p.datapath.copy(registeredRoutes = true)), request)
+          val routed = check(routes)
+          figures(s"$name II=$ii routed", routes)
+          assert(routed.routed && !direct.routed)
+          assert(
+            routed.latency > direct.latency,
+            s"$name II=$ii: routed ${routed.latency}, direct ${direct.latency}"
+          )
+        }
+      }
+      // One clock per sample has no shared unit and so no route to register.
+      assert(!check(ur5.copy(datapath = ur5.datapath.copy(registeredRoutes = true))).routed)
+    }
 
   it should "place the UR5's operations by height with registers within every rule (schedule.list-order = " +
     "by-height)" in {
