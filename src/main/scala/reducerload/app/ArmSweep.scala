@@ -30,13 +30,16 @@ object ArmSweep {
 
   /**
    * One point of the schedule axis: its name, the schedule asked for, the per-torque error target (none: the
-   * default fraction bits) and whether sums are rebuilt as trees (`datapath.reassociate`).
+   * default fraction bits), whether sums are rebuilt as trees (`datapath.reassociate`) and whether routes
+   * between units pass registers (`datapath.registered-routes`, with every held value in registers:
+   * `datapath.memory-delay-min-cycles = 0`, the combination measured to route).
    */
   final case class Point(
       name: String,
       request: ScheduleRequest,
       targetError: Seq[Double] = Nil,
-      reassociate: Reassociation = Reassociation.Off
+      reassociate: Reassociation = Reassociation.Off,
+      routed: Boolean = false
   ) {
 
     /** The robot's golden-trace configuration with this point's settings. */
@@ -44,7 +47,11 @@ object ArmSweep {
       base.copy(
         targetError = targetError,
         schedule = request,
-        datapath = base.datapath.copy(reassociate = reassociate)
+        datapath = base.datapath.copy(
+          reassociate = reassociate,
+          registeredRoutes = routed,
+          memoryDelayMinCycles = if (routed) 0 else base.datapath.memoryDelayMinCycles
+        )
       )
   }
 
@@ -58,10 +65,10 @@ object ArmSweep {
    * The schedule axis: intervals from one clock to hundreds, and the fewest clocks within an EP4CE30's 66
    * blocks; then two of them with the fraction bits fitted to 1e-3 N·m (`numeric.target-error`); then the
    * fewest clocks within 66 blocks at 1e-3 with the shortest latency (sums rebuilt as trees, the list placed
-   * by height, the schedule refined five times longer than by default: issue 33's UR5 point); then values in
-   * block-RAM banks (`schedule.storage = memory`) at 1e-3 N·m from 32 to 512 clocks (88: the UR5 design that
-   * meets issue 12's targets; 114: the Panda's, and at 114 with 5 adder units, which the Panda's latency
-   * target needs).
+   * by height, the schedule refined five times longer than by default: issue 33's UR5 point), and the same
+   * with registered routes (the design that routes on the clock proxy); then values in block-RAM banks
+   * (`schedule.storage = memory`) at 1e-3 N·m from 32 to 512 clocks (88: the UR5 design that meets issue 12's
+   * targets; 114: the Panda's, and at 114 with 5 adder units, which the Panda's latency target needs).
    */
   val schedules: Seq[Point] =
     Seq(1, 4, 16, 64, 256).map(c => Point(s"ii$c", ScheduleRequest(clocksPerSample = Some(c)))) ++ Seq(
@@ -78,6 +85,18 @@ object ArmSweep {
         ),
         Seq(1e-3),
         Reassociation.Sums
+      ),
+      Point(
+        "routed66-t1e-3",
+        ScheduleRequest(
+          clocksPerSample = None,
+          maxMultipliers = Some(66),
+          listOrder = Some(ListOrder.ByHeight),
+          refinement = ArmSweep.fastRefinement
+        ),
+        Seq(1e-3),
+        Reassociation.Sums,
+        routed = true
       )
     ) ++
       Seq(32, 64, 88, 114, 128, 512).map(c =>
