@@ -62,6 +62,22 @@ object ArmSweep {
   val fastRefinement: Int = 100000
 
   /**
+   * The fast point: the fewest clocks within 66 blocks at 1e-3 N·m with the shortest latency; the sweep has
+   * it with and without registered routes.
+   */
+  private val fast = Point(
+    "fast66-t1e-3",
+    ScheduleRequest(
+      clocksPerSample = None,
+      maxMultipliers = Some(66),
+      listOrder = Some(ListOrder.ByHeight),
+      refinement = ArmSweep.fastRefinement
+    ),
+    Seq(1e-3),
+    Reassociation.Sums
+  )
+
+  /**
    * The schedule axis: intervals from one clock to hundreds, and the fewest clocks within an EP4CE30's 66
    * blocks; then two of them with the fraction bits fitted to 1e-3 N·m (`numeric.target-error`); then the
    * fewest clocks within 66 blocks at 1e-3 with the shortest latency (sums rebuilt as trees, the list placed
@@ -75,29 +91,8 @@ object ArmSweep {
       Point("budget66", ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66))),
       Point("budget66-t1e-3", ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)), Seq(1e-3)),
       Point("ii64-t1e-3", ScheduleRequest(clocksPerSample = Some(64)), Seq(1e-3)),
-      Point(
-        "fast66-t1e-3",
-        ScheduleRequest(
-          clocksPerSample = None,
-          maxMultipliers = Some(66),
-          listOrder = Some(ListOrder.ByHeight),
-          refinement = ArmSweep.fastRefinement
-        ),
-        Seq(1e-3),
-        Reassociation.Sums
-      ),
-      Point(
-        "routed66-t1e-3",
-        ScheduleRequest(
-          clocksPerSample = None,
-          maxMultipliers = Some(66),
-          listOrder = Some(ListOrder.ByHeight),
-          refinement = ArmSweep.fastRefinement
-        ),
-        Seq(1e-3),
-        Reassociation.Sums,
-        routed = true
-      )
+      fast,
+      fast.copy(name = "routed66-t1e-3", routed = true)
     ) ++
       Seq(32, 64, 88, 114, 128, 512).map(c =>
         Point(

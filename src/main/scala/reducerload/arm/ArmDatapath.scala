@@ -120,12 +120,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   private def bySource(sources: Seq[PortSource], entries: Seq[(Int, PortSource, SInt)]): SInt =
     if (sources.size == 1) entries.head._3
     else {
-      val inputs = sources.map(src => entries.find(_._2 == src).get._3)
-      val byResidue = entries.map { case (r, src, _) => r -> sources.indexOf(src) }.toMap
-      // residues nothing uses repeat the source before them (as byPhase)
-      val index = (0 until ii)
-        .scanLeft(byResidue(entries.map(_._1).min))((prev, r) => byResidue.getOrElse(r, prev))
-        .tail
+      val (inputs, index) = sourcesByResidue(sources, entries)
       // each select bit: the OR of the phase flags of the residues before those that set it (a table indexed
       // by the phase would be a ROM, and a block RAM each for the open-tool estimate)
       val w = log2Ceil(sources.size)
@@ -137,6 +132,19 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     }
 
   /**
+   * A unit port's input per source (`entries`: each residue's source and its value) and the index of the
+   * source read in each residue; residues nothing reads repeat the source before them (as byPhase).
+   */
+  private def sourcesByResidue(
+      sources: Seq[PortSource],
+      entries: Seq[(Int, PortSource, SInt)]
+  ): (Seq[SInt], IndexedSeq[Int]) = {
+    val inputs = sources.map(src => entries.find(_._2 == src).get._3)
+    val read = entries.map { case (r, src, _) => r -> sources.indexOf(src) }.toMap
+    (inputs, (0 until ii).scanLeft(read(entries.map(_._1).min))((prev, r) => read.getOrElse(r, prev)).tail)
+  }
+
+  /**
    * With registered routes: a shared unit's operand as [[bySource]] gives it, two clocks later, through two
    * registered multiplexer levels. The sources in groups ([[ArmDatapath.routeGroups]]), each group's
    * multiplexer into a register of its own (the placer puts it beside its sources), then the groups'
@@ -144,12 +152,9 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
    * register in r + 1 and in the operand register in r + 2.
    */
   private def bySourceRouted(sources: Seq[PortSource], entries: Seq[(Int, PortSource, SInt)]): SInt = {
-    val inputs = sources.map(src => entries.find(_._2 == src).get._3)
+    val (inputs, index) = sourcesByResidue(sources, entries)
     val width = inputs.map(_.getWidth).max
     def register(v: SInt): SInt = FixedHw.delay(v.pad(width), 1)
-    val read = entries.map { case (r, src, _) => r -> sources.indexOf(src) }.toMap
-    // the source read in each residue; residues nothing reads repeat the one before (as bySource)
-    val index = (0 until ii).scanLeft(read(entries.map(_._1).min))((prev, r) => read.getOrElse(r, prev)).tail
     val grouping = ArmDatapath.routeGroups(sources)
     val groupOf = grouping.zipWithIndex.flatMap { case (members, g) => members.map(_ -> g) }.toMap
     val groups = grouping.zipWithIndex.map { case (members, g) =>

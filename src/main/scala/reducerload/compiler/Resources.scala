@@ -1,5 +1,7 @@
 package reducerload.compiler
 
+import reducerload.util.IntMath.ceilDiv
+
 import reducerload.arm.{ArmDatapath, ArmParams}
 import reducerload.config.{Device, DeviceFamily}
 import reducerload.graph.{
@@ -283,10 +285,9 @@ object ResourceModel {
       }
       ports.sum + units(u).wide + units(u).narrow
     }.sum
-    val heldRegisters = p.graph.ids.flatMap(id => p.heldTaps(id).map(_.chain + 1)).sum
+    val heldRegisters = p.graph.ids.flatMap(id => p.heldTaps(id).map(_.registers)).sum
     (operands + heldRegisters + ceilDiv(heldRegisters, ArmDatapath.enableFanout)).toDouble
   }
-  private def ceilDiv(a: Int, b: Int): Int = (a + b - 1) / b
 
   def features(p: ArmParams): LogicFeatures = {
     val s: Schedule = p.schedule

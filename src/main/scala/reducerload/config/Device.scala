@@ -1,5 +1,7 @@
 package reducerload.config
 
+import reducerload.util.IntMath.ceilDiv
+
 /** One way a memory block can be configured: `depth` words of `width` bits (simple dual port). */
 final case class BlockShape(depth: Int, width: Int) {
   override def toString: String = s"${depth}x$width"
@@ -17,7 +19,6 @@ sealed abstract class DeviceFamily(
     val memoryBlockBits: Int,
     val shapes: Seq[BlockShape]
 ) {
-  private def ceilDiv(a: Int, b: Int) = (a + b - 1) / b
 
   /** Blocks one memory of `depth` words of `width` bits takes. */
   def blocksFor(depth: Int, width: Int): Int =

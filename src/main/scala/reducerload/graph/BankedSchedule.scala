@@ -1,5 +1,7 @@
 package reducerload.graph
 
+import reducerload.util.IntMath.ceilDiv
+
 /** Where a shared datapath keeps its values between operations (`schedule.storage`). */
 sealed abstract class Storage(val name: String) { override def toString: String = name }
 object Storage {
@@ -203,7 +205,6 @@ final class BankedSchedule(val base: Schedule) {
   private val ii = clocksPerSample
 
   private def isConst(x: NodeId) = graph(x).isInstanceOf[Const]
-  private def ceilDiv(a: Int, b: Int) = (a + b - 1) / b
 
   /** The per-sample inputs, in the order the input stage writes them into their bank (one per clock). */
   val signals: IndexedSeq[Signal] = graph.signals.toIndexedSeq

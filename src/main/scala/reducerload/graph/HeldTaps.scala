@@ -17,8 +17,11 @@ import reducerload.pipeline.MemoryDelay
  */
 final case class HeldTaps(chain: Int, delayed: Seq[Int]) {
 
-  /** Register bits of a value of `width` bits: its first register and its chain. */
-  def registerBits(width: Int): Long = (chain + 1).toLong * width
+  /** Registers of the value: its first register and its chain. */
+  def registers: Int = chain + 1
+
+  /** Register bits of a value of `width` bits. */
+  def registerBits(width: Int): Long = registers.toLong * width
 }
 
 object HeldTaps {

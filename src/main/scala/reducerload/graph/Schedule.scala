@@ -1,5 +1,7 @@
 package reducerload.graph
 
+import reducerload.util.IntMath.ceilDiv
+
 import reducerload.cordic.CordicParams
 import reducerload.fixedpoint.Rounding
 import reducerload.pipeline.{PipelinedMultiplier, ShiftAddMultiplier}
@@ -170,7 +172,7 @@ private final case class ScheduleState(
  *   - add/sub/neg: result registered, ready at r + 1;
  *   - multiply: the unit's pipelined multiplier ([[PipelinedMultiplier.latency]] plus `multiplierLatency - 1`
  *     registers) then, when units are shared or the product rounds, a register that captures it: ready at r +
- *     multiplier latency (+ 1);
+ *     multiplier latency (+ 1), and [[Schedule.routeStages]] more on a unit with registered routes;
  *   - multiply by a constant as shift-and-add logic (`shiftAdded`): its own registered adder tree, one level
  *     per clock ([[ShiftAddMultiplier.latency]]), then the capture register as above;
  *   - sin/cos of an angle sum: the sum registered, then the CORDIC unit, then (shared) a capture register.
@@ -225,8 +227,6 @@ final class Schedule(
     val Mul(a, b) = graph(id): @unchecked
     MulShape.of(analysis(a).format.width, analysis(b).format.width)
   }
-
-  private def ceilDiv(a: Int, b: Int) = (a + b - 1) / b
 
   /**
    * Multiplies grouped by the 18x18 blocks their operands need (17-bit chunks per operand): a shared unit of
