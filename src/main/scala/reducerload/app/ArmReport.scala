@@ -149,6 +149,9 @@ final case class ArmReport(
    */
   private val limitBudget = schedule.request.maxMultipliers.getOrElse(schedule.multiplierBlocks)
   private val clocksFloor = schedule.clocksLowerBound(limitBudget)
+
+  /** The latency the dependences allow with this design's operator latencies (unlimited units). */
+  private val latencyFloor = p.banked.fold(schedule.dependenceBound)(_.dependenceBound)
   private val adderUnits = p.banked.map(_.adderUnits)
   private def adderUtilization: Double =
     (counts.additions + counts.negations).toDouble / (adderUnits
@@ -163,9 +166,7 @@ final case class ArmReport(
     f"Limits: at least ${clocksFloor.fold("-")(_.toString)} clocks per sample for ${schedule.blockMultiplies} products on blocks " +
       f"and ${counts.sinCos} sin/cos pairs in $limitBudget blocks (achieved $ii); multiplier slots used ${schedule.multiplierUtilization * 100}%.1f%%, " +
       f"adder slots used ${adderUtilization * 100}%.1f%%" +
-      p.banked.fold("")(b =>
-        s"; latency at least ${b.dependenceBound} cycles from the dependences (achieved ${p.latency})"
-      )
+      s"; latency at least $latencyFloor cycles from the dependences (achieved ${p.latency})"
 
   /** Register bits holding values between cycles (at one clock per sample: the delay lines, as built). */
   private def heldBits: Long = if (schedule.dedicated) schedule.heldBits else p.heldRegisterBits
@@ -315,7 +316,7 @@ final case class ArmReport(
         "lower_bound_budget_blocks" -> limitBudget,
         "multiplier_utilization" -> schedule.multiplierUtilization,
         "adder_utilization" -> adderUtilization,
-        "latency_lower_bound_cycles" -> p.banked.map(b => Int.box(b.dependenceBound)).orNull
+        "latency_lower_bound_cycles" -> latencyFloor
       ).asJava,
       "command" -> command,
       "model" -> p.dynamics.name,

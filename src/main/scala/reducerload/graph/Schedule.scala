@@ -414,16 +414,37 @@ final class Schedule(
     else {
       val users = ids.flatMap(id => graph(id).operands.map(_.index -> id.index)).groupMap(_._1)(_._2)
       val height = ids.reverse.foldLeft(Map.empty[Int, Int]) { (h, id) =>
-        val own = graph(id) match {
-          case _: Mul              => mulLatency(id)
-          case _: Trig             => trigLatency
-          case _: Const | _: Input => 0
-          case _                   => 1
-        }
-        h + (id.index -> (own + users.getOrElse(id.index, Nil).map(h).maxOption.getOrElse(0)))
+        h + (id.index -> (ownLatency(id) + users.getOrElse(id.index, Nil).map(h).maxOption.getOrElse(0)))
       }
       ids.sortBy(id => (-height(id.index), id.index))
     }
+
+  /** Clocks from an operation's issue to its value in a register (a literal or an input: none). */
+  private def ownLatency(id: NodeId): Int = graph(id) match {
+    case _: Mul              => mulLatency(id)
+    case _: Trig             => trigLatency
+    case _: Const | _: Input => 0
+    case _                   => 1
+  }
+
+  /**
+   * The latency the dependences alone allow: every operation at its operands' ready cycle (a forwardable
+   * product read off its unit a cycle early), a unit free whenever asked, angles read from cycle 1; plus the
+   * output stage. The report prints it beside the achieved latency: the distance the list schedule adds.
+   */
+  lazy val dependenceBound: Int = {
+    val ready = ids.foldLeft(Vector.empty[Option[Int]]) { (r, id) =>
+      def at(x: NodeId) = r(x.index).getOrElse(0)
+      r :+ (graph(id) match {
+        case Const(_)       => None
+        case Input(_)       => Some(inputCycle)
+        case Trig(_, _)     => Some(1 + ownLatency(id))
+        case op @ Mul(_, _) => Some(op.operands.map(at).max + ownLatency(id))
+        case op => Some(op.operands.map(x => if (forwardable(x)) at(x) - 1 else at(x)).max + ownLatency(id))
+      })
+    }
+    graph.outputs.flatMap(o => ready(o.node.index)).maxOption.getOrElse(inputCycle) + outputStages
+  }
 
   private val state: ScheduleState = {
     val none = Vector.fill(ids.size)(Option.empty[Int])

@@ -98,6 +98,11 @@ class ScheduleSpec extends AnyFlatSpec {
     g.outputs.foreach(o => assert(s(o.node).get <= s.outputsReady))
     assert(s.latency == g.outputs.map(o => s(o.node).get).max + (if (routed) 3 else 2))
     if (routed) assert(g.ids.forall(x => !s.forwarded(x)), "a product forwarded past its registered route")
+    // The dependences' latency (printed in the report's limits) is one no schedule beats.
+    assert(
+      s.dependenceBound <= s.latency,
+      s"dependence bound ${s.dependenceBound} above latency ${s.latency}"
+    )
     s.request.maxMultipliers.foreach(b =>
       assert(s.multiplierBlocks <= b, s"${s.multiplierBlocks} blocks above the budget $b")
     )
@@ -119,6 +124,8 @@ class ScheduleSpec extends AnyFlatSpec {
       val s = check(p)
       figures(s"$name II=1", p)
       assert(s.clocksPerSample == 1 && s.dedicated && s.multiplierUnits == p.graph.counts.multiplications)
+      // With an operator per operation the schedule is the dependences' bound itself.
+      assert(s.dependenceBound == s.latency, s"$name: bound ${s.dependenceBound}, ASAP latency ${s.latency}")
       // ASAP: each node ready at the latest operand plus its own latency, nothing later.
       p.graph.ids.foreach { id =>
         val earliest = p.graph(id).operands.flatMap(s(_)).maxOption.getOrElse(0)
