@@ -162,35 +162,44 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       val member = (0 until ii)
         .scanLeft(0)((prev, r) => if (groupOf(index(r)) == g) members.indexOf(index(r)) else prev)
         .tail
-      register(
-        if (members.size == 1) inputs(members.head) else VecInit(members.map(inputs))(decodedAhead(member))
-      )
+      if (members.size == 1) register(inputs(members.head))
+      else {
+        // a select of its own per slice of the group register: the slices sit beside their own sources
+        val slices = (0 until width).grouped(ArmDatapath.selectSliceBits).toSeq
+        val selects = decodedAhead(member, slices.size)
+        register(Cat(slices.zip(selects).reverse.map { case (bits, select) =>
+          VecInit(members.map(m => inputs(m).pad(width).asUInt(bits.last, bits.head)))(select)
+        }).asSInt)
+      }
     }
     // in residue r the operand register takes the group of the source read in r - 1
     register(
       if (groups.size == 1) groups.head
-      else VecInit(groups)(decodedAhead((0 until ii).map(r => groupOf(index((r + ii - 1) % ii)))))
+      else VecInit(groups)(decodedAhead((0 until ii).map(r => groupOf(index((r + ii - 1) % ii))), 1).head)
     )
   }
 
   /**
    * A register whose value in residue r is `table(r)`, decoded from the phase flags two clocks ahead: each
    * bit the OR of up to four flags into a register, then the OR of those into the select. No select waits on
-   * a decode of flags from across the chip (with registered routes those paths limit the clock next).
+   * a decode of flags from across the chip (with registered routes those paths limit the clock next). With
+   * several `copies`, each select register is kept apart (one per slice of a wide register it steers).
    */
-  private def decodedAhead(table: IndexedSeq[Int]): UInt = {
+  private def decodedAhead(table: IndexedSeq[Int], copies: Int): Seq[UInt] = {
     val bits = (0 until log2Ceil(table.max + 1).max(1)).map { b =>
       def set(r: Int) = (table(r % ii) >> b & 1) == 1
       val residues = (0 until ii).filter(r => set(r + 2))
-      if (residues.isEmpty) false.B
+      if (residues.isEmpty) Seq.fill(copies)(false.B)
       else {
         // in residue r: whether residue r - 1 is one of the group's (in cycle 0: residue II - 1)
         val partial =
           residues.grouped(4).toSeq.map(g => RegNext(g.map(phaseIs).reduce(_ || _), g.contains(ii - 1).B))
-        RegNext(partial.reduce(_ || _), set(0).B)
+        val select = partial.reduce(_ || _)
+        if (copies == 1) Seq(RegNext(select, set(0).B))
+        else Seq.fill(copies)(FixedHw.kept(RegNext(select, set(0).B)))
       }
     }
-    VecInit(bits).asUInt
+    (0 until copies).map(k => VecInit(bits.map(_(k))).asUInt)
   }
 
   /** One write pointer per length of block-RAM delay of held values, shared by every delay of that length. */
@@ -493,6 +502,13 @@ object ArmDatapath {
       sources.indices.partition(k => sources(k).isInstanceOf[reducerload.graph.PortSource.Literal])
     held.grouped(routeGroup).toSeq ++ literals.grouped(routeGroup).toSeq
   }
+
+  /**
+   * Bits of a first-level group register steered by one copy of its select with registered routes: the bits
+   * of one register sit beside their own sources, so one select reaching all of them crosses the chip (the
+   * UR5's limiting path before the copies: docs/timing-closure.md).
+   */
+  val selectSliceBits: Int = 8
 
   /** Held registers served by one first-level copy of a phase flag with registered routes. */
   val enableFanout: Int = 16

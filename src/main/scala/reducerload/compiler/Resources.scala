@@ -1,5 +1,6 @@
 package reducerload.compiler
 
+import chisel3.util.log2Up
 import reducerload.util.IntMath.ceilDiv
 
 import reducerload.arm.{ArmDatapath, ArmParams}
@@ -281,7 +282,10 @@ object ResourceModel {
     val s = p.schedule
     val operands = s.mulBindings.indices.map { u =>
       val ports = s.portSources(u).zip(units(u).widths).map { case (sources, w) =>
-        (ArmDatapath.routeGroups(sources).size + 1) * w
+        val groups = ArmDatapath.routeGroups(sources)
+        val selectCopies =
+          groups.filter(_.size > 1).map(g => ceilDiv(w, ArmDatapath.selectSliceBits) * log2Up(g.size))
+        (groups.size + 1) * w + selectCopies.sum
       }
       ports.sum + units(u).wide + units(u).narrow
     }.sum
