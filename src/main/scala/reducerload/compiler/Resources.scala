@@ -337,11 +337,11 @@ object ResourceModel {
 
   /**
    * LEs per bit of each feature and the fixed logic (input clamps, output stage, control), fitted by least
-   * squares of the relative error to the open-tool Cyclone IV estimate (est_les) of the 69 committed points
-   * of docs/sweep/arms.csv and sweep.csv: rms error 5.7 %, largest 20.5 % (memory storage at 512 clocks per
-   * sample, under-predicted); shared registers storage within 10.4 %. ResourceModelSpec prints the table
-   * (docs/device.md). An operand-multiplexer input costs about an LE per bit since each is a distinct
-   * register (before the binding, 0.47: repeated inputs were merged by synthesis).
+   * squares of the relative error to the open-tool Cyclone IV estimate (est_les) of the 69 points then
+   * committed in docs/sweep/arms.csv and sweep.csv. ResourceModelSpec checks every committed point against
+   * the tolerance and prints the table of docs/device.md. An operand-multiplexer input costs about an LE per
+   * bit since each is a distinct register (before the binding, 0.47: repeated inputs were merged by
+   * synthesis).
    */
   val coefficients: Seq[Double] =
     Seq(reducerload.graph.LogicCost.heldBit, reducerload.graph.LogicCost.muxBit, 0.898, 1.194, 0.643, 4.075)
