@@ -510,6 +510,10 @@ object ArmDatapath {
    */
   val selectSliceBits: Int = 8
 
+  /** Select register bits of a first-level group of `members` sources into a `width`-bit register. */
+  def groupSelectBits(width: Int, members: Int): Int =
+    if (members <= 1) 0 else reducerload.util.IntMath.ceilDiv(width, selectSliceBits) * log2Ceil(members)
+
   /** Held registers served by one first-level copy of a phase flag with registered routes. */
   val enableFanout: Int = 16
 

@@ -1,6 +1,5 @@
 package reducerload.compiler
 
-import chisel3.util.log2Up
 import reducerload.util.IntMath.ceilDiv
 
 import reducerload.arm.{ArmDatapath, ArmParams}
@@ -283,9 +282,7 @@ object ResourceModel {
     val operands = s.mulBindings.indices.map { u =>
       val ports = s.portSources(u).zip(units(u).widths).map { case (sources, w) =>
         val groups = ArmDatapath.routeGroups(sources)
-        val selectCopies =
-          groups.filter(_.size > 1).map(g => ceilDiv(w, ArmDatapath.selectSliceBits) * log2Up(g.size))
-        (groups.size + 1) * w + selectCopies.sum
+        (groups.size + 1) * w + groups.map(g => ArmDatapath.groupSelectBits(w, g.size)).sum
       }
       ports.sum + units(u).wide + units(u).narrow
     }.sum

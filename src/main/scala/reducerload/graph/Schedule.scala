@@ -438,9 +438,9 @@ final class Schedule(
       r :+ (graph(id) match {
         case Const(_)       => None
         case Input(_)       => Some(inputCycle)
-        case Trig(_, _)     => Some(1 + ownLatency(id))
+        case Trig(_, _)     => Some(Schedule.firstAngleCycle + ownLatency(id))
         case op @ Mul(_, _) => Some(op.operands.map(at).max + ownLatency(id))
-        case op => Some(op.operands.map(x => if (forwardable(x)) at(x) - 1 else at(x)).max + ownLatency(id))
+        case op             => Some(op.operands.map(x => earliestRead(x, at(x))).max + ownLatency(id))
       })
     }
     graph.outputs.flatMap(o => ready(o.node.index)).maxOption.getOrElse(inputCycle) + outputStages
@@ -459,9 +459,8 @@ final class Schedule(
           case Trig(_, angle) =>
             s.angleSlots.get(angle) match {
               case Some(slot) => plain(Some(slot.issue + trigLatency), Some(slot))
-              case None       =>
-                // The angle's joints are in the input register from cycle 1.
-                val slot = place(s.taken, isMul = false, 0 until cordicUnits, 1)
+              case None =>
+                val slot = place(s.taken, isMul = false, 0 until cordicUnits, Schedule.firstAngleCycle)
                 s.copy(
                   ready = s.ready.updated(id.index, Some(slot.issue + trigLatency)),
                   slots = s.slots.updated(id.index, Some(slot)),
@@ -484,9 +483,8 @@ final class Schedule(
             // A shared unit's product is on its output for one cycle, then captured. A product with this
             // adder as its only reader is taken straight from the unit in that cycle when the other
             // operand is ready by then: the adder's register holds it, no capture register, one cycle less.
-            def earliest(x: NodeId) = if (forwardable(x)) at(x) - 1 else at(x)
-            val r = op.operands.map(earliest).max
-            val direct = op.operands.filter(x => forwardable(x) && at(x) - 1 == r)
+            val r = op.operands.map(x => earliestRead(x, at(x))).max
+            val direct = op.operands.filter(x => forwardable(x) && earliestRead(x, at(x)) == r)
             plain(Some(r + 1), Some(Slot(None, r))).copy(forwarded = s.forwarded ++ direct)
         }
     }
@@ -498,6 +496,12 @@ final class Schedule(
    */
   private def forwardable(x: NodeId) =
     !dedicated && !routed && graph(x).isInstanceOf[Mul] && uses(x.index) == 1
+
+  /**
+   * The first cycle an operation may read `x`, ready (in its register) in `ready`: a cycle early if
+   * forwarded.
+   */
+  private def earliestRead(x: NodeId, ready: Int): Int = if (forwardable(x)) ready - 1 else ready
 
   /** A forwardable multiply that is not an output too: the refinement may forward it to its one reader. */
   private def forwardableToReader(x: NodeId) = forwardable(x) && graph.outputs.forall(_.node != x)
@@ -763,4 +767,7 @@ object Schedule {
    * its product a register beside the unit before it travels to the registers of its readers.
    */
   val routeStages: Int = 3
+
+  /** The first cycle an angle sum can be read: the joints' angles are in the input register from cycle 1. */
+  val firstAngleCycle: Int = 1
 }
