@@ -427,8 +427,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
         }
       )
       val product = PipelinedMultiplier(port(0, shape.wide), port(1, shape.narrow))
-      // with registered routes one more register, beside the unit, before the product travels to its readers
-      products(u) := FixedHw.delay(product, p.multiplierLatency - 1 + (if (routed) 1 else 0))
+      products(u) := FixedHw.delay(product, p.multiplierLatency - 1)
     }
     // An output may be a constant (a joint whose torque folds to zero: nothing it moves has mass).
     graph.outputs.map(o =>

@@ -273,9 +273,9 @@ object ResourceModel {
 
   /**
    * Register bits registered routes add (ArmDatapath, `datapath.registered-routes`): per unit port a register
-   * per group of sources and the operand register, per unit its product's register, per held register its
-   * enable's copy (and the first-level copies). Not calibrated: counted as held bits, which is high where a
-   * register packs with the multiplexer that feeds it.
+   * per group of sources and the operand register, per held register its enable's copy (and the first-level
+   * copies). Not calibrated: counted as held bits, which is high where a register packs with the multiplexer
+   * that feeds it.
    */
   private def routeRegisterBits(p: ArmParams, units: IndexedSeq[MulShape]): Double = {
     val s = p.schedule
@@ -284,7 +284,7 @@ object ResourceModel {
         val groups = ArmDatapath.routeGroups(sources)
         (groups.size + 1) * w + groups.map(g => ArmDatapath.groupSelectBits(w, g.size)).sum
       }
-      ports.sum + units(u).wide + units(u).narrow
+      ports.sum
     }.sum
     val heldRegisters = p.graph.ids.flatMap(id => p.heldTaps(id).map(_.registers)).sum
     (operands + heldRegisters + ceilDiv(heldRegisters, ArmDatapath.enableFanout)).toDouble
@@ -294,7 +294,8 @@ object ResourceModel {
     val s: Schedule = p.schedule
     val c = p.cordic
     val stageBits = 2 * c.xyFormat.width + c.zFracBits
-    val cordicBits = s.cordicUnits.toDouble * stageBits * (c.iterations - c.firstIteration + 2)
+    val cordicBits = s.cordicUnits.toDouble * stageBits *
+      (c.iterations - c.firstIteration + 2 + (if (c.tableBits > 0 && c.tableRouteRegister) 1 else 0))
     val units = (0 until s.multiplierUnits).map(s.unitShape)
     val partial = units.map(u => (u.blocks - 1) * (u.wide + u.narrow - 18)).sum.toDouble
     val operandBits =

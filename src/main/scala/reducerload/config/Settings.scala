@@ -488,9 +488,9 @@ object Settings {
     "datapath.registered-routes",
     "",
     "registers storage at 2 clocks per sample or more: each shared multiplier's operands pass two registered " +
-      "multiplexer levels and its product a register before its readers, no product is forwarded, each held " +
-      "register has a copy of its write enable of its own (3 clocks more per multiply, one more output " +
-      "register): designs that route and clock on a full device",
+      "multiplexer levels, the CORDIC table's block RAM a register in logic, no product is forwarded, each " +
+      "held register has a copy of its write enable of its own (2 clocks more per multiply, one more per " +
+      "sin/cos and in the output stage): designs that route and clock on a full device",
     Nil,
     _.datapath.registeredRoutes
   )

@@ -51,6 +51,10 @@ object CordicArchitecture {
  *   0: the 45-degree iteration 0 is folded into a constant start vector. T > 0: the top T bits of the folded
  *   angle index a 2^T-entry sin/cos table (block-RAM ROM) that replaces iterations 0..T; shift-add starts at
  *   iteration T+1
+ * @param tableRouteRegister
+ *   with a table: one more register, in logic, after the table's data register (the block RAM's output
+ *   register), so that the route from the block RAM to the first rotation stage has a clock of its own. The
+ *   arm datapath sets it with `datapath.registered-routes`, where that route limits the clock
  */
 final case class CordicParams(
     angleBits: Int = 26,
@@ -61,7 +65,8 @@ final case class CordicParams(
     outputRounding: Rounding = Rounding.HalfUp,
     iterationsPerStage: Int = 1,
     architecture: CordicArchitecture = CordicArchitecture.Classic,
-    tableBits: Int = 0
+    tableBits: Int = 0,
+    tableRouteRegister: Boolean = false
 ) {
 
   require(angleBits >= 6 && angleBits <= 48, s"CordicParams.angleBits must be in 6..48, got $angleBits")
@@ -169,8 +174,11 @@ final case class CordicParams(
   val stageIterations: Seq[Seq[Int]] =
     (firstIteration until iterations).grouped(iterationsPerStage).map(_.toSeq).toSeq
 
-  /** The table lookup is a ROM read with registered address and registered data: two more stages. */
-  val tableLatency: Int = if (tableBits > 0) 2 else 0
+  /**
+   * The table lookup is a ROM read with registered address and registered data: two more stages, and the
+   * route register (`tableRouteRegister`) a third.
+   */
+  val tableLatency: Int = if (tableBits == 0) 0 else if (tableRouteRegister) 3 else 2
 
   val residual: Boolean = architecture == CordicArchitecture.ResidualRotation
 
@@ -274,7 +282,8 @@ final case class CordicParams(
     s"a${angleBits}_o${outputBits}_n${iterations}_g$guardBits" + (if (iterationsPerStage > 1)
                                                                     s"_r$iterationsPerStage"
                                                                   else "") +
-      (if (residual) "_res" else "") + (if (tableBits > 0) s"_t$tableBits" else "")
+      (if (residual) "_res" else "") + (if (tableBits > 0) s"_t$tableBits" else "") +
+      (if (tableBits > 0 && tableRouteRegister) "_tr" else "")
 
   /** The arctan table with its meaning, for reports and the emitted header. */
   def atanTableLines: Seq[String] = atanTable.zipWithIndex.map { case (raw, i) =>

@@ -35,13 +35,14 @@ class CordicSinCos(val p: CordicParams)(implicit multiplierImpl: MultiplierImpl)
   folded.bits := pre.io.state
 
   // With a table: the ROM read is registered, then its data once more (the RAM block's output
-  // register), so the first adder sees a register and not a block-RAM access time.
+  // register), so the first adder sees a register and not a block-RAM access time; with the route
+  // register, once more in logic, which the placer can put beside the first stage.
   private val start =
     if (p.tableBits == 0) folded
     else {
       val r = Wire(Valid(new CordicStateBundle(p, p.zFormat(p.firstIteration).width)))
-      r.valid := ShiftRegister(folded.valid, 2, false.B, true.B)
-      r.bits := RegNext(RegNext(folded.bits))
+      r.valid := ShiftRegister(folded.valid, p.tableLatency, false.B, true.B)
+      r.bits := ShiftRegister(folded.bits, p.tableLatency)
       r
     }
 

@@ -763,10 +763,11 @@ object Schedule {
 
   /**
    * Clocks a multiply on a shared unit takes more with `datapath.registered-routes`: its operands pass two
-   * registered multiplexer levels (the first beside each group of sources, the second beside the unit), and
-   * its product a register beside the unit before it travels to the registers of its readers.
+   * registered multiplexer levels (the first beside each group of sources, the second beside the unit). Its
+   * product travels from the unit's last adder register to the registers of its readers (a register between
+   * cost a clock per multiply and did not move the clock: docs/timing-closure.md).
    */
-  val routeStages: Int = 3
+  val routeStages: Int = 2
 
   /** The first cycle an angle sum can be read: the joints' angles are in the input register from cycle 1. */
   val firstAngleCycle: Int = 1

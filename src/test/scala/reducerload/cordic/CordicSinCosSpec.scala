@@ -116,6 +116,18 @@ class CordicSinCosSpec extends AnyFlatSpec with ChiselScalatestTester {
     )
   }
 
+  it should "equal the model one clock later with the table's route register (registered routes)" in {
+    val p = CordicParams.smallTable.copy(tableRouteRegister = true)
+    assert(p.latency == CordicParams.smallTable.latency + 1 && p.tag != CordicParams.smallTable.tag)
+    streamAndCheck(
+      "small-table-route-register",
+      p,
+      rng => rng.shuffle((0 until (1 << p.angleBits)).map(BigInt(_))),
+      10L,
+      resets = 3
+    )
+  }
+
   it should "equal the model and meet its bound on seeded random angles of the table-residual preset" in {
     val p = CordicParams.tableResidual
     streamAndCheck(

@@ -26,8 +26,8 @@ class ScheduleSpec extends AnyFlatSpec {
     val s = p.schedule
     val g = p.graph
     val ii = s.clocksPerSample
-    // Registered routes (shared registers storage): two registered multiplexer levels before a unit and a
-    // register after it, so 3 clocks more per multiply; the OR of the saturations gets a register of its own.
+    // Registered routes (shared registers storage): two registered multiplexer levels before a unit, so 2
+    // clocks more per multiply; the OR of the saturations gets a register of its own.
     val routed = p.datapath.registeredRoutes && ii > 1 && s.request.stored == Storage.Registers
     g.ids.foreach { id =>
       val op = g(id)
@@ -70,7 +70,7 @@ class ScheduleSpec extends AnyFlatSpec {
               PipelinedMultiplier
                 .latency(shape.wide, shape.narrow) + p.multiplierLatency - 1 + (if (ii > 1 || rounds) 1
                                                                                 else 0) +
-                (if (routed) 3 else 0)
+                (if (routed) 2 else 0)
             case Op.Trig(_, _) =>
               1 + p.cordic.latency + (if (ii > 1 || s.cordicUnits < g.angles.size) 1 else 0)
             case Op.Input(_) => 1
@@ -229,7 +229,7 @@ class ScheduleSpec extends AnyFlatSpec {
     )
   }
 
-  it should "pass every route between units through registers (datapath.registered-routes): 3 clocks more " +
+  it should "pass every route between units through registers (datapath.registered-routes): 2 clocks more " +
     "per multiply on a unit, no product forwarded, a three-register output stage" in {
       Seq(2, 17, 40).foreach { ii =>
         Seq("planar3" -> planar3, "ur5" -> ur5).foreach { case (name, p) =>
