@@ -981,6 +981,9 @@ object Settings {
         s"| `${s.key}` | $flags | ${s.typeName.replace("|", " \\| ")} | ${s.unit} | ${s.render(LoadParams.default)} | ${s.help} |"
       }).mkString("\n")
 
+  /** Every setting's value, one `key = value` line each: what a design is, without the help texts. */
+  def values(p: LoadParams): String = all.map(s => s"${s.key} = ${s.render(p)}").mkString("\n")
+
   /** A complete HOCON file for `p`, grouped by section, with units and meanings as comments. */
   def render(p: LoadParams, header: Seq[String]): String = {
     val order =

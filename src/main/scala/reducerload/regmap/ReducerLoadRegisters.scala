@@ -104,8 +104,9 @@ object ReducerLoadRegisters {
   /** A design's identity for the id block: SHA-256 of the settings and the robot, first 4 bytes. */
   def designHash(c: Compiled): BigInt = {
     val chain = c.arm.chain.copy(warnings = Nil, source = "")
-    // The robot's file path is where it lies, not what it is: the chain (from the file) stands for it.
-    val settings = Settings.render(c.config.copy(robot = c.config.robot.copy(source = chain.name)), Nil)
+    // The robot's file path is where it lies, not what it is: the chain (from the file) stands for it. The
+    // values only: a reworded help text is the same design.
+    val settings = Settings.values(c.config.copy(robot = c.config.robot.copy(source = chain.name)))
     val digest =
       MessageDigest.getInstance("SHA-256").digest((settings + "\n" + chain).getBytes(StandardCharsets.UTF_8))
     BigInt(1, digest.take(4))
