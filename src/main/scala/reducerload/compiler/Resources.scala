@@ -295,7 +295,7 @@ object ResourceModel {
     val c = p.cordic
     val stageBits = 2 * c.xyFormat.width + c.zFracBits
     val cordicBits = s.cordicUnits.toDouble * stageBits *
-      (c.iterations - c.firstIteration + 2 + (if (c.tableBits > 0 && c.tableRouteRegister) 1 else 0))
+      (c.iterations - c.firstIteration + 2 + c.tableRouteRegisters)
     val units = (0 until s.multiplierUnits).map(s.unitShape)
     val partial = units.map(u => (u.blocks - 1) * (u.wide + u.narrow - 18)).sum.toDouble
     val operandBits =

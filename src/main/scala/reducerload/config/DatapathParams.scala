@@ -28,9 +28,9 @@ import reducerload.graph.Reassociation
  * @param registeredRoutes
  *   registers storage at 2 clocks per sample or more: every route from a value's register to a shared
  *   multiplier passes registers ([[reducerload.graph.Schedule.routeStages]] more clocks per multiply), and
- *   the CORDIC table's block RAM a register in logic
- *   ([[reducerload.cordic.CordicParams.tableRouteRegister]]), so that the design routes and clocks on a full
- *   device (design.md, "Registered routes")
+ *   the CORDIC table's block RAM a register in logic ([[reducerload.cordic.CordicParams.tableRouteRegister]];
+ *   that one at any interval and storage, since the compiler sets it before the device fit chooses them), so
+ *   that the design routes and clocks on a full device (design.md, "Registered routes")
  * @param reassociate
  *   whether sums of several terms are rebuilt as trees, the earliest terms first
  *   ([[reducerload.graph.Reassociate]]): a shorter critical path; the same values, their formats and bounds

@@ -490,7 +490,8 @@ object Settings {
     "registers storage at 2 clocks per sample or more: each shared multiplier's operands pass two registered " +
       "multiplexer levels, the CORDIC table's block RAM a register in logic, no product is forwarded, each " +
       "held register has a copy of its write enable of its own (2 clocks more per multiply, one more per " +
-      "sin/cos and in the output stage): designs that route and clock on a full device",
+      "sin/cos and in the output stage; the CORDIC table's register at any interval and storage): designs " +
+      "that route and clock on a full device",
     Nil,
     _.datapath.registeredRoutes
   )

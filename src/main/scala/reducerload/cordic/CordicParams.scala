@@ -175,10 +175,16 @@ final case class CordicParams(
     (firstIteration until iterations).grouped(iterationsPerStage).map(_.toSeq).toSeq
 
   /**
-   * The table lookup is a ROM read with registered address and registered data: two more stages, and the
-   * route register (`tableRouteRegister`) a third.
+   * Registers in logic after the table's block RAM: the route register, with a table and
+   * `tableRouteRegister`.
    */
-  val tableLatency: Int = if (tableBits == 0) 0 else if (tableRouteRegister) 3 else 2
+  val tableRouteRegisters: Int = if (tableBits > 0 && tableRouteRegister) 1 else 0
+
+  /**
+   * The table lookup is a ROM read with registered address and registered data: two more stages, and the
+   * route register a third.
+   */
+  val tableLatency: Int = (if (tableBits > 0) 2 else 0) + tableRouteRegisters
 
   val residual: Boolean = architecture == CordicArchitecture.ResidualRotation
 
@@ -283,7 +289,7 @@ final case class CordicParams(
                                                                     s"_r$iterationsPerStage"
                                                                   else "") +
       (if (residual) "_res" else "") + (if (tableBits > 0) s"_t$tableBits" else "") +
-      (if (tableBits > 0 && tableRouteRegister) "_tr" else "")
+      (if (tableRouteRegisters > 0) "_tr" else "")
 
   /** The arctan table with its meaning, for reports and the emitted header. */
   def atanTableLines: Seq[String] = atanTable.zipWithIndex.map { case (raw, i) =>

@@ -13,7 +13,8 @@ class CordicSinCosIO(p: CordicParams) extends Bundle {
 /**
  * Pipelined CORDIC sin/cos: a `Valid` binary angle in, a `Valid` (cos, sin) out exactly `latency` cycles
  * later, one angle per clock with no stall. Gain K is folded into the start vector. Stages: input register,
- * table register (with a table), `p.stageIterations.size` rotation stages, the residual rotation (residual
+ * table registers (with a table: the read, the block RAM's output register, and the route register with
+ * `p.tableRouteRegister`), `p.stageIterations.size` rotation stages, the residual rotation (residual
  * architecture), output stage.
  */
 class CordicSinCos(val p: CordicParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
