@@ -157,25 +157,26 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     def register(v: SInt): SInt = FixedHw.delay(v.pad(width), 1)
     val grouping = ArmDatapath.routeGroups(sources)
     val groupOf = grouping.zipWithIndex.flatMap { case (members, g) => members.map(_ -> g) }.toMap
+    // A select of its own per slice of a register: the bits of a group register sit beside their own sources,
+    // and a select decode shared by all bits of the operand register was a route across the chip.
+    val slices = (0 until width).grouped(ArmDatapath.selectSliceBits).toSeq
+    def sliced(options: Seq[SInt], table: IndexedSeq[Int]): SInt = {
+      val selects = decodedAhead(table, slices.size)
+      Cat(slices.zip(selects).reverse.map { case (bits, select) =>
+        VecInit(options.map(_.pad(width).asUInt(bits.last, bits.head)))(select)
+      }).asSInt
+    }
     val groups = grouping.zipWithIndex.map { case (members, g) =>
       // in residue r the member read then, or the one it took last (its register is not read meanwhile)
       val member = (0 until ii)
         .scanLeft(0)((prev, r) => if (groupOf(index(r)) == g) members.indexOf(index(r)) else prev)
         .tail
-      if (members.size == 1) register(inputs(members.head))
-      else {
-        // a select of its own per slice of the group register: the slices sit beside their own sources
-        val slices = (0 until width).grouped(ArmDatapath.selectSliceBits).toSeq
-        val selects = decodedAhead(member, slices.size)
-        register(Cat(slices.zip(selects).reverse.map { case (bits, select) =>
-          VecInit(members.map(m => inputs(m).pad(width).asUInt(bits.last, bits.head)))(select)
-        }).asSInt)
-      }
+      register(if (members.size == 1) inputs(members.head) else sliced(members.map(inputs), member))
     }
     // in residue r the operand register takes the group of the source read in r - 1
     register(
       if (groups.size == 1) groups.head
-      else VecInit(groups)(decodedAhead((0 until ii).map(r => groupOf(index((r + ii - 1) % ii))), 1).head)
+      else sliced(groups, (0 until ii).map(r => groupOf(index((r + ii - 1) % ii))))
     )
   }
 
@@ -183,7 +184,10 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
    * A register whose value in residue r is `table(r)`, decoded from the phase flags two clocks ahead: each
    * bit the OR of up to four flags into a register, then the OR of those into the select. No select waits on
    * a decode of flags from across the chip (with registered routes those paths limit the clock next). With
-   * several `copies`, each select register is kept apart (one per slice of a wide register it steers).
+   * several `copies`, each select register is kept apart (one per slice of a wide register it steers). The
+   * partial ORs are kept too, each select's its own: synthesis merges equal ones across selects, and a shared
+   * partial OR reaching the selects of several groups across the chip limited the clock (timing-closure.md).
+   * They cost few logic elements (each packs with a LUT), so the resource prediction leaves them out.
    */
   private def decodedAhead(table: IndexedSeq[Int], copies: Int): Seq[UInt] = {
     val bits = (0 until log2Ceil(table.max + 1).max(1)).map { b =>
@@ -193,7 +197,10 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       else {
         // in residue r: whether residue r - 1 is one of the group's (in cycle 0: residue II - 1)
         val partial =
-          residues.grouped(4).toSeq.map(g => RegNext(g.map(phaseIs).reduce(_ || _), g.contains(ii - 1).B))
+          residues
+            .grouped(4)
+            .toSeq
+            .map(g => FixedHw.kept(RegNext(g.map(phaseIs).reduce(_ || _), g.contains(ii - 1).B)))
         val select = partial.reduce(_ || _)
         if (copies == 1) Seq(RegNext(select, set(0).B))
         else Seq.fill(copies)(FixedHw.kept(RegNext(select, set(0).B)))
@@ -509,7 +516,9 @@ object ArmDatapath {
    */
   val selectSliceBits: Int = 8
 
-  /** Select register bits of a first-level group of `members` sources into a `width`-bit register. */
+  /**
+   * Select register bits of a multiplexer of `members` options into a `width`-bit register (either level).
+   */
   def groupSelectBits(width: Int, members: Int): Int =
     if (members <= 1) 0 else reducerload.util.IntMath.ceilDiv(width, selectSliceBits) * log2Ceil(members)
 

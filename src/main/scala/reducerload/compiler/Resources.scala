@@ -273,16 +273,16 @@ object ResourceModel {
 
   /**
    * Register bits registered routes add (ArmDatapath, `datapath.registered-routes`): per unit port a register
-   * per group of sources and the operand register, per held register its enable's copy (and the first-level
-   * copies). Not calibrated: counted as held bits, which is high where a register packs with the multiplexer
-   * that feeds it.
+   * per group of sources and the operand register with their select copies, per held register its enable's
+   * copy (and the first-level copies). Not calibrated: counted as held bits, which is high where a register
+   * packs with the multiplexer that feeds it.
    */
   private def routeRegisterBits(p: ArmParams, units: IndexedSeq[MulShape]): Double = {
     val s = p.schedule
     val operands = s.mulBindings.indices.map { u =>
       val ports = s.portSources(u).zip(units(u).widths).map { case (sources, w) =>
         val groups = ArmDatapath.routeGroups(sources)
-        (groups.size + 1) * w + groups.map(g => ArmDatapath.groupSelectBits(w, g.size)).sum
+        (groups.size + 1) * w + (groups.map(_.size) :+ groups.size).map(ArmDatapath.groupSelectBits(w, _)).sum
       }
       ports.sum
     }.sum
