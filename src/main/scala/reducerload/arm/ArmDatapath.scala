@@ -59,13 +59,16 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
    * for the counter's increment; residues nothing uses are removed). Memory storage and registered routes at
    * up to [[ArmDatapath.ringMaxInterval]] clocks pass one token around a ring of II flip-flops instead: no
    * counter, so no compare shared between the counter's wrap and the flag of residue 0, which the placer
-   * would pull between the counter and that flag's loads.
+   * would pull between the counter and that flag's loads. With registered routes the ring is kept: a
+   * first-level enable copy ([[enable]]) is the same flip-flop as the ring's next, so synthesis merged them,
+   * and the flag the selects' partial ORs read then sat beside sixteen held registers across the chip.
    */
   private val phaseIs: IndexedSeq[Bool] =
     if (ii == 1) IndexedSeq(true.B)
     else if ((p.banked.isDefined || schedule.routed) && ii <= ArmDatapath.ringMaxInterval) {
       val ring = (0 until ii).map(r => RegInit((r == 0).B))
       ring.indices.foreach(r => ring(r) := ring((r + ii - 1) % ii))
+      if (schedule.routed) ring.foreach(FixedHw.kept(_))
       ring
     } else (0 until ii).map(r => RegNext(phase === ((r + ii - 1) % ii).U, (r == 0).B))
 
