@@ -228,20 +228,32 @@ def absorb_bram_output_registers(path, top):
 
     Yosys 0.70 maps every DP16KD with REGMODE NOREG and leaves the register after the read in the
     fabric: a 5.8 ns RAM read plus routing that a Cyclone IV M9K, whose output register Quartus
-    uses (and the LE estimate assumes), does not have. A DP16KD whose every used output bit feeds
-    exactly one plain flip-flop (same clock, no enable, no reset) takes those flip-flops in as its
-    output register (REGMODE OUTREG, same latency). Returns how many RAMs changed.
+    uses (and the LE estimate assumes), does not have. Two shapes of the same design, both given
+    the M9K's structure (address register, array, output register; same latency):
+
+    - a DP16KD whose every used output bit feeds exactly one plain flip-flop (same clock, no
+      enable, no reset) takes those flip-flops in as its output register (REGMODE OUTREG);
+    - a DP16KD whose read address comes from plain flip-flops: Yosys's memory_dff merges the
+      register after the read (a delay's, `pipeline/MemoryDelay.scala`) into the read port first
+      and leaves the address register in the fabric, so the read data reaches its readers straight
+      from the array. The address register moves into the DP16KD (its pins read the flip-flops'
+      inputs) and the RAM's output register takes the clock it leaves (REGMODE OUTREG).
+
+    Returns how many RAMs changed.
     """
     with open(path) as f:
         design = json.load(f)
     module = design["modules"][top]
     cells = module["cells"]
-    readers = {}
+    readers, drivers = {}, {}
     for name, c in cells.items():
         for port, conn in c["connections"].items():
-            if c.get("port_directions", {}).get(port) == "input":
-                for b in bits_of(conn):
+            direction = c.get("port_directions", {}).get(port)
+            for b in bits_of(conn):
+                if direction == "input":
                     readers.setdefault(b, []).append((name, port))
+                elif direction == "output":
+                    drivers[b] = name
     top_outputs = {b for p in module["ports"].values() for b in bits_of(p["bits"])}
 
     def plain_ff(ff, clock):
@@ -249,10 +261,8 @@ def absorb_bram_output_registers(path, top):
         return (ff["type"] == "TRELLIS_FF" and conns.get("CLK") == clock and params.get("CLKMUX", "CLK").strip() == "CLK"
                 and params.get("CEMUX", "1").strip() == "1" and conns.get("LSR", ["0"]) == ["0"])
 
-    changed = 0
-    for ram in [c for c in cells.values() if c["type"] == "DP16KD"]:
-        if ram["parameters"].get("REGMODE_A", "NOREG") != "NOREG" or ram["parameters"].get("REGMODE_B", "NOREG") != "NOREG":
-            continue
+    def output_registers(ram):
+        """(output pin, flip-flop) for every used output bit, or None."""
         plan = []
         for port, conn in ram["connections"].items():
             if not port.startswith(("DOA", "DOB")) or not bits_of(conn):
@@ -266,14 +276,50 @@ def absorb_bram_output_registers(path, top):
             if not users:
                 continue  # unused output bit
             if len(users) != 1 or bits_of(conn)[0] in top_outputs or users[0][1] != "DI" or not plain_ff(cells[users[0][0]], clock):
-                plan = None
-                break
+                return None
             plan.append((port, users[0][0]))
-        if not plan:
+        return plan or None
+
+    def address_registers(ram):
+        """(address pin, flip-flop) of the read port (the one that never writes), or None."""
+        conns = ram["connections"]
+        read = [p for p in "AB" if conns.get(f"WE{p}") == ["0"] and bits_of(conns.get(f"CLK{p}", []))]
+        if len(read) != 1:
+            return None
+        p = read[0]
+        if conns.get(f"CE{p}") != ["1"] or conns.get(f"RST{p}") != ["0"]:
+            return None
+        plan = []
+        for i in range(14):
+            bits = conns.get(f"AD{p}{i}", [])
+            if not bits_of(bits):
+                continue  # a constant address bit
+            ff = drivers.get(bits[0])
+            if ff is None or not plain_ff(cells[ff], conns[f"CLK{p}"]):
+                return None
+            plan.append((f"AD{p}{i}", ff))
+        return plan or None
+
+    changed = 0
+    for name in [n for n, c in cells.items() if c["type"] == "DP16KD"]:
+        ram = cells[name]
+        if ram["parameters"].get("REGMODE_A", "NOREG") != "NOREG" or ram["parameters"].get("REGMODE_B", "NOREG") != "NOREG":
             continue
-        for port, ff in plan:
-            ram["connections"][port] = cells[ff]["connections"]["Q"]
-            del cells[ff]
+        outputs = output_registers(ram)
+        if outputs:
+            for port, ff in outputs:
+                ram["connections"][port] = cells[ff]["connections"]["Q"]
+                del cells[ff]
+        else:
+            addresses = address_registers(ram)
+            if not addresses:
+                continue
+            for port, ff in addresses:
+                q = bits_of(cells[ff]["connections"]["Q"])[0]
+                ram["connections"][port] = cells[ff]["connections"]["DI"]
+                readers[q].remove((name, port))
+                if not readers[q] and q not in top_outputs:
+                    del cells[ff]
         ram["parameters"]["REGMODE_A"] = ram["parameters"]["REGMODE_B"] = "OUTREG"
         changed += 1
     with open(path, "w") as f:
