@@ -212,10 +212,16 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     (0 until copies).map(k => VecInit(bits.map(_(k))).asUInt)
   }
 
-  /** One write pointer per length of block-RAM delay of held values, shared by every delay of that length. */
+  /**
+   * One write pointer per length of block-RAM delay of held values, shared by every delay of that length;
+   * with registered routes one per delay, kept beside its block RAM (a shared pointer, pulled toward block
+   * RAMs across the chip, had its own increment 3 ns of routing away: the routed UR5 with block-RAM delays at
+   * 91-102 MHz on the ECP5 proxy).
+   */
   private val delayPointers = scala.collection.mutable.Map.empty[Int, DelayPointer]
   private def delayPointer(cycles: Int): DelayPointer =
-    delayPointers.getOrElseUpdate(cycles, new DelayPointer(cycles))
+    if (schedule.routed) new DelayPointer(cycles, kept = true)
+    else delayPointers.getOrElseUpdate(cycles, new DelayPointer(cycles))
 
   /** Cycles a registered select is looked up ahead of its use: the lookup, then a hop. */
   private val selectAhead = 2

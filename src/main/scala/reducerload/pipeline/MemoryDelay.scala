@@ -28,13 +28,18 @@ class MemoryDelay(width: Int, cycles: Int) extends Module {
 /**
  * The write pointer of block-RAM delays of `cycles` clocks, in the module it is made in: every such delay of
  * the module can share it ([[MemoryDelay.shared]]), one counter for all instead of one each. Resets to 0.
+ * `kept`: a counter synthesis does not merge with an equal one, so that a pointer of its own can sit beside
+ * its block RAM.
  */
-final class DelayPointer(val cycles: Int) {
+final class DelayPointer(val cycles: Int, kept: Boolean = false) {
   require(cycles >= 3, s"MemoryDelay: use registers below 3 cycles, got $cycles")
 
   /** Slots of the circular buffer: the synchronous read and the output register give the last two clocks. */
   val depth: Int = cycles - 1
-  val write: UInt = RegInit(0.U(log2Ceil(depth).max(1).W))
+  val write: UInt = {
+    val r = RegInit(0.U(log2Ceil(depth).max(1).W))
+    if (kept) reducerload.fixedpoint.FixedHw.kept(r) else r
+  }
 
   /** The slot read this clock: the one written `depth - 1` clocks ago. */
   val next: UInt = Mux(write === (depth - 1).U, 0.U, write + 1.U)
