@@ -49,7 +49,7 @@ object ArmSweep {
         schedule = request,
         datapath = base.datapath.copy(
           reassociate = reassociate,
-          registeredRoutes = routed,
+          registeredRoutes = Some(routed),
           memoryDelayMinCycles = if (routed) 0 else base.datapath.memoryDelayMinCycles
         )
       )

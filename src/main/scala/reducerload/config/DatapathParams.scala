@@ -27,10 +27,12 @@ import reducerload.graph.Reassociation
  *   ([[reducerload.graph.HeldTaps]] at 2 clocks per sample or more); 0 keeps every delay in registers
  * @param registeredRoutes
  *   registers storage at 2 clocks per sample or more: every route from a value's register to a shared
- *   multiplier passes registers ([[reducerload.graph.Schedule.routeStages]] more clocks per multiply), and
- *   the CORDIC table's block RAM a register in logic ([[reducerload.cordic.CordicParams.tableRouteRegister]];
- *   that one at any interval and storage, since the compiler sets it before the device fit chooses them), so
- *   that the design routes and clocks on a full device (design.md, "Registered routes")
+ *   multiplier passes registers ([[reducerload.graph.Schedule.routeStages]] more clocks per multiply), so
+ *   that the design routes and clocks on a full device (design.md, "Registered routes"). None (`auto`): above
+ *   [[reducerload.graph.Schedule.directMaxClocks]] clocks per sample, whichever the device fit chooses.
+ *   Some(true) also gives the CORDIC table's block RAM a register in logic
+ *   ([[reducerload.cordic.CordicParams.tableRouteRegister]]; at any interval and storage, since the compiler
+ *   sets it before the device fit chooses them)
  * @param reassociate
  *   whether sums of several terms are rebuilt as trees, the earliest terms first
  *   ([[reducerload.graph.Reassociate]]): a shorter critical path; the same values, their formats and bounds
@@ -45,7 +47,7 @@ final case class DatapathParams(
     productRounding: Rounding = Rounding.Truncate,
     multiplierLatency: Int = 1,
     memoryDelayMinCycles: Int = 4,
-    registeredRoutes: Boolean = false,
+    registeredRoutes: Option[Boolean] = None,
     reassociate: Reassociation = Reassociation.Off
 ) {
   reducerload.graph.Numerics.checkFracBits(

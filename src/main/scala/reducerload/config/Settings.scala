@@ -116,6 +116,23 @@ object Setting {
       else c.getBoolean(key)
   }
 
+  /** On, off, or `auto` (read as None) for a choice the compiler makes. */
+  final class AutoSwitch(
+      key: String,
+      unit: String,
+      help: String,
+      aliases: Seq[String],
+      get: LoadParams => Option[Boolean]
+  ) extends Setting[Option[Boolean]](key, unit, help, aliases, get) {
+    def show(v: Option[Boolean]): String = v.fold("auto")(_.toString)
+    def typeName = "true|false|auto"
+    def read(c: Config, source: String): Option[Boolean] = c.getValue(key).valueType() match {
+      case ConfigValueType.BOOLEAN                              => Some(c.getBoolean(key))
+      case ConfigValueType.STRING if c.getString(key) == "auto" => None
+      case _                                                    => wrongType(source, "true, false or auto", c)
+    }
+  }
+
   /** A whole number, or `keyword` for a derived or absent value (read as None). */
   final class Count(
       key: String,
@@ -484,14 +501,15 @@ object Settings {
     _.datapath.memoryDelayMinCycles
   )
 
-  val datapathRegisteredRoutes = new Switch(
+  val datapathRegisteredRoutes = new AutoSwitch(
     "datapath.registered-routes",
     "",
     "registers storage at 2 clocks per sample or more: each shared multiplier's operands pass two registered " +
-      "multiplexer levels, the CORDIC table's block RAM a register in logic, no product is forwarded, each " +
-      "held register has a copy of its write enable of its own (2 clocks more per multiply, one more per " +
-      "sin/cos and in the output stage; the CORDIC table's register at any interval and storage): designs " +
-      "that route and clock on a full device",
+      "multiplexer levels, no product is forwarded, each held register has a copy of its write enable of its " +
+      "own (2 clocks more per multiply, one more in the output stage): designs that route and clock on a full " +
+      "device; true also gives the CORDIC table's block RAM a register in logic (one clock more per sin/cos, " +
+      "at any interval and storage); auto: routes above ${reducerload.graph.Schedule.directMaxClocks} clocks " +
+      "per sample, whichever the device fit chooses",
     Nil,
     _.datapath.registeredRoutes
   )

@@ -186,7 +186,8 @@ private final case class ScheduleState(
  *   which the refinement counts
  * @param registeredRoutes
  *   `datapath.registered-routes`: with shared units, [[Schedule.routeStages]] more clocks per multiply on a
- *   unit, no product forwarded, and a three-register output stage (see `routed`)
+ *   unit, no product forwarded, and a three-register output stage (see `routed`); None (`auto`): above
+ *   [[Schedule.directMaxClocks]] clocks per sample
  */
 final class Schedule(
     val analysis: Analysis,
@@ -195,7 +196,7 @@ final class Schedule(
     multiplierLatency: Int,
     val inputCycle: Int,
     memoryDelayMinCycles: Int = 0,
-    registeredRoutes: Boolean = false
+    registeredRoutes: Option[Boolean] = Some(false)
 ) {
   import Op._
   private val graph = analysis.graph
@@ -304,7 +305,10 @@ final class Schedule(
    * hardware in ArmDatapath): registers storage with shared units only (memory storage's routes pass
    * registers already). The bit-accurate model does not change.
    */
-  val routed: Boolean = registeredRoutes && !dedicated && request.stored == Storage.Registers
+  val routed: Boolean =
+    registeredRoutes.getOrElse(
+      ii > Schedule.directMaxClocks
+    ) && !dedicated && request.stored == Storage.Registers
 
   /**
    * Each multiplier unit's shape: one unit per multiply at II = 1, else per class the fewest that fit its
@@ -768,6 +772,15 @@ object Schedule {
    * cost a clock per multiply and did not move the clock: docs/timing-closure.md).
    */
   val routeStages: Int = 2
+
+  /**
+   * `datapath.registered-routes = auto`: routes pass registers above this many clocks per sample. Measured on
+   * the ECP5 proxy (docs/timing-closure.md): planar3's device fit at 3 clocks routes direct at 145.2 MHz,
+   * limited by a multiplier block's output into its adder, not a route between units; the UR5's at 17 and 18
+   * clocks did not route at all (operand multiplexers of up to 17-18 sources spread across the chip). Up to 4
+   * sources a multiplexer is one slice.
+   */
+  val directMaxClocks: Int = 4
 
   /** The first cycle an angle sum can be read: the joints' angles are in the input register from cycle 1. */
   val firstAngleCycle: Int = 1

@@ -48,7 +48,7 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
         schedule = schedule,
         datapath = config.datapath.copy(
           reassociate = reassociate,
-          registeredRoutes = routed,
+          registeredRoutes = Some(routed),
           memoryDelayMinCycles = memoryDelayMinCycles.getOrElse(config.datapath.memoryDelayMinCycles)
         )
       )

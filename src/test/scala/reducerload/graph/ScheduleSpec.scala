@@ -28,7 +28,8 @@ class ScheduleSpec extends AnyFlatSpec {
     val ii = s.clocksPerSample
     // Registered routes (shared registers storage): two registered multiplexer levels before a unit, so 2
     // clocks more per multiply; the OR of the saturations gets a register of its own.
-    val routed = p.datapath.registeredRoutes && ii > 1 && s.request.stored == Storage.Registers
+    val routed = p.datapath.registeredRoutes.getOrElse(ii > Schedule.directMaxClocks) && ii > 1 &&
+      s.request.stored == Storage.Registers
     g.ids.foreach { id =>
       val op = g(id)
       op match {
@@ -234,8 +235,9 @@ class ScheduleSpec extends AnyFlatSpec {
       Seq(2, 17, 40).foreach { ii =>
         Seq("planar3" -> planar3, "ur5" -> ur5).foreach { case (name, p) =>
           val request = ScheduleRequest(clocksPerSample = Some(ii))
-          val direct = check(scheduled(p, request))
-          val routes = scheduled(p.copy(datapath = p.datapath.copy(registeredRoutes = true)), request)
+          val direct =
+            check(scheduled(p.copy(datapath = p.datapath.copy(registeredRoutes = Some(false))), request))
+          val routes = scheduled(p.copy(datapath = p.datapath.copy(registeredRoutes = Some(true))), request)
           val routed = check(routes)
           figures(s"$name II=$ii routed", routes)
           assert(routed.routed && !direct.routed)
@@ -246,8 +248,18 @@ class ScheduleSpec extends AnyFlatSpec {
         }
       }
       // One clock per sample has no shared unit and so no route to register.
-      assert(!check(ur5.copy(datapath = ur5.datapath.copy(registeredRoutes = true))).routed)
+      assert(!check(ur5.copy(datapath = ur5.datapath.copy(registeredRoutes = Some(true)))).routed)
     }
+
+  it should "register the routes by itself above a few clocks per sample (datapath.registered-routes = auto)" in {
+    val auto = planar3.copy(datapath = planar3.datapath.copy(registeredRoutes = None))
+    def routedAt(ii: Int, storage: Storage) =
+      scheduled(auto, ScheduleRequest(clocksPerSample = Some(ii), storage = Some(storage))).schedule.routed
+    assert(!routedAt(1, Storage.Registers) && !routedAt(4, Storage.Registers))
+    assert(routedAt(5, Storage.Registers) && routedAt(17, Storage.Registers))
+    // memory storage's routes pass registers already
+    assert(!routedAt(17, Storage.Memory))
+  }
 
   it should "place the UR5's operations by height with registers within every rule (schedule.list-order = " +
     "by-height)" in {
