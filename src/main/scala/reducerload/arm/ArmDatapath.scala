@@ -215,8 +215,8 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   /**
    * One write pointer per length of block-RAM delay of held values, shared by every delay of that length;
    * with registered routes one per delay, kept beside its block RAM (a shared pointer, pulled toward block
-   * RAMs across the chip, had its own increment 3 ns of routing away: the routed UR5 with block-RAM delays at
-   * 91-102 MHz on the ECP5 proxy).
+   * RAMs across the chip, had its own increment far from it and limited the clock: docs/timing-closure.md,
+   * "The device fit's designs route").
    */
   private val delayPointers = scala.collection.mutable.Map.empty[Int, DelayPointer]
   private def delayPointer(cycles: Int): DelayPointer =

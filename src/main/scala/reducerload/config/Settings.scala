@@ -508,7 +508,7 @@ object Settings {
       "multiplexer levels, no product is forwarded, each held register has a copy of its write enable of its " +
       "own (2 clocks more per multiply, one more in the output stage): designs that route and clock on a full " +
       "device; true also gives the CORDIC table's block RAM a register in logic (one clock more per sin/cos, " +
-      "at any interval and storage); auto: routes above ${reducerload.graph.Schedule.directMaxClocks} clocks " +
+      s"at any interval and storage); auto: routes above ${reducerload.graph.Schedule.directMaxClocks} clocks " +
       "per sample, whichever the device fit chooses",
     Nil,
     _.datapath.registeredRoutes

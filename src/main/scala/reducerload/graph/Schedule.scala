@@ -774,11 +774,10 @@ object Schedule {
   val routeStages: Int = 2
 
   /**
-   * `datapath.registered-routes = auto`: routes pass registers above this many clocks per sample. Measured on
-   * the ECP5 proxy (docs/timing-closure.md): planar3's device fit at 3 clocks routes direct at 145.2 MHz,
-   * limited by a multiplier block's output into its adder, not a route between units; the UR5's at 17 and 18
-   * clocks did not route at all (operand multiplexers of up to 17-18 sources spread across the chip). Up to 4
-   * sources a multiplexer is one slice.
+   * `datapath.registered-routes = auto`: routes pass registers above this many clocks per sample. Up to 4
+   * sources an operand multiplexer is one slice, and planar3's device fit at 3 clocks routes direct, limited
+   * by a multiplier block rather than a route between units; the UR5's at 17 and 18 clocks, multiplexers of
+   * up to 17-18 sources spread across the chip, did not route at all (docs/timing-closure.md).
    */
   val directMaxClocks: Int = 4
 

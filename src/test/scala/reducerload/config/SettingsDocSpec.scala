@@ -16,4 +16,9 @@ class SettingsDocSpec extends AnyFlatSpec {
       "docs/configuration.md is stale: ./sbt --error \"run configuration-doc\" > docs/configuration.md"
     )
   }
+
+  it should "hold no Scala placeholder left uninterpolated in a setting's help (a string without s\"\")" in {
+    val raw = Settings.all.filter(_.help.contains("${"))
+    assert(raw.isEmpty, s"help with a literal $${...}: ${raw.map(_.key).mkString(", ")}")
+  }
 }
