@@ -183,7 +183,10 @@ object LoadParams {
    * Every joint of an arm (model rnea; `--robot` starts from it): a 28-bit table-assisted residual CORDIC and
    * 24 fraction bits inside, for derived bounds under 1e-3 N·m on the UR5 and the Panda at their declared
    * ranges (where |qd| of every joint at once makes the worst case far above the torques of real motions).
-   * Shown on the built-in planar3; `--robot FILE.urdf` swaps the robot.
+   * Sums rebuilt as trees: the same derived bounds and a shorter critical path (the UR5's device fit 23 -> 22
+   * clocks per sample, 190 -> 163 cycles; docs/design.md). The joint-3 presets keep the written sums, which
+   * their measured figures (docs/benchmarks.md) are of. Shown on the built-in planar3; `--robot FILE.urdf`
+   * swaps the robot.
    */
   val arm: LoadParams = LoadParams(
     model = LoadModel.Rnea,
@@ -199,7 +202,8 @@ object LoadParams {
       accelerationFracBits = 22,
       constantFracBits = 28,
       internalFracBits = 24,
-      outputFracBits = 20
+      outputFracBits = 20,
+      reassociate = reducerload.graph.Reassociation.Sums
     )
   )
 
