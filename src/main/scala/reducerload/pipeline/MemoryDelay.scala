@@ -36,13 +36,22 @@ final class DelayPointer(val cycles: Int, kept: Boolean = false) {
 
   /** Slots of the circular buffer: the synchronous read and the output register give the last two clocks. */
   val depth: Int = cycles - 1
-  val write: UInt = {
-    val r = RegInit(0.U(log2Ceil(depth).max(1).W))
+  private def counter(init: Int): UInt = {
+    val r = RegInit(init.U(log2Ceil(depth).max(1).W))
     if (kept) reducerload.fixedpoint.FixedHw.kept(r) else r
   }
 
-  /** The slot read this clock: the one written `depth - 1` clocks ago. */
-  val next: UInt = Mux(write === (depth - 1).U, 0.U, write + 1.U)
+  /**
+   * The slot read this clock: the one written `depth - 1` clocks ago, the slot after `write`. A register of
+   * its own, counting a clock ahead of `write`: the block RAM's address register (an M9K's, in the block)
+   * takes it straight from a flip-flop. Computed from `write` (compare, increment, wrap) it was three LUT
+   * levels before the route to the block RAM, the UR5's critical path (docs/timing-closure.md).
+   */
+  val next: UInt = counter(1 % depth)
+  next := Mux(next === (depth - 1).U, 0.U, next + 1.U)
+
+  /** The slot written this clock. */
+  val write: UInt = counter(0)
   write := next
 }
 
