@@ -367,7 +367,7 @@ def main():
                     help="ECP5 device of the proxy, LFE5U-25F/45F/85F (default 85k; the 45F is the smallest with an EP4CE30's 66 multipliers)")
     ap.add_argument("--seed", type=int, default=1, help="nextpnr placer seed (default 1)")
     ap.add_argument("--no-route", action="store_true",
-                    help="stop nextpnr after placement: its estimate then (an upper bound of the routed clock, for designs the router does not finish)")
+                    help="stop nextpnr after placement: its estimate then (no bound on the routed clock; to compare designs the router does not finish)")
     ap.add_argument("--keep", help="keep the work files in this directory")
     a = ap.parse_args()
     for f in a.files:

@@ -207,10 +207,27 @@ object ArmSweep {
       ) ++ anchors(cells, c)
     )).mkString("", "\n", "\n")
 
+  /** The point a row of arms.csv was made at: its schedule, less the `-sN` of a run of several seeds. */
+  def pointOf(schedule: String): Option[Point] =
+    schedules.find(p =>
+      schedule == p.name || schedule.matches(java.util.regex.Pattern.quote(p.name) + "-s[0-9]+")
+    )
+
+  /**
+   * Whether a row's design routes on the clock proxy: registers storage above
+   * [[reducerload.graph.Schedule.directMaxClocks]] clocks per sample routes only with registered routes
+   * (docs/timing-closure.md: the UR5's direct designs at 17-18 clocks did not route at all); a row of no
+   * point of this sweep counts as direct.
+   */
+  def routes(row: Map[String, String]): Boolean =
+    pointOf(row("schedule")).exists(_.routed) || row("storage") != Storage.Registers.name ||
+      row("clocks_per_sample").toInt <= reducerload.graph.Schedule.directMaxClocks
+
   /**
    * The FPGA beside the CPU, per robot of `cpu` (the rows tools/bench/pinocchio_rnea.py --csv wrote,
    * docs/sweep/cpu.csv): the sweep's points that fit an EP4CE30 (multiplier blocks, estimated LEs and M9K
-   * within it) with the most samples/s and with the least latency, then each CPU engine, one sample a call. A
+   * within it) and route on the clock proxy ([[routes]]: a rate at a clock the design does not reach is no
+   * anchor), with the most samples/s and with the least latency, then each CPU engine, one sample a call. A
    * function of the two CSVs: arms.md and the README's table are made from it.
    */
   def anchors(arms: Seq[Seq[String]], cpu: Seq[Seq[String]], detail: Boolean = true): Seq[String] = {
@@ -218,7 +235,8 @@ object ArmSweep {
     val device = reducerload.config.Device.EP4CE30
     val fits = rows(arms).filter(r =>
       r("mult_blocks").toInt <= device.multiplierBlocks && r("est_les").toInt <= device.logicElements &&
-        r("est_m9k").toInt <= device.memoryBlocks
+        r("est_m9k").toInt <= device.memoryBlocks &&
+        routes(r)
     )
     val engines = rows(cpu)
     def rate(x: Double) = f"${x / 1e6}%.2f M"
