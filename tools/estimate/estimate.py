@@ -20,7 +20,8 @@ Method (see README.md beside this file; it is an estimate, not a Quartus fit):
   6. Memory bits: the size of every `$mem` cell; M9K blocks: each `$mem` in the fewest 9-kbit
      M9Ks of one shape (256x36, 512x18, 1024x9, 2048x4, 4096x2 or 8192x1; width and depth rounded up
      to it; times the read ports, one copy each), ROMs and small delays included (an EP4CE30 has 66).
-  Fmax proxy: Yosys `synth_ecp5` and nextpnr-ecp5 (LFE5U-85F unless --device says otherwise, speed 6,
+  Fmax proxy: Yosys `synth_ecp5` (every memory in block RAM, as on the Cyclone IV, which has no LUT RAM)
+  and nextpnr-ecp5 (LFE5U-85F unless --device says otherwise, speed 6,
   out of context, seed 1 unless --seed says otherwise: placement moves the figure by tens of MHz
   between seeds, so compare designs on several); a Lattice ECP5 is not a Cyclone IV: use the figure
   to compare designs, not to sign off timing.

@@ -16,7 +16,7 @@ class ArmSweepAnchorsSpec extends AnyFlatSpec {
       case "schedule"          => schedule
       case "storage"           => storage
       case "clocks_per_sample" => clocks.toString
-      case "latency_cycles"    => (latencyNs * 3 / 20).toString
+      case "latency_cycles"    => "147" // read only by the detail column
       case "latency_ns"        => latencyNs.toString
       case "samples_per_s"     => rate.toString
       case "mult_blocks"       => "63"
