@@ -297,7 +297,9 @@ final class MemoryStorage(
       case MuxInput(OperandSource.Output(bank), shift)         => shifted(out(bank), shift)
       case MuxInput(OperandSource.Table, _)                    => fit(word(src.constant.get).asSInt, width)
     }
-    lazy val low = control(src.selectLow.get) // one register for every group
+    // Each group its own copy of the low select bits, kept (synthesis would merge the copies): one register
+    // for every group reaches across the chip to the far ones (docs/timing-closure.md, the xArm7).
+    def low = FixedHw.kept(control(src.selectLow.get))
     lazy val clears = control(src.groupClears.get)
     // A unit the schedule left idle (more adder units asked for than it used) has no options.
     val grouped =
