@@ -95,8 +95,8 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
    * register-to-register hop. For a select that reaches far (a CORDIC unit's input among the angle sums: a
    * select decoded from the phase, even a cycle early, keeps the decode on the route). With `fromReset` the
    * select is right from the first cycle after reset (registered routes issue angles from cycle 1); without
-   * it (memory storage, as measured) it is 0 in the first cycles, whose CORDIC inputs belong to samples taken
-   * before the reset.
+   * it (memory storage) it is 0 in the first two cycles, the first entry: those cycles are used (with no
+   * reset on these registers the block-RAM designs are not bit-exact).
    */
   private def byPhaseRegistered[T <: Data](entries: Seq[(Int, T)], fromReset: Boolean = false): T =
     if (entries.size == 1) entries.head._2
