@@ -95,8 +95,8 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
    * register-to-register hop. For a select that reaches far (a CORDIC unit's input among the angle sums: a
    * select decoded from the phase, even a cycle early, keeps the decode on the route). With `fromReset` the
    * select is right from the first cycle after reset (registered routes issue angles from cycle 1); without
-   * it (memory storage) it is 0 in the first two cycles, the first entry: those cycles are used (with no
-   * reset on these registers the block-RAM designs are not bit-exact).
+   * it (memory storage) it is 0 in the first [[selectAhead]] cycles, the first entry: those cycles are used
+   * (the block-RAM designs are not bit-exact with anything else there).
    */
   private def byPhaseRegistered[T <: Data](entries: Seq[(Int, T)], fromReset: Boolean = false): T =
     if (entries.size == 1) entries.head._2
@@ -104,12 +104,21 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       val sorted = entries.sortBy(_._1)
       // The index of the entry at each residue; residues nothing uses repeat the one before.
       val index = (0 until ii).map(r => sorted.lastIndexWhere(_._1 <= r).max(0))
-      val ahead = residueCounter(selectAhead)
+      val looked = VecInit(index.map(_.U(log2Ceil(sorted.size).W)))(residueCounter(selectAhead))
       val select =
-        (1 to selectAhead).foldLeft(VecInit(index.map(_.U(log2Ceil(sorted.size).W)))(ahead))((v, k) =>
-          // the k-th register holds in cycle 0 the index of residue selectAhead - k
-          RegNext(v, (if (fromReset) index(selectAhead - k) else 0).U)
-        )
+        if (fromReset)
+          (1 to selectAhead).foldLeft(looked)((v, k) =>
+            // the k-th register holds in cycle 0 the index of residue selectAhead - k
+            RegNext(v, index(selectAhead - k).U)
+          )
+        else {
+          // No reset on the lookup's registers: synthesis makes the lookup a block-RAM ROM and the registers
+          // its read and output registers (with a reset the output register stays in the fabric and the ROM
+          // is read bare). A flag, set by reset, gives the first entry while they fill.
+          val read = (1 to selectAhead).foldLeft(looked)((v, _) => RegNext(v))
+          val filling = (1 to selectAhead).foldLeft(false.B)((v, _) => RegNext(v, true.B))
+          Mux(filling, 0.U, read)
+        }
       VecInit(sorted.map(_._2))(select)
     }
 
