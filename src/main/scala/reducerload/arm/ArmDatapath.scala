@@ -95,7 +95,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
    * register-to-register hop. For a select that reaches far (a CORDIC unit's input among the angle sums: a
    * select decoded from the phase, even a cycle early, keeps the decode on the route). With `fromReset` the
    * select is right from the first cycle after reset (registered routes issue angles from cycle 1); without
-   * it (memory storage) it is 0 in the first [[selectAhead]] cycles, the first entry: those cycles are used
+   * it (memory storage) it is residue 0's index in the first [[selectAhead]] cycles: those cycles are used
    * (the block-RAM designs are not bit-exact with anything else there).
    */
   private def byPhaseRegistered[T <: Data](entries: Seq[(Int, T)], fromReset: Boolean = false): T =
@@ -114,10 +114,10 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
         else {
           // No reset on the lookup's registers: synthesis makes the lookup a block-RAM ROM and the registers
           // its read and output registers (with a reset the output register stays in the fabric and the ROM
-          // is read bare). A flag, set by reset, gives the first entry while they fill.
+          // is read bare). A flag, set by reset, gives residue 0's index while they fill.
           val read = (1 to selectAhead).foldLeft(looked)((v, _) => RegNext(v))
           val filling = (1 to selectAhead).foldLeft(false.B)((v, _) => RegNext(v, true.B))
-          Mux(filling, 0.U, read)
+          Mux(filling, index.head.U, read)
         }
       VecInit(sorted.map(_._2))(select)
     }

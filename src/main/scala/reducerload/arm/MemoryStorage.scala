@@ -97,12 +97,12 @@ final class MemoryStorage(
    * stage's inputs, so no stage of its own does): the banks it reads (once per shift), then a constant (or
    * zero) if any. The selection takes `b.selectStages` clocks (two, or one at a tight interval): in the
    * first, each group of [[MemoryStorage.selectGroup]] options picks by the low bits of the option's index
-   * (the same bits for every group) and is registered, cleared unless its group holds the option (one clear
-   * bit per group, set for the other groups, so that it drives the registers' synchronous reset with no
-   * inverter between); in the second, the groups are ORed. A port with 30 options then has eight 4-way
-   * multiplexers in one clock and an 8-input OR in the next instead of a 32-way multiplexer in one, and the
-   * second clock needs no select (a select register driving every bit of a wide multiplexer reaches across
-   * the chip).
+   * (the same bits for every group, each from its own copy of the select) and is registered, cleared unless
+   * its group holds the option (one clear bit per group, set for the other groups, so that it drives the
+   * registers' synchronous reset with no inverter between); in the second, the groups are ORed. A port with
+   * 30 options then has eight 4-way multiplexers in one clock and an 8-input OR in the next instead of a
+   * 32-way multiplexer in one, and the second clock needs no select (a select register driving every bit of a
+   * wide multiplexer reaches across the chip).
    */
   private final class PortSources(operands: Seq[Selection]) {
 
