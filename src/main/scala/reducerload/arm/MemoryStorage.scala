@@ -172,24 +172,44 @@ final class MemoryStorage(
 
   private def opsOn(kind: UnitKind, unit: Int) = b.ops.filter(o => o.kind == kind && o.unit == unit)
 
+  private val alignment = b.alignment
+
+  /** Which of `options` each of `ops` takes, in the residue `at` gives: a select field. */
+  private def selectField(
+      ops: Seq[PlacedOp],
+      options: IndexedSeq[Int],
+      at: PlacedOp => Int,
+      of: PlacedOp => Int
+  ) =
+    Field(
+      log2Ceil(math.max(options.size, 2)),
+      ops.map(o => residue(at(o)) -> BigInt(options.indexOf(of(o)))).toMap
+    )
+
   /**
-   * A multiplier unit: sources the cycle before the issue (operands registered), each product's dropped bits
-   * the cycle before it is ready (from a register after the table's word, [[control]]: straight from the
-   * table's word the select's route limited the Z1 at 88 clocks per sample, 2.6 ns from the word's register
-   * to the rounding multiplexer ahead of the bank's write register).
+   * A multiplier unit: sources the cycle before the issue (operands registered, a constant shifted in the
+   * table), each operand's shift in the issue's cycle ([[ProductAlignment]]), each product's dropped bits the
+   * cycle before it is ready. Both selects come from registers after the table's word ([[control]]: straight
+   * from the table's word the rounding select's route limited the Z1 at 88 clocks per sample, 2.6 ns from the
+   * word's register to the rounding multiplexer ahead of the bank's write register).
    */
   private final class MultiplierPlan(u: Int) {
     private val ops = opsOn(UnitKind.Multiplier, u)
     val ports: IndexedSeq[PortSources] = (0 to 1).map(port =>
-      new PortSources(ops.map(o => Selection(residue(o.issue - b.forwardLead), o.operands(port), 0)))
+      new PortSources(
+        ops.map(o =>
+          Selection(residue(o.issue - b.forwardLead), o.operands(port), alignment(o).fromTable(port))
+        )
+      )
     )
-    private def drop(o: PlacedOp) = analysis.productRounding(o.node).drop
-    val drops: IndexedSeq[Int] = ops.map(drop).distinct.sorted.toIndexedSeq
-    val dropSelect: Field = Field(
-      log2Ceil(math.max(drops.size, 2)),
-      ops.map(o => residue(b.ready(o.node).get - 1) -> BigInt(drops.indexOf(drop(o)))).toMap
-    )
-    def fields: Seq[Field] = ports.flatMap(_.fields) :+ earlier(dropSelect)
+    val shifts: IndexedSeq[IndexedSeq[Int]] = (0 to 1).map(alignment.muxShifts(u, _))
+    val shiftSelects: IndexedSeq[Field] =
+      (0 to 1).map(port => selectField(ops, shifts(port), _.issue, alignment(_).muxShifts(port)))
+    val drops: IndexedSeq[Int] = alignment.drops(u)
+    val dropSelect: Field = selectField(ops, drops, o => b.ready(o.node).get - 1, alignment(_).drop)
+    def fields: Seq[Field] =
+      ports.flatMap(_.fields) ++ (0 to 1).filter(shifts(_).size > 1).map(p => earlier(shiftSelects(p))) :+
+        earlier(dropSelect)
   }
   private val multipliers = (0 until p.schedule.multiplierUnits).map(new MultiplierPlan(_))
 
@@ -332,10 +352,13 @@ final class MemoryStorage(
   // Multiplier units.
   multipliers.zipWithIndex.foreach { case (plan, u) =>
     val shape = p.schedule.unitShape(u)
-    // Operands registered in the fabric: the selection's long routes to the multiplier blocks get a clock of
-    // their own.
-    val operands =
-      Seq(operand(plan.ports(0), shape.wide), operand(plan.ports(1), shape.narrow)).map(FixedHw.delay(_, 1))
+    // Operands registered in the fabric (the selection's long routes to the multiplier blocks get a clock of
+    // their own), then shifted on the way to the blocks' own input registers.
+    val operands = shape.widths.zipWithIndex.map { case (width, port) =>
+      val registered = FixedHw.delay(operand(plan.ports(port), width), 1)
+      val shifted = plan.shifts(port).map(s => (registered << s)(width - 1, 0).asSInt)
+      if (shifted.size == 1) shifted.head else VecInit(shifted)(control(plan.shiftSelects(port)))
+    }
     val product = FixedHw.delay(PipelinedMultiplier(operands(0), operands(1)), p.multiplierLatency - 1)
     val width = b.unitWidths(bankIndex(Bank.Products(u)))
     val rounded = plan.drops.map(d => fit(FixedHw.shiftRound(product, d, p.productRounding), width))

@@ -162,15 +162,19 @@ object ResourceModel {
   private def selectInputs(p: ArmParams, b: BankedSchedule): Long = {
     val a = p.analysis
     def onUnit(kind: UnitKind, u: Int) = b.ops.filter(o => o.kind == kind && o.unit == u)
+    val alignment = b.alignment
     val multipliers = (0 until p.schedule.multiplierUnits).map { u =>
-      val shape = p.schedule.unitShape(u)
       val ops = onUnit(UnitKind.Multiplier, u)
-      optionCount(b, ops, 0, (_, _) => 0).toLong * shape.wide + optionCount(
-        b,
-        ops,
-        1,
-        (_, _) => 0
-      ) * shape.narrow
+      // the operand multiplexer, then the shift multiplexer after the operand register
+      p.schedule
+        .unitShape(u)
+        .widths
+        .zipWithIndex
+        .map { case (width, k) =>
+          val shifts = alignment.muxShifts(u, k).size
+          (optionCount(b, ops, k, (_, _) => 0) + (if (shifts > 1) shifts else 0)).toLong * width
+        }
+        .sum
     }.sum
     val adders = (0 until b.adderUnits).map { u =>
       val ops = onUnit(UnitKind.Adder, u)
@@ -207,10 +211,14 @@ object ResourceModel {
       (if (options > 1) log2Ceil(math.min(options, 4)) else 0) + (if (groups > 1) groups else 0) + constant
     }
     def onUnit(kind: UnitKind, u: Int) = b.ops.filter(o => o.kind == kind && o.unit == u)
+    val alignment = b.alignment
     val multipliers = (0 until p.schedule.multiplierUnits).map { u =>
       val ops = onUnit(UnitKind.Multiplier, u)
-      val drops = ops.map(o => a.productRounding(o.node).drop).distinct.size
-      port(ops, 0, (_, _) => 0) + port(ops, 1, (_, _) => 0) + log2Ceil(math.max(drops, 2))
+      def select(options: Int) = if (options > 1) log2Ceil(options) else 0
+      (0 to 1)
+        .map(k => port(ops, k, (o, _) => alignment(o).fromTable(k)) + select(alignment.muxShifts(u, k).size))
+        .sum +
+        log2Ceil(math.max(alignment.drops(u).size, 2))
     }.sum
     val adders = (0 until b.adderUnits).map { u =>
       val ops = onUnit(UnitKind.Adder, u)

@@ -635,6 +635,9 @@ final class BankedSchedule(val base: Schedule) {
       .getOrElse(2)
   }
 
+  /** Where each multiply's product is rounded, and its operands' shifts that bring it there. */
+  lazy val alignment: ProductAlignment = new ProductAlignment(this)
+
   /** Word width of each bank: its widest value. */
   val bankWidths: IndexedSeq[Int] =
     values.map(vs => vs.map(v => analysis(v).format.width).maxOption.getOrElse(1))

@@ -281,4 +281,53 @@ class BankedScheduleSpec extends AnyFlatSpec {
           Seq(ReadPort(1, 0), ReadPort(10, 1), ReadPort(2, 0), Output(12), Output(3), Table)
       )
     }
+
+  it should "raise the products of each multiplier unit to few drops, every product the analysis's exactly" in {
+    val rng = new scala.util.Random(reducerload.testutil.Seeds("product-alignment", 33L))
+    // The analysis's rounding of a product code, from the codes (BigInt's >> rounds toward minus infinity).
+    def round(v: BigInt, drop: Int, rounding: reducerload.fixedpoint.Rounding) =
+      if (drop == 0 || rounding == reducerload.fixedpoint.Rounding.Truncate) v >> drop
+      else (v + (BigInt(1) << (drop - 1))) >> drop
+    Seq(("planar3", 40, Nil), ("ur5", 88, Seq(1e-3)), ("ur5", 64, Nil), ("panda", 114, Seq(1e-3))).foreach {
+      case (robot, ii, target) =>
+        val p = params(robot, ii, target)
+        val b = p.banked.get
+        val a = p.analysis
+        val aligned = b.alignment
+        val (before, after) = (0 until p.schedule.multiplierUnits).map { u =>
+          val widths = p.schedule.unitShape(u).widths
+          val ops = b.ops.filter(o => o.kind == UnitKind.Multiplier && o.unit == u)
+          ops.foreach { o =>
+            val rule = a.productRounding(o.node)
+            val x = aligned(o)
+            val codes = o.operands.map(_.carried.get).map(n => a(n).format.width)
+            (0 to 1).foreach { k =>
+              assert(codes(k) + x.shifts(k) <= widths(k), s"$robot: node ${o.node.index} port $k overflows")
+              assert(x.fromTable(k) == 0 || o.operands(k).isInstanceOf[Operand.Constant])
+              assert(aligned.muxShifts(u, k).contains(x.muxShifts(k)))
+            }
+            assert(x.drop == rule.drop + x.shifts.sum && aligned.drops(u).contains(x.drop))
+            (1 to 20).foreach { _ =>
+              val v = codes.map(w => BigInt(w, rng.self) - (BigInt(1) << (w - 1)))
+              val shifted = v.zip(x.shifts).map { case (c, s) => c << s }
+              assert(
+                round(shifted(0) * shifted(1), x.drop, rule.rounding) == round(
+                  v(0) * v(1),
+                  rule.drop,
+                  rule.rounding
+                ),
+                s"$robot: node ${o.node.index}, codes $v"
+              )
+            }
+          }
+          (ops.map(o => a.productRounding(o.node).drop).distinct.size, aligned.drops(u).size)
+        }.unzip
+        println(
+          s"[align] $robot at $ii: roundings per unit ${before.mkString(" ")} -> ${after.mkString(" ")}"
+        )
+        assert(after.zip(before).forall { case (n, m) =>
+          n <= m
+        } && (robot == "planar3" || after.sum < before.sum))
+    }
+  }
 }
