@@ -19,7 +19,8 @@ final case class AlignedProduct(shifts: IndexedSeq[Int], fromTable: IndexedSeq[I
  * those designs (docs/timing-closure.md). An operand shifted left by s bits within its port's width makes the
  * product 2^s times larger, and dropping s more bits then gives the same value exactly, for either rounding.
  * So each product is raised to one of a few drops per unit: the fewest that every product of the unit reaches
- * within its operands' spare bits (one on most units), each product to the least of them it reaches.
+ * within its operands' spare bits (one to three on the arms measured), each product to the least of them it
+ * reaches.
  *
  * The shift of a constant operand is in the table (free); a stored operand is shifted after its operand
  * register, by a multiplexer among the port's few shifts, in the cycle of the issue. A port keeps the shifts
