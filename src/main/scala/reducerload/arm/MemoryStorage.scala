@@ -170,8 +170,6 @@ final class MemoryStorage(
     def fields: Seq[Field] = selectLow.map(earlier).toSeq ++ groupClears.map(earlier).toSeq ++ constant.toSeq
   }
 
-  private def opsOn(kind: UnitKind, unit: Int) = b.ops.filter(o => o.kind == kind && o.unit == unit)
-
   private val alignment = b.alignment
 
   /** Which of `options` each of `ops` takes, in the residue `at` gives: a select field. */
@@ -194,7 +192,7 @@ final class MemoryStorage(
    * word's register to the rounding multiplexer ahead of the bank's write register).
    */
   private final class MultiplierPlan(u: Int) {
-    private val ops = opsOn(UnitKind.Multiplier, u)
+    private val ops = b.opsOn(UnitKind.Multiplier, u)
     val ports: IndexedSeq[PortSources] = (0 to 1).map(port =>
       new PortSources(
         ops.map(o =>
@@ -218,7 +216,7 @@ final class MemoryStorage(
    * (each step registered).
    */
   private final class AdderPlan(u: Int) {
-    private val ops = opsOn(UnitKind.Adder, u)
+    private val ops = b.opsOn(UnitKind.Adder, u)
 
     /**
      * Fraction bits an operand gains to reach its sum's (the analysis's rule for exact sums); zero needs
@@ -263,6 +261,9 @@ final class MemoryStorage(
    */
   private def control(f: Field): UInt = FixedHw.delay(word(earlier(f)), 1)
   private def fit(v: SInt, width: Int): SInt = FixedHw.fitWidth(v, width)
+
+  /** `v` shifted left by `shift` bits in `width` bits (the schedule leaves the shifted value room there). */
+  private def shiftedIn(v: SInt, shift: Int, width: Int): SInt = (fit(v, width) << shift)(width - 1, 0).asSInt
 
   /**
    * Each unit's result, written into its bank (block RAM registers its write port), and its output register
@@ -311,11 +312,11 @@ final class MemoryStorage(
    * `width` (values fit their formats).
    */
   private def operand(src: PortSources, width: Int): SInt = {
-    def shifted(v: SInt, shift: Int) = (fit(v, width) << shift)(width - 1, 0).asSInt
     val options = src.sources.map {
-      case MuxInput(OperandSource.ReadPort(bank, port), shift) => shifted(readData(bank)(port), shift)
-      case MuxInput(OperandSource.Output(bank), shift)         => shifted(out(bank), shift)
-      case MuxInput(OperandSource.Table, _)                    => fit(word(src.constant.get).asSInt, width)
+      case MuxInput(OperandSource.ReadPort(bank, port), shift) =>
+        shiftedIn(readData(bank)(port), shift, width)
+      case MuxInput(OperandSource.Output(bank), shift) => shiftedIn(out(bank), shift, width)
+      case MuxInput(OperandSource.Table, _)            => fit(word(src.constant.get).asSInt, width)
     }
     // Each group its own copy of the low select bits, kept (synthesis would merge the copies): one register
     // for every group reaches across the chip to the far ones (docs/timing-closure.md, the xArm7).
@@ -356,7 +357,7 @@ final class MemoryStorage(
     // their own), then shifted on the way to the blocks' own input registers.
     val operands = shape.widths.zipWithIndex.map { case (width, port) =>
       val registered = FixedHw.delay(operand(plan.ports(port), width), 1)
-      val shifted = plan.shifts(port).map(s => (registered << s)(width - 1, 0).asSInt)
+      val shifted = plan.shifts(port).map(shiftedIn(registered, _, width))
       if (shifted.size == 1) shifted.head else VecInit(shifted)(control(plan.shiftSelects(port)))
     }
     val product = FixedHw.delay(PipelinedMultiplier(operands(0), operands(1)), p.multiplierLatency - 1)

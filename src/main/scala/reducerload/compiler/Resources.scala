@@ -161,10 +161,9 @@ object ResourceModel {
   /** Each memory-storage unit port's options times its width: the select multiplexers' inputs. */
   private def selectInputs(p: ArmParams, b: BankedSchedule): Long = {
     val a = p.analysis
-    def onUnit(kind: UnitKind, u: Int) = b.ops.filter(o => o.kind == kind && o.unit == u)
     val alignment = b.alignment
     val multipliers = (0 until p.schedule.multiplierUnits).map { u =>
-      val ops = onUnit(UnitKind.Multiplier, u)
+      val ops = b.opsOn(UnitKind.Multiplier, u)
       // the operand multiplexer, then the shift multiplexer after the operand register
       p.schedule
         .unitShape(u)
@@ -177,7 +176,7 @@ object ResourceModel {
         .sum
     }.sum
     val adders = (0 until b.adderUnits).map { u =>
-      val ops = onUnit(UnitKind.Adder, u)
+      val ops = b.opsOn(UnitKind.Adder, u)
       def shift(o: PlacedOp, k: Int) =
         o.operands(k).carried.fold(0)(x => a(o.node).format.fracBits - a(x).format.fracBits)
       (optionCount(b, ops, 0, shift) + optionCount(b, ops, 1, shift)).toLong * b.adderWidths(u)
@@ -210,10 +209,9 @@ object ResourceModel {
         .getOrElse(0)
       (if (options > 1) log2Ceil(math.min(options, 4)) else 0) + (if (groups > 1) groups else 0) + constant
     }
-    def onUnit(kind: UnitKind, u: Int) = b.ops.filter(o => o.kind == kind && o.unit == u)
     val alignment = b.alignment
     val multipliers = (0 until p.schedule.multiplierUnits).map { u =>
-      val ops = onUnit(UnitKind.Multiplier, u)
+      val ops = b.opsOn(UnitKind.Multiplier, u)
       def select(options: Int) = if (options > 1) log2Ceil(options) else 0
       (0 to 1)
         .map(k => port(ops, k, (o, _) => alignment(o).fromTable(k)) + select(alignment.muxShifts(u, k).size))
@@ -221,7 +219,7 @@ object ResourceModel {
         log2Ceil(math.max(alignment.drops(u).size, 2))
     }.sum
     val adders = (0 until b.adderUnits).map { u =>
-      val ops = onUnit(UnitKind.Adder, u)
+      val ops = b.opsOn(UnitKind.Adder, u)
       def shift(o: PlacedOp, k: Int) =
         o.operands(k).carried.fold(0)(x => a(o.node).format.fracBits - a(x).format.fracBits)
       port(ops, 0, shift) + port(ops, 1, shift) + 1

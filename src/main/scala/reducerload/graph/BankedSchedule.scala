@@ -573,6 +573,10 @@ final class BankedSchedule(val base: Schedule) {
   /** Multiplies and additions with their units, issues and operand ports. */
   val ops: IndexedSeq[PlacedOp] = state.placed.flatten
 
+  /** The operations on unit `unit` of `kind`, in the schedule's order. */
+  def opsOn(kind: UnitKind, unit: Int): IndexedSeq[PlacedOp] =
+    ops.filter(o => o.kind == kind && o.unit == unit)
+
   /** Every bank read. */
   val reads: IndexedSeq[BankRead] = state.reads
 
@@ -623,8 +627,7 @@ final class BankedSchedule(val base: Schedule) {
 
   /** Adder unit widths: every operand aligned to the result's fraction bits, and every result, fit. */
   val adderWidths: IndexedSeq[Int] = (0 until adderUnits).map { u =>
-    ops
-      .filter(o => o.kind == UnitKind.Adder && o.unit == u)
+    opsOn(UnitKind.Adder, u)
       .flatMap { o =>
         val f = analysis(o.node).format
         f.width +: graph(o.node).operands.map(x =>

@@ -14,13 +14,12 @@ final case class AlignedProduct(shifts: IndexedSeq[Int], fromTable: IndexedSeq[I
 /**
  * Where memory storage rounds each product. A multiply's node keeps `drop` fewer fraction bits than the full
  * product of its operands' formats, and the products of one unit drop many different counts (the per-node
- * formats: 8-11 on the xArm7's and the Z1's units); a rounding per count ahead of the bank's write register,
- * with the multiplexer among them, sat on the route from the unit to its block RAM and limited the clock of
- * those designs (docs/timing-closure.md). An operand shifted left by s bits within its port's width makes the
- * product 2^s times larger, and dropping s more bits then gives the same value exactly, for either rounding.
- * So each product is raised to one of a few drops per unit: the fewest that every product of the unit reaches
- * within its operands' spare bits (one to three on the arms measured), each product to the least of them it
- * reaches.
+ * formats); a rounding per count ahead of the bank's write register, with the multiplexer among them, sat on
+ * the route from the unit to its block RAM and limited the clock of those designs (docs/timing-closure.md).
+ * An operand shifted left by s bits within its port's width makes the product 2^s times larger, and dropping
+ * s more bits then gives the same value exactly, for either rounding. So each product is raised to one of a
+ * few drops per unit: the fewest that every product of the unit reaches within its operands' spare bits, each
+ * product to the least of them it reaches (counts before and after: docs/timing-closure.md).
  *
  * The shift of a constant operand is in the table (free); a stored operand is shifted after its operand
  * register, by a multiplexer among the port's few shifts, in the cycle of the issue. A port keeps the shifts
@@ -31,7 +30,7 @@ final class ProductAlignment(b: BankedSchedule) {
 
   /** Each multiplier unit's multiplies, in the schedule's order. */
   private val onUnit: IndexedSeq[IndexedSeq[PlacedOp]] =
-    (0 until b.base.multiplierUnits).map(u => b.ops.filter(o => o.kind == UnitKind.Multiplier && o.unit == u))
+    (0 until b.base.multiplierUnits).map(b.opsOn(UnitKind.Multiplier, _))
 
   private def spare(o: PlacedOp, port: Int, widths: IndexedSeq[Int]): Int =
     o.operands(port).carried.fold(0)(x => widths(port) - analysis(x).format.width)

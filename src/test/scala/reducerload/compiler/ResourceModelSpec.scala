@@ -23,8 +23,8 @@ class ResourceModelSpec extends AnyFlatSpec with Matchers {
   "the memory-block count" should "agree with the open-tool estimate's M9K count on the committed arm points" in {
     // Registers storage (CORDIC tables and block-RAM delays): exactly; memory storage (banks and the
     // microcode table, counted before the table shares equal fields): within one block, but for the
-    // five-adder point, whose table the synthesis shares more of (planar3's: 21 M9K estimated, 29
-    // predicted since the multipliers' operand shifts have select fields of their own, 28 before).
+    // five-adder point, whose table the synthesis shares more of (more still since the multipliers' operand
+    // shifts have select fields of their own).
     armPoints.foreach { pt =>
       val est = pt.estM9k.get
       val tol =

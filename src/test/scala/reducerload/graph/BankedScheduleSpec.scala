@@ -284,10 +284,8 @@ class BankedScheduleSpec extends AnyFlatSpec {
 
   it should "raise the products of each multiplier unit to few drops, every product the analysis's exactly" in {
     val rng = new scala.util.Random(reducerload.testutil.Seeds("product-alignment", 33L))
-    // The analysis's rounding of a product code, from the codes (BigInt's >> rounds toward minus infinity).
-    def round(v: BigInt, drop: Int, rounding: reducerload.fixedpoint.Rounding) =
-      if (drop == 0 || rounding == reducerload.fixedpoint.Rounding.Truncate) v >> drop
-      else (v + (BigInt(1) << (drop - 1))) >> drop
+    // The bit-accurate model's rounding of a product code (GraphModel's rule), not the alignment's.
+    def round = reducerload.fixedpoint.FixedFormat.shiftRound _
     Seq(("planar3", 40, Nil), ("ur5", 88, Seq(1e-3)), ("ur5", 64, Nil), ("panda", 114, Seq(1e-3))).foreach {
       case (robot, ii, target) =>
         val p = params(robot, ii, target)
@@ -296,7 +294,7 @@ class BankedScheduleSpec extends AnyFlatSpec {
         val aligned = b.alignment
         val (before, after) = (0 until p.schedule.multiplierUnits).map { u =>
           val widths = p.schedule.unitShape(u).widths
-          val ops = b.ops.filter(o => o.kind == UnitKind.Multiplier && o.unit == u)
+          val ops = b.opsOn(UnitKind.Multiplier, u)
           ops.foreach { o =>
             val rule = a.productRounding(o.node)
             val x = aligned(o)
