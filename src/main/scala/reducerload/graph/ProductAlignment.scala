@@ -18,8 +18,8 @@ final case class AlignedProduct(shifts: IndexedSeq[Int], fromTable: IndexedSeq[I
  * the route from the unit to its block RAM and limited the clock of those designs (docs/timing-closure.md).
  * An operand shifted left by s bits within its port's width makes the product 2^s times larger, and dropping
  * s more bits then gives the same value exactly, for either rounding. So each product is raised to one of a
- * few drops per unit: the fewest that every product of the unit reaches within its operands' spare bits, each
- * product to the least of them it reaches (counts before and after: docs/timing-closure.md).
+ * few drops per unit, as many as cost the least logic: each drop is a rounding, each shift a port's
+ * multiplexer takes is an input of it (counts before and after: docs/timing-closure.md).
  *
  * The shift of a constant operand is in the table (free); a stored operand is shifted after its operand
  * register, by a multiplexer among the port's few shifts, in the cycle of the issue. A port keeps the shifts
@@ -37,13 +37,16 @@ final class ProductAlignment(b: BankedSchedule) {
 
   private def isConstant(o: PlacedOp, port: Int) = o.operands(port).isInstanceOf[Operand.Constant]
 
-  private val plans: IndexedSeq[ProductAlignment.UnitPlan] = onUnit.indices.map { u =>
+  /**
+   * Unit `u`'s plan with each product shifted by at most `cap` bits: the fewest drops such that every product
+   * reaches one (intervals [low, high], greedy by the right end), each then lowered to the highest low of the
+   * products that take it (fewer shifted bits). A cap of 0 rounds each product where the analysis does.
+   */
+  private def plan(u: Int, cap: Int): ProductAlignment.UnitPlan = {
     val widths = b.base.unitShape(u).widths
     val ops = onUnit(u)
     def low(o: PlacedOp) = analysis.productRounding(o.node).drop
-    def high(o: PlacedOp) = low(o) + (0 to 1).map(spare(o, _, widths)).sum
-    // The fewest drops such that every product reaches one (intervals [low, high], greedy by the right end),
-    // each then lowered to the highest low of the products that take it: fewer shifted bits.
+    def high(o: PlacedOp) = low(o) + math.min(cap, (0 to 1).map(spare(o, _, widths)).sum)
     val chosen = ops.sortBy(o => (high(o), low(o))).foldLeft(Vector.empty[Int]) { (ds, o) =>
       if (ds.exists(d => d >= low(o) && d <= high(o))) ds else ds :+ high(o)
     }
@@ -83,6 +86,33 @@ final class ProductAlignment(b: BankedSchedule) {
     ProductAlignment.UnitPlan(drops, aligned.toMap)
   }
 
+  /**
+   * A plan's logic: a rounding of the unit's result width per drop, and each port's shift multiplexer (none
+   * for one shift), an input of the port's width per shift.
+   */
+  private def cost(u: Int, plan: ProductAlignment.UnitPlan): Double = {
+    val widths = b.base.unitShape(u).widths
+    val muxInputs = (0 to 1).map { port =>
+      val shifts = onUnit(u).map(o => plan.products(o.node).muxShifts(port)).distinct.size
+      if (shifts > 1) shifts * widths(port) else 0
+    }.sum
+    LogicCost.roundingBit * plan.drops.size * b.unitWidths(b.banks.indexOf(Bank.Products(u))) +
+      LogicCost.shiftMuxBit * muxInputs
+  }
+
+  /**
+   * Each unit's cheapest plan over the caps, from none (the analysis's roundings) to the operands' spare bits
+   * (the fewest drops), among those of at most [[ProductAlignment.maxDrops]] drops: a unit with few distinct
+   * drops keeps them rather than pay for wide shift multiplexers.
+   */
+  private val plans: IndexedSeq[ProductAlignment.UnitPlan] = onUnit.indices.map { u =>
+    val widths = b.base.unitShape(u).widths
+    val most = onUnit(u).map(o => (0 to 1).map(spare(o, _, widths)).sum).maxOption.getOrElse(0)
+    val all = (0 to most).map(plan(u, _))
+    val few = all.filter(_.drops.size <= ProductAlignment.maxDrops)
+    if (few.isEmpty) all.last else few.minBy(cost(u, _))
+  }
+
   /** Each multiplier unit's drops, ascending: one rounding each ahead of the bank's write register. */
   def drops(unit: Int): IndexedSeq[Int] = plans(unit).drops
 
@@ -95,6 +125,13 @@ final class ProductAlignment(b: BankedSchedule) {
 }
 
 object ProductAlignment {
+
+  /**
+   * Drops a unit may round by: a 4-input multiplexer is one level of logic (ECP5: two LUTs and the slice's
+   * multiplexer), and its select's route from the table's register then fits the clock; five or more drops
+   * (the Z1 at 88 clocks, seed 2) put a level more on that route and limited the design.
+   */
+  val maxDrops: Int = 4
 
   /** One unit's drops, ascending, and its multiplies' alignments. */
   private final case class UnitPlan(drops: IndexedSeq[Int], products: Map[NodeId, AlignedProduct])

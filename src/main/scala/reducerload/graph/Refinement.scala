@@ -481,6 +481,15 @@ object LogicCost {
    * and ~250 LEs more.
    */
   val blockRamTap: Double = 10.0
+
+  /**
+   * Memory storage's product roundings ([[ProductAlignment]]): a bit of a rounding ahead of a product bank's
+   * write register, and an input bit of an operand's shift multiplexer. Fitted to the open-tool estimate's
+   * change when the xArm7, the Z1 and the Jaco went from a rounding per drop to fully aligned products
+   * (docs/timing-closure.md).
+   */
+  val roundingBit: Double = 0.98
+  val shiftMuxBit: Double = 0.79
 }
 
 object RefinementProblem {

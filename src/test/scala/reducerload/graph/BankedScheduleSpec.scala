@@ -282,7 +282,7 @@ class BankedScheduleSpec extends AnyFlatSpec {
       )
     }
 
-  it should "raise the products of each multiplier unit to few drops, every product the analysis's exactly" in {
+  it should "raise the products of each multiplier unit to fewer drops where that saves logic, every product the analysis's exactly" in {
     val rng = new scala.util.Random(reducerload.testutil.Seeds("product-alignment", 33L))
     // The bit-accurate model's rounding of a product code (GraphModel's rule), not the alignment's.
     def round = reducerload.fixedpoint.FixedFormat.shiftRound _
@@ -318,14 +318,31 @@ class BankedScheduleSpec extends AnyFlatSpec {
               )
             }
           }
-          (ops.map(o => a.productRounding(o.node).drop).distinct.size, aligned.drops(u).size)
+          val unaligned = ops.map(o => a.productRounding(o.node).drop).distinct.size
+          // No unit pays more logic than a rounding per drop of the analysis would (LogicCost's weights).
+          val result = b.unitWidths(b.banks.indexOf(Bank.Products(u)))
+          val muxInputs = (0 to 1).map(k => aligned.muxShifts(u, k).size).zip(widths).collect {
+            case (n, w) if n > 1 => n * w
+          }
+          assert(
+            LogicCost.roundingBit * aligned.drops(u).size * result + LogicCost.shiftMuxBit * muxInputs.sum <=
+              LogicCost.roundingBit * unaligned * result,
+            s"$robot: unit $u costs more aligned"
+          )
+          assert(aligned.drops(u).size <= ProductAlignment.maxDrops, s"$robot: unit $u has too many drops")
+          (unaligned, aligned.drops(u).size)
         }.unzip
         println(
           s"[align] $robot at $ii: roundings per unit ${before.mkString(" ")} -> ${after.mkString(" ")}"
         )
-        assert(after.zip(before).forall { case (n, m) =>
-          n <= m
-        } && (robot == "planar3" || after.sum < before.sum))
+        assert(after.zip(before).forall { case (n, m) => n <= m })
+        // The UR5 at 88 clocks, which ArmDatapathSpec simulates, has many drops a unit: fewer, by shifts.
+        if (robot == "ur5" && ii == 88)
+          assert(
+            after.sum < before.sum && (0 until p.schedule.multiplierUnits).exists(u =>
+              (0 to 1).exists(aligned.muxShifts(u, _).size > 1)
+            )
+          )
     }
   }
 }
