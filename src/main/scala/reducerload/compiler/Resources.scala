@@ -15,7 +15,8 @@ import reducerload.graph.{
   UnitKind
 }
 import reducerload.monitor.MonitorParams
-import reducerload.pipeline.{MemoryDelay, SignedMultiply}
+import reducerload.cordic.ResidualRotation
+import reducerload.pipeline.MemoryDelay
 
 /**
  * A design's use of a device's resources: 18x18 multiplier blocks, memory blocks, logic cells (predicted).
@@ -76,7 +77,8 @@ object ResourceModel {
     val c = p.cordic
     val w = c.xyFormat.width
     (if (c.tableBits > 0) Seq(MemoryArray("CORDIC start table", 1 << c.tableBits, 2 * w)) else Nil) ++
-      (if (c.residual) Seq(MemoryArray("CORDIC residual delay", 2 * SignedMultiply.latency - 1, 2 * w + 2))
+      (if (c.residual)
+         Seq(MemoryArray("CORDIC residual delay", ResidualRotation.stateDelayInMemory - 1, 2 * w + 2))
        else Nil)
   }
 

@@ -35,7 +35,9 @@ class ResidualRotation(p: CordicParams)(implicit multiplierImpl: MultiplierImpl)
   vector.x := io.in.bits.x
   vector.y := io.in.bits.y
   vector.quadrant := io.in.bits.quadrant
-  private val waited = MemoryDelay(vector, 2 * SignedMultiply.latency)
+  // The block RAM's output (its own output register) crossed the die to the rotation's adders and limited
+  // the Z1's clock (docs/timing-closure.md): a fabric register after it, near the adders, takes the last clock.
+  private val waited = RegNext(MemoryDelay(vector, ResidualRotation.stateDelayInMemory))
 
   // Step 2: the two products.
   private val xzr = SignedMultiply(xTrunc, zr)
@@ -50,4 +52,10 @@ class ResidualRotation(p: CordicParams)(implicit multiplierImpl: MultiplierImpl)
   out.quadrant := waited.quadrant
   io.out.bits := out
   io.out.valid := ShiftRegister(io.in.valid, p.residualLatency, false.B, true.B)
+}
+
+object ResidualRotation {
+
+  /** Clocks the state waits in block RAM for the products, a fabric register taking the last of them. */
+  val stateDelayInMemory: Int = 2 * SignedMultiply.latency - 1
 }
