@@ -95,8 +95,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
    * register-to-register hop. For a select that reaches far (a CORDIC unit's input among the angle sums: a
    * select decoded from the phase, even a cycle early, keeps the decode on the route). With `fromReset` the
    * select is right from the first cycle after reset (registered routes issue angles from cycle 1); without
-   * it (memory storage) it is residue 0's index in the first [[selectAhead]] cycles: those cycles are used
-   * (the block-RAM designs are not bit-exact with anything else there).
+   * it (memory storage) the lookup is a ROM, a cycle earlier still, and right from the first cycle too.
    */
   private def byPhaseRegistered[T <: Data](entries: Seq[(Int, T)], fromReset: Boolean = false): T =
     if (entries.size == 1) entries.head._2
@@ -104,20 +103,28 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       val sorted = entries.sortBy(_._1)
       // The index of the entry at each residue; residues nothing uses repeat the one before.
       val index = (0 until ii).map(r => sorted.lastIndexWhere(_._1 <= r).max(0))
-      val looked = VecInit(index.map(_.U(log2Ceil(sorted.size).W)))(residueCounter(selectAhead))
+      def at(residue: Int) = index(residue % ii).U
       val select =
-        if (fromReset)
+        if (fromReset) {
+          val looked = VecInit(index.map(_.U(log2Ceil(sorted.size).W)))(residueCounter(selectAhead))
           (1 to selectAhead).foldLeft(looked)((v, k) =>
             // the k-th register holds in cycle 0 the index of residue selectAhead - k
-            RegNext(v, index(selectAhead - k).U)
+            RegNext(v, at(selectAhead - k))
           )
-        else {
+        } else {
           // No reset on the lookup's registers: synthesis makes the lookup a block-RAM ROM and the registers
           // its read and output registers (with a reset the output register stays in the fabric and the ROM
-          // is read bare). A flag, set by reset, gives residue 0's index while they fill.
+          // is read bare). A fabric register after them, near the multiplexer, takes the index a cycle later:
+          // the ROM's output crossed the die to the multiplexer (the Z1 at 88 clocks, seed 2,
+          // docs/timing-closure.md). While the ROM's registers fill (a flag set by reset), a chain set by
+          // reset gives the indices they would hold.
+          val looked = VecInit(index.map(_.U(log2Ceil(sorted.size).W)))(residueCounter(selectAhead + 1))
           val read = (1 to selectAhead).foldLeft(looked)((v, _) => RegNext(v))
           val filling = (1 to selectAhead).foldLeft(false.B)((v, _) => RegNext(v, true.B))
-          Mux(filling, index.head.U, read)
+          // the k-th register holds in cycle 0 the index of residue selectAhead + 1 - k
+          val early =
+            (1 to selectAhead).foldLeft(at(selectAhead))((v, k) => RegNext(v, at(selectAhead + 1 - k)))
+          RegNext(Mux(filling, early, read), at(0))
         }
       VecInit(sorted.map(_._2))(select)
     }
