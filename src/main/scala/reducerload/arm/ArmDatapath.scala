@@ -103,27 +103,25 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       val sorted = entries.sortBy(_._1)
       // The index of the entry at each residue; residues nothing uses repeat the one before.
       val index = (0 until ii).map(r => sorted.lastIndexWhere(_._1 <= r).max(0))
-      def at(residue: Int) = index(residue % ii).U
+      val bits = log2Ceil(sorted.size)
+      def at(residue: Int) = index(residue % ii).U(bits.W)
+      def lookup(ahead: Int) = VecInit(index.map(_.U(bits.W)))(residueCounter(ahead))
+      // `selectAhead` registers after `v`, the k-th set by reset to the index of residue `ahead` - k: the last
+      // gives residue `ahead` - `selectAhead`'s in cycle 0, the next residues' until `v`'s indices reach it
+      def setByReset(v: UInt, ahead: Int) =
+        (1 to selectAhead).foldLeft(v)((r, k) => RegNext(r, at(ahead - k)))
       val select =
-        if (fromReset) {
-          val looked = VecInit(index.map(_.U(log2Ceil(sorted.size).W)))(residueCounter(selectAhead))
-          (1 to selectAhead).foldLeft(looked)((v, k) =>
-            // the k-th register holds in cycle 0 the index of residue selectAhead - k
-            RegNext(v, at(selectAhead - k))
-          )
-        } else {
+        if (fromReset) setByReset(lookup(selectAhead), selectAhead)
+        else {
           // No reset on the lookup's registers: synthesis makes the lookup a block-RAM ROM and the registers
           // its read and output registers (with a reset the output register stays in the fabric and the ROM
           // is read bare). A fabric register after them, near the multiplexer, takes the index a cycle later:
           // the ROM's output crossed the die to the multiplexer (the Z1 at 88 clocks, seed 2,
-          // docs/timing-closure.md). While the ROM's registers fill (a flag set by reset), a chain set by
-          // reset gives the indices they would hold.
-          val looked = VecInit(index.map(_.U(log2Ceil(sorted.size).W)))(residueCounter(selectAhead + 1))
-          val read = (1 to selectAhead).foldLeft(looked)((v, _) => RegNext(v))
+          // docs/timing-closure.md). While the ROM's registers fill (a flag set by reset), registers set by
+          // reset give the indices they would hold.
+          val read = (1 to selectAhead).foldLeft(lookup(selectAhead + 1))((v, _) => RegNext(v))
           val filling = (1 to selectAhead).foldLeft(false.B)((v, _) => RegNext(v, true.B))
-          // the k-th register holds in cycle 0 the index of residue selectAhead + 1 - k
-          val early =
-            (1 to selectAhead).foldLeft(at(selectAhead))((v, k) => RegNext(v, at(selectAhead + 1 - k)))
+          val early = setByReset(at(selectAhead), selectAhead + 1)
           RegNext(Mux(filling, early, read), at(0))
         }
       VecInit(sorted.map(_._2))(select)

@@ -188,8 +188,8 @@ final class MemoryStorage(
    * A multiplier unit: sources the cycle before the issue (operands registered, a constant shifted in the
    * table), each operand's shift in the issue's cycle ([[ProductAlignment]]), each product's dropped bits the
    * cycle before it is ready. Both selects come from registers after the table's word ([[control]]: straight
-   * from the table's word the rounding select's route limited the Z1 at 88 clocks per sample, 2.6 ns from the
-   * word's register to the rounding multiplexer ahead of the bank's write register).
+   * from the table's word the rounding select's route to the rounding multiplexer ahead of the bank's write
+   * register limited the Z1 at 88 clocks per sample, docs/timing-closure.md).
    */
   private final class MultiplierPlan(u: Int) {
     private val ops = b.opsOn(UnitKind.Multiplier, u)
@@ -339,7 +339,7 @@ final class MemoryStorage(
   // ([[BankedSchedule.inputLatency]]): no select from the table (a wide multiplexer ahead of the
   // bank's write port).
   if (b.signals.nonEmpty) {
-    val width = b.unitWidths(bankIndex(Bank.Inputs))
+    val width = b.unitWidth(Bank.Inputs)
     val values = b.signals.map(signals(_).pad(width))
     val ahead = BankedSchedule.inputLoadDelay
     val chain = Reg(Vec(ahead + values.size, SInt(width.W)))
@@ -361,7 +361,7 @@ final class MemoryStorage(
       if (shifted.size == 1) shifted.head else VecInit(shifted)(control(plan.shiftSelects(port)))
     }
     val product = FixedHw.delay(PipelinedMultiplier(operands(0), operands(1)), p.multiplierLatency - 1)
-    val width = b.unitWidths(bankIndex(Bank.Products(u)))
+    val width = b.unitWidth(Bank.Products(u))
     val rounded = plan.drops.map(d => fit(FixedHw.shiftRound(product, d, p.productRounding), width))
     next(bankIndex(Bank.Products(u))) := (if (rounded.size == 1) rounded.head
                                           else VecInit(rounded)(control(plan.dropSelect)))
@@ -378,7 +378,7 @@ final class MemoryStorage(
     val bFlipped = FixedHw.delay(aligned(1) ^ Fill(width, subtract), 1)
     val carryIn = FixedHw.delay(subtract.asUInt, 1)
     val sum = (Cat(a, 1.U(1.W)) + Cat(bFlipped, carryIn))(width, 1).asSInt
-    next(bankIndex(Bank.Sums(u))) := fit(sum, b.unitWidths(bankIndex(Bank.Sums(u))))
+    next(bankIndex(Bank.Sums(u))) := fit(sum, b.unitWidth(Bank.Sums(u)))
   }
 
   // CORDIC units.

@@ -4,6 +4,7 @@ import reducerload.util.IntMath.ceilDiv
 
 import reducerload.arm.{ArmDatapath, ArmParams}
 import reducerload.config.{Device, DeviceFamily}
+import reducerload.cordic.ResidualRotation
 import reducerload.graph.{
   BankedSchedule,
   HeldTaps,
@@ -11,11 +12,11 @@ import reducerload.graph.{
   Operand,
   OperandSource,
   PlacedOp,
+  ProductAlignment,
   Schedule,
   UnitKind
 }
 import reducerload.monitor.MonitorParams
-import reducerload.cordic.ResidualRotation
 import reducerload.pipeline.MemoryDelay
 
 /**
@@ -172,8 +173,10 @@ object ResourceModel {
         .widths
         .zipWithIndex
         .map { case (width, k) =>
-          val shifts = alignment.muxShifts(u, k).size
-          (optionCount(b, ops, k, (_, _) => 0) + (if (shifts > 1) shifts else 0)).toLong * width
+          (optionCount(b, ops, k, (_, _) => 0) + ProductAlignment.muxInputs(
+            alignment.muxShifts(u, k).size
+          )).toLong *
+            width
         }
         .sum
     }.sum

@@ -11,7 +11,7 @@ import reducerload.pipeline.{MemoryDelay, MultiplierImpl, SignedMultiply}
  *      zr with x, y truncated to the bits that matter against |zr| (one 18x18 each); 3. x' = x - y zr, y' = y
  *      + x zr (first order; its gain and angle error are in the error bound). Each multiply is a
  *      [[SignedMultiply]] (registered operands and product), the rotation one register; the state waits for
- *      the products in a [[MemoryDelay]] (block RAM), the valid bit in registers.
+ *      the products in a [[MemoryDelay]] (block RAM) and a register after it, the valid bit in registers.
  */
 class ResidualRotation(p: CordicParams)(implicit multiplierImpl: MultiplierImpl) extends Module {
   require(p.residual, "ResidualRotation: CordicParams.architecture must be residual")

@@ -653,6 +653,9 @@ final class BankedSchedule(val base: Schedule) {
     banks.indices.map(bank => made.getOrElse(bank, 1))
   }
 
+  /** Result width of `bank`'s unit ([[unitWidths]]). */
+  def unitWidth(bank: Bank): Int = unitWidths(banks.indexOf(bank))
+
   /** Block-RAM bits of the banks (two copies each, for the two read ports), for reports. */
   def memoryBits: Long =
     banks.indices.map(b => 2L * bankWidths(b) * copies(b) * BankedSchedule.pow2(values(b).size)).sum

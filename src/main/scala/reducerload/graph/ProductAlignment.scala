@@ -32,8 +32,15 @@ final class ProductAlignment(b: BankedSchedule) {
   private val onUnit: IndexedSeq[IndexedSeq[PlacedOp]] =
     (0 until b.base.multiplierUnits).map(b.opsOn(UnitKind.Multiplier, _))
 
-  private def spare(o: PlacedOp, port: Int, widths: IndexedSeq[Int]): Int =
-    o.operands(port).carried.fold(0)(x => widths(port) - analysis(x).format.width)
+  /** Each multiplier unit's port widths. */
+  private val widthsOn: IndexedSeq[IndexedSeq[Int]] = onUnit.indices.map(b.base.unitShape(_).widths)
+
+  /** Bits port `port` of `o`'s unit leaves above `o`'s operand there (a constant's table copy: none). */
+  private def spare(o: PlacedOp, port: Int): Int =
+    o.operands(port).carried.fold(0)(x => widthsOn(o.unit)(port) - analysis(x).format.width)
+
+  /** The most bits `o`'s product can be raised by: its operands' spare bits. */
+  private def room(o: PlacedOp): Int = spare(o, 0) + spare(o, 1)
 
   private def isConstant(o: PlacedOp, port: Int) = o.operands(port).isInstanceOf[Operand.Constant]
 
@@ -43,10 +50,10 @@ final class ProductAlignment(b: BankedSchedule) {
    * products that take it (fewer shifted bits). A cap of 0 rounds each product where the analysis does.
    */
   private def plan(u: Int, cap: Int): ProductAlignment.UnitPlan = {
-    val widths = b.base.unitShape(u).widths
+    val widths = widthsOn(u)
     val ops = onUnit(u)
     def low(o: PlacedOp) = analysis.productRounding(o.node).drop
-    def high(o: PlacedOp) = low(o) + math.min(cap, (0 to 1).map(spare(o, _, widths)).sum)
+    def high(o: PlacedOp) = low(o) + math.min(cap, room(o))
     val chosen = ops.sortBy(o => (high(o), low(o))).foldLeft(Vector.empty[Int]) { (ds, o) =>
       if (ds.exists(d => d >= low(o) && d <= high(o))) ds else ds :+ high(o)
     }
@@ -60,22 +67,22 @@ final class ProductAlignment(b: BankedSchedule) {
       val fromTable = Array(0, 0)
       // A constant takes its shift in the table, keeping a shift its port's multiplexer already has.
       (0 to 1).filter(isConstant(o, _)).foreach { port =>
-        val mux = used(port).filter(_ <= math.min(rest, spare(o, port, widths))).maxOption.getOrElse(0)
-        val table = math.min(rest - mux, spare(o, port, widths) - mux)
+        val mux = used(port).filter(_ <= math.min(rest, spare(o, port))).maxOption.getOrElse(0)
+        val table = math.min(rest - mux, spare(o, port) - mux)
         shifts(port) = mux + table
         fromTable(port) = table
         rest -= mux + table
       }
       // The rest on one stored operand with the spare bits: one whose port already shifts by that, else the
       // narrower port (its multiplexer is narrower); both if neither has enough.
-      val alone = (0 to 1).filter(p => !isConstant(o, p) && spare(o, p, widths) - shifts(p) >= rest)
+      val alone = (0 to 1).filter(p => !isConstant(o, p) && spare(o, p) - shifts(p) >= rest)
       if (rest > 0 && alone.nonEmpty) {
         val p = alone.minBy(p => (!used(p).contains(shifts(p) + rest), widths(p)))
         shifts(p) += rest
         rest = 0
       }
       (0 to 1).foreach { p =>
-        val s = math.min(rest, spare(o, p, widths) - shifts(p))
+        val s = math.min(rest, spare(o, p) - shifts(p))
         shifts(p) += s
         rest -= s
       }
@@ -91,13 +98,13 @@ final class ProductAlignment(b: BankedSchedule) {
    * for one shift), an input of the port's width per shift.
    */
   private def cost(u: Int, plan: ProductAlignment.UnitPlan): Double = {
-    val widths = b.base.unitShape(u).widths
     val muxInputs = (0 to 1).map { port =>
-      val shifts = onUnit(u).map(o => plan.products(o.node).muxShifts(port)).distinct.size
-      if (shifts > 1) shifts * widths(port) else 0
+      ProductAlignment.muxInputs(onUnit(u).map(o => plan.products(o.node).muxShifts(port)).distinct.size) *
+        widthsOn(u)(port)
     }.sum
-    LogicCost.roundingBit * plan.drops.size * b.unitWidths(b.banks.indexOf(Bank.Products(u))) +
-      LogicCost.shiftMuxBit * muxInputs
+    LogicCost.roundingBit * plan.drops.size * b.unitWidth(
+      Bank.Products(u)
+    ) + LogicCost.shiftMuxBit * muxInputs
   }
 
   /**
@@ -106,9 +113,7 @@ final class ProductAlignment(b: BankedSchedule) {
    * drops keeps them rather than pay for wide shift multiplexers.
    */
   private val plans: IndexedSeq[ProductAlignment.UnitPlan] = onUnit.indices.map { u =>
-    val widths = b.base.unitShape(u).widths
-    val most = onUnit(u).map(o => (0 to 1).map(spare(o, _, widths)).sum).maxOption.getOrElse(0)
-    val all = (0 to most).map(plan(u, _))
+    val all = (0 to onUnit(u).map(room).maxOption.getOrElse(0)).map(plan(u, _))
     val few = all.filter(_.drops.size <= ProductAlignment.maxDrops)
     if (few.isEmpty) all.last else few.minBy(cost(u, _))
   }
@@ -132,6 +137,9 @@ object ProductAlignment {
    * (the Z1 at 88 clocks, seed 2) put a level more on that route and limited the design.
    */
   val maxDrops: Int = 4
+
+  /** Inputs of a shift multiplexer among `shifts` shifts: none for one (a fixed shift is wiring). */
+  def muxInputs(shifts: Int): Int = if (shifts > 1) shifts else 0
 
   /** One unit's drops, ascending, and its multiplies' alignments. */
   private final case class UnitPlan(drops: IndexedSeq[Int], products: Map[NodeId, AlignedProduct])

@@ -486,7 +486,9 @@ object LogicCost {
    * Memory storage's product roundings ([[ProductAlignment]]): a bit of a rounding ahead of a product bank's
    * write register, and an input bit of an operand's shift multiplexer. Fitted to the open-tool estimate's
    * change when the xArm7, the Z1 and the Jaco went from a rounding per drop to fully aligned products
-   * (docs/timing-closure.md).
+   * (docs/timing-closure.md). Weights for choosing among a unit's plans, not for predicting a design's LEs:
+   * the prediction counts the shift multiplexers' inputs among its select inputs, with that feature's
+   * coefficient fitted over the committed points.
    */
   val roundingBit: Double = 0.98
   val shiftMuxBit: Double = 0.79

@@ -320,7 +320,7 @@ class BankedScheduleSpec extends AnyFlatSpec {
           }
           val unaligned = ops.map(o => a.productRounding(o.node).drop).distinct.size
           // No unit pays more logic than a rounding per drop of the analysis would (LogicCost's weights).
-          val result = b.unitWidths(b.banks.indexOf(Bank.Products(u)))
+          val result = b.unitWidth(Bank.Products(u))
           val muxInputs = (0 to 1).map(k => aligned.muxShifts(u, k).size).zip(widths).collect {
             case (n, w) if n > 1 => n * w
           }
