@@ -16,8 +16,9 @@ lazy val root = (project in file("."))
       "org.scalatest" %% "scalatest" % "3.2.19" % Test,
       // Only trace/DecimalBenchmark: a maintained CSV reader measured against CsvRecordReader.
       "org.apache.commons" % "commons-csv" % "1.12.0" % Test,
-      // Only graph/SchedulerComparison: the refinement measured against a maintained solver (CP-SAT).
-      "com.google.ortools" % "ortools-java" % "9.14.6206" % Test,
+      // graph/LatencySearch: the shortest registers-storage schedule (CP-SAT), and
+      // graph/SchedulerComparison: the refinement measured against it.
+      "com.google.ortools" % "ortools-java" % "9.14.6206",
       // The package-cycle test (ArchitectureSpec) reads the compiled classes' dependencies.
       "com.tngtech.archunit" % "archunit" % "1.3.0" % Test,
       "com.typesafe" % "config" % "1.4.3",

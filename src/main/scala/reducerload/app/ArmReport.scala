@@ -152,6 +152,16 @@ final case class ArmReport(
 
   /** The latency the dependences allow with this design's operator latencies (unlimited units). */
   private val latencyFloor = p.banked.fold(schedule.dependenceBound)(_.dependenceBound)
+
+  /**
+   * With `schedule.scheduler = cp-sat`: how the solver's schedule stands against these units' optimum and the
+   * list's.
+   */
+  private def solverBound: String = schedule.shorter.fold("") { s =>
+    val stages = schedule.outputStages
+    "; CP-SAT: " + (if (s.optimal) "the shortest" else s"at least ${s.provedBound + stages}") +
+      s" with these units, the list schedule ${schedule.listOutputsReady + stages}"
+  }
   private val adderUnits = p.banked.map(_.adderUnits)
   private def adderUtilization: Double =
     (counts.additions + counts.negations).toDouble / (adderUnits
@@ -166,7 +176,7 @@ final case class ArmReport(
     f"Limits: at least ${clocksFloor.fold("-")(_.toString)} clocks per sample for ${schedule.blockMultiplies} products on blocks " +
       f"and ${counts.sinCos} sin/cos pairs in $limitBudget blocks (achieved $ii); multiplier slots used ${schedule.multiplierUtilization * 100}%.1f%%, " +
       f"adder slots used ${adderUtilization * 100}%.1f%%" +
-      s"; latency at least $latencyFloor cycles from the dependences (achieved ${p.latency})"
+      s"; latency at least $latencyFloor cycles from the dependences (achieved ${p.latency}$solverBound)"
 
   /** Register bits holding values between cycles (at one clock per sample: the delay lines, as built). */
   private def heldBits: Long = if (schedule.dedicated) schedule.heldBits else p.heldRegisterBits

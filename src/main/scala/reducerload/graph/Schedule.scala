@@ -18,6 +18,18 @@ object ConstantMultiplies {
   val all: Seq[ConstantMultiplies] = Seq(Blocks, ShiftAdd)
 }
 
+/** Which algorithm places a registers-storage schedule's operations in time (`schedule.scheduler`). */
+sealed abstract class Scheduler(val name: String) { override def toString: String = name }
+object Scheduler {
+
+  /** The list schedule, then the shortest the solver finds from it ([[LatencySearch]]). */
+  case object CpSat extends Scheduler("cp-sat")
+
+  /** The list schedule alone (its order: `schedule.list-order`). */
+  case object ListOnly extends Scheduler("list")
+  val all: Seq[Scheduler] = Seq(CpSat, ListOnly)
+}
+
 /**
  * What a user asks of the schedule; `None` means derive it.
  *
@@ -44,6 +56,9 @@ object ConstantMultiplies {
  * @param refinement
  *   registers storage at 2 clocks per sample or more: annealing steps per operation refining the list
  *   schedule ([[RefinementProblem]]; 0: the list schedule as it is)
+ * @param scheduler
+ *   registers storage at 2 clocks per sample or more: the list schedule alone, or the shortest the solver
+ *   finds from it ([[Scheduler]])
  */
 final case class ScheduleRequest(
     clocksPerSample: Option[Int] = None,
@@ -54,7 +69,8 @@ final case class ScheduleRequest(
     listOrder: Option[ListOrder] = None,
     adderUnits: Option[Int] = None,
     listTries: Int = ScheduleRequest.defaultListTries,
-    refinement: Int = ScheduleRequest.defaultRefinement
+    refinement: Int = ScheduleRequest.defaultRefinement,
+    scheduler: Scheduler = Scheduler.ListOnly
 ) {
   require(
     listOrder.isEmpty || stored == Storage.Memory || listOrder.contains(ListOrder.ByHeight),
@@ -166,7 +182,8 @@ private final case class ScheduleState(
  * List scheduling in the graph's order (RNEA's own order, which keeps few values alive): each operation at
  * its operands' ready cycle or, for a multiply, at the first later cycle whose residue has a free unit. The
  * graph has no recurrence, so every II at or above the resource bound is met. `clocksPerSample = 1` with no
- * budget gives every operation its own operator: the ASAP schedule.
+ * budget gives every operation its own operator: the ASAP schedule. With `schedule.scheduler = cp-sat` a
+ * solver then looks for a shorter schedule of the same units from it ([[LatencySearch]], registers storage).
  *
  * Timing of one operation issued (reading its operands) in cycle r:
  *   - add/sub/neg: result registered, ready at r + 1;
@@ -573,16 +590,34 @@ final class Schedule(
     }
 
   /**
-   * The list schedule refined (`request.refinement` > 0): issue cycles, units and port order moved so that
-   * the operand multiplexers and the held registers take the fewest logic elements, at no more latency.
+   * The shortest schedule the solver finds from the list schedule (`schedule.scheduler = cp-sat`, registers
+   * storage at 2 clocks per sample or more); None where it finds none shorter.
+   */
+  lazy val shorter: Option[ShorterSchedule] =
+    refinementProblem.filter(_ => request.scheduler == Scheduler.CpSat).flatMap { case (problem, list) =>
+      LatencySearch(problem, list)
+    }
+
+  /** The list schedule's outputs-ready cycle, before any solver or refinement moved it (for reports). */
+  def listOutputsReady: Int =
+    graph.outputs.flatMap(o => state.ready(o.node.index)).maxOption.getOrElse(inputCycle)
+
+  /**
+   * The schedule refined (`request.refinement` > 0): issue cycles, units and port order moved so that the
+   * operand multiplexers and the held registers take the fewest logic elements, at no more latency, from the
+   * solver's shorter schedule or else the list schedule's; without refinement, the solver's as it is.
    */
   private lazy val refined: Option[Refined] =
-    refinementProblem.filter(_ => request.refinement > 0).map { case (problem, start) =>
+    refinementProblem.flatMap { case (listProblem, list) =>
+      val (problem, start) =
+        shorter.fold((listProblem, list))(s => (listProblem.copy(outputsBy = s.outputsBy), s.solution))
       val movable = problem.nodes.count {
         case _: RefineNode.Own | _: RefineNode.Shared => true
         case _                                        => false
       }
-      problem.anneal(start, request.refinement.toLong * movable, Schedule.refinementSeed)
+      if (request.refinement > 0)
+        Some(problem.anneal(start, request.refinement.toLong * movable, Schedule.refinementSeed))
+      else shorter.map(_ => start)
     }
 
   /** The cycle an operation reads its operands (its unit may still be rebound: see `slot`). */
@@ -632,14 +667,15 @@ final class Schedule(
     if (isConst(x)) PortSource.Literal(x) else PortSource.Held(x, (issue - ready(x.index).get) / ii)
 
   /**
-   * Each shared multiply's unit: the refinement's, or with registers storage the list scheduler's binding
-   * improved so that the units' operand multiplexers have the fewest inputs ([[BindingProblem]]; no cycle
-   * changes); dedicated units and memory storage (whose banks are bound with the units) keep the scheduler's.
+   * Each shared multiply's unit: the refinement's, or with registers storage the list scheduler's (the
+   * solver's) binding improved so that the units' operand multiplexers have the fewest inputs
+   * ([[BindingProblem]]; no cycle changes); dedicated units and memory storage (whose banks are bound with
+   * the units) keep the scheduler's.
    */
   private lazy val boundUnit: Map[NodeId, Int] =
     if (dedicated || request.stored != Storage.Registers) Map.empty
     else
-      refined match {
+      refined.filter(_ => request.refinement > 0) match {
         case Some(r) => muls.map(id => id -> r.unit(id.index)).toMap
         case None =>
           val problem = BindingProblem(
@@ -648,7 +684,11 @@ final class Schedule(
             ),
             unitShapes(_).widths
           )
-          muls.zip(problem.best(muls.map(id => state.slots(id.index).get.unit.get))).toMap
+          muls
+            .zip(
+              problem.best(muls.map(id => refined.fold(state.slots(id.index).get.unit.get)(_.unit(id.index))))
+            )
+            .toMap
       }
 
   /** Each node's issue: the cycle it reads its operands, and its unit. */

@@ -4,7 +4,7 @@ import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.compiler.Compiler
 import reducerload.dynamics.{RandomChains, Rnea}
-import reducerload.graph.{ListOrder, Reassociation, ScheduleRequest, Storage}
+import reducerload.graph.{ListOrder, Reassociation, ScheduleRequest, Scheduler, Storage}
 import reducerload.testutil.{ArmGolden, Seeds, SimBackend}
 
 import scala.util.Random
@@ -177,7 +177,7 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     }
 
   it should "meet a 1e-3 N·m target on the UR5 with registered routes at 17 clocks per sample, the sweep's " +
-    "routed point, in 66 blocks, bit-exact under back-pressure" in {
+    "routed point, in 66 blocks, on the solver's shortest schedule, bit-exact under back-pressure" in {
       runRobot(
         "ur5",
         48L,
@@ -185,7 +185,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
           clocksPerSample = Some(17),
           maxMultipliers = Some(66),
           listOrder = Some(ListOrder.ByHeight),
-          refinement = reducerload.app.ArmSweep.fastRefinement
+          refinement = reducerload.app.ArmSweep.fastRefinement,
+          scheduler = Scheduler.CpSat
         ),
         targetError = Seq(1e-3),
         reassociate = Reassociation.Sums,

@@ -35,7 +35,8 @@ object SchedulerComparison {
         arm.cordic,
         arm.multiplierLatency,
         reducerload.arm.ArmDatapath.inputCycle,
-        arm.memoryDelayMinCycles
+        arm.memoryDelayMinCycles,
+        arm.datapath.registeredRoutes
       )
     val list = scheduleWith(0)
     val (problem, start) = list.refinementProblem.getOrElse(
@@ -70,7 +71,7 @@ object SchedulerComparison {
           case RefineNode.Fixed(t, _)        => t
           case RefineNode.Literal(_)         => 0
         }
-      }.max + Schedule.outputStages
+      }.max + list.outputStages
     def row(name: String, r: Refined, secs: String): String = {
       problem.check(r)
       val (mux, held, delays) = problem.bits(r)
@@ -106,46 +107,12 @@ object SchedulerComparison {
     val nodes = problem.nodes
     val ii = problem.interval
     val horizon = problem.outputsBy + ii
-    val start: IndexedSeq[Option[IntVar]] = nodes.indices.map { i =>
-      nodes(i) match {
-        case _: Own | _: Shared => Some(m.newIntVar(0, horizon, s"t$i"))
-        case _                  => None
-      }
-    }
+    val timing = new CpTiming(m, problem, horizon)
+    import timing.{ready, residue, shared, start}
     val users = nodes.indices.map(x => nodes.indices.filter(i => nodes(i).operands.contains(x)))
-    def ready(x: Int): LinearExpr = nodes(x) match {
-      case Fixed(t, _)        => LinearExpr.constant(t)
-      case Own(_, l, _, _, _) => LinearExpr.newBuilder().add(start(x).get).add(l).build()
-      case s: Shared          => LinearExpr.newBuilder().add(start(x).get).add(s.latency).build()
-      case Literal(_)         => LinearExpr.constant(0)
-    }
-    nodes.indices.foreach { i =>
-      nodes(i) match {
-        case _: Own | _: Shared =>
-          nodes(i).operands.filterNot(nodes(_).isInstanceOf[Literal]).distinct.foreach { x =>
-            val early =
-              (nodes(i) match { case o: Own => o.takesForwarded; case _ => false }) && (nodes(x) match {
-                case s: Shared => s.forwardable
-                case o: Own    => o.forwardable
-                case _         => false
-              })
-            m.addGreaterOrEqual(
-              start(i).get,
-              LinearExpr.newBuilder().add(ready(x)).add(if (early) -1 else 0).build()
-            )
-          }
-        case _ =>
-      }
-    }
     problem.outputs
       .filterNot(nodes(_).isInstanceOf[Literal])
       .foreach(o => m.addLessOrEqual(ready(o), problem.outputsBy))
-    val shared = nodes.indices.filter(nodes(_).isInstanceOf[Shared])
-    val residue = shared.map { i =>
-      val r = m.newIntVar(0, ii - 1, s"r$i")
-      m.addModuloEquality(r, start(i).get, ii)
-      i -> r
-    }.toMap
     val on = shared.map { i =>
       val s = nodes(i).asInstanceOf[Shared]
       i -> s.units.map(u => u -> m.newBoolVar(s"x${i}_$u")).toMap
@@ -230,5 +197,57 @@ object SchedulerComparison {
           nodes.indices.map(i => swapped.get(i).exists(solver.booleanValue))
         )
       )
+  }
+}
+
+/**
+ * The list scheduler's latency against the shortest the solver finds for the same registers-storage problem
+ * ([[LatencySearch]], `schedule.scheduler = cp-sat`), and the design's after the refinement. A benchmark, not
+ * a test:
+ *
+ * {{{
+ * ./sbt "Test/runMain reducerload.graph.LatencyComparison --robot golden/robots/ur5_robot.urdf --tip tool0
+ *   --max-acceleration 15 --target-error 1e-3 --max-multipliers 66 --clocks-per-sample 17
+ *   --schedule.list-order by-height --datapath.registered-routes true"
+ * }}}
+ *
+ * The arguments are a design as `run emit` takes it. One table row, latencies with the output stage: the
+ * dependence bound of the report (every unit free when asked, every angle read from its first cycle), the
+ * list schedule's, the solver's and the least it proved (the sin/cos at the list's cycles), the seconds it
+ * took.
+ */
+object LatencyComparison {
+
+  def main(args: Array[String]): Unit = {
+    val cli = Cli.parse("emit", args.toSeq, Nil)
+    val arm = cli.compiled.arm
+    val list = new Schedule(
+      arm.analysis,
+      arm.scheduleRequest.copy(refinement = 0, scheduler = Scheduler.ListOnly),
+      arm.cordic,
+      arm.multiplierLatency,
+      reducerload.arm.ArmDatapath.inputCycle,
+      arm.memoryDelayMinCycles,
+      arm.datapath.registeredRoutes
+    )
+    val (problem, hint) = list.refinementProblem.getOrElse(
+      throw new IllegalArgumentException(
+        "the comparison needs registers storage at 2 clocks per sample or more"
+      )
+    )
+    val t0 = System.nanoTime()
+    val found = LatencySearch(problem, hint)
+    val secs = (System.nanoTime() - t0) / 1e9
+    val stages = list.outputStages
+    val (best, proved) = found.fold(("none shorter", "-")) { s =>
+      (s"${s.outputsBy + stages}${if (s.optimal) " (optimal)" else ""}", s"${s.provedBound + stages}")
+    }
+    println(
+      "| design | clocks per sample | multiplier units | dependence bound | list scheduler | CP-SAT | CP-SAT's bound | seconds |"
+    )
+    println("| --- | --- | --- | --- | --- | --- | --- | --- |")
+    println(
+      f"| ${arm.moduleName} | ${list.clocksPerSample} | ${list.multiplierUnits} | ${list.dependenceBound} | ${list.latency} | $best | $proved | $secs%.1f |"
+    )
   }
 }
