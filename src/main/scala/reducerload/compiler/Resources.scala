@@ -62,6 +62,12 @@ object Resource {
 final case class MemoryArray(what: String, depth: Int, width: Int, copies: Int = 1) {
   def blocks(family: DeviceFamily): Int = copies * family.blocksFor(depth, width)
 }
+object MemoryArray {
+
+  /** The array of a block-RAM delay of `cycles` clocks ([[MemoryDelay]]). */
+  def delay(what: String, cycles: Int, width: Int): MemoryArray =
+    MemoryArray(what, MemoryDelay.depth(cycles), width)
+}
 
 /**
  * A compiled design's resources predicted without synthesis: the schedule's 18x18 blocks (exact), the memory
@@ -79,14 +85,14 @@ object ResourceModel {
     val w = c.xyFormat.width
     (if (c.tableBits > 0) Seq(MemoryArray("CORDIC start table", 1 << c.tableBits, 2 * w)) else Nil) ++
       (if (c.residual)
-         Seq(MemoryArray("CORDIC residual delay", ResidualRotation.stateDelayInMemory - 1, 2 * w + 2))
+         Seq(MemoryArray.delay("CORDIC residual delay", ResidualRotation.stateDelayInMemory, 2 * w + 2))
        else Nil)
   }
 
   /**
    * A value held from `ready` to each of `reads` at II = 1: one delay line, a block-RAM delay
-   * (pipeline.MemoryDelay, depth cycles - 1) for each stretch of `datapath.memory-delay-min-cycles` or more
-   * (ArmDatapath.held).
+   * (pipeline.MemoryDelay, `MemoryDelay.depth`) for each stretch of `datapath.memory-delay-min-cycles` or
+   * more (ArmDatapath.held).
    */
   private def heldArrays(
       p: ArmParams,
@@ -100,7 +106,7 @@ object ResourceModel {
       val taps = reads.distinct.sorted
       (ready +: taps).zip(taps).collect {
         case (t, r) if MemoryDelay.inBlockRam(r - t, p.memoryDelayMinCycles) =>
-          MemoryArray(what, r - t - 1, width)
+          MemoryArray.delay(what, r - t, width)
       }
     }
 
@@ -128,7 +134,7 @@ object ResourceModel {
       case None =>
         // registers storage at 2 clocks per sample or more: the block-RAM taps of held values (HeldTaps)
         def delays(what: String, width: Int, taps: HeldTaps) =
-          taps.delayed.map(k => MemoryArray(what, k * s.clocksPerSample - 1, width))
+          taps.delayed.map(k => MemoryArray.delay(what, k * s.clocksPerSample, width))
         val g = p.graph
         val values =
           g.ids.flatMap(id => p.heldTaps(id).toSeq.flatMap(delays("delay", p.analysis(id).format.width, _)))
@@ -239,7 +245,7 @@ object ResourceModel {
       val delay = p.latency - ArmDatapath.inputCycle
       Seq(MemoryArray("monitor power table", t.base.size, t.baseBits + t.deltaBits + t.shiftBits)) ++
         (if (MemoryDelay.inBlockRam(delay, p.memoryDelayMinCycles))
-           Seq(MemoryArray("monitor velocity delay", delay - 1, p.numerics.velocityFormats(j).width))
+           Seq(MemoryArray.delay("monitor velocity delay", delay, p.numerics.velocityFormats(j).width))
          else Nil)
     }
 

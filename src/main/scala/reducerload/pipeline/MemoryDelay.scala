@@ -34,8 +34,8 @@ class MemoryDelay(width: Int, cycles: Int) extends Module {
 final class DelayPointer(val cycles: Int, kept: Boolean = false) {
   require(cycles >= 3, s"MemoryDelay: use registers below 3 cycles, got $cycles")
 
-  /** Slots of the circular buffer: the synchronous read and the output register give the last two clocks. */
-  val depth: Int = cycles - 1
+  /** Slots of the circular buffer ([[MemoryDelay.depth]]). */
+  val depth: Int = MemoryDelay.depth(cycles)
   private def counter(init: Int): UInt = {
     val r = RegInit(init.U(log2Ceil(depth).max(1).W))
     if (kept) reducerload.fixedpoint.FixedHw.kept(r) else r
@@ -56,6 +56,12 @@ final class DelayPointer(val cycles: Int, kept: Boolean = false) {
 }
 
 object MemoryDelay {
+
+  /**
+   * Slots of the circular buffer of a delay of `cycles` clocks: the synchronous read and the output register
+   * give the last two clocks.
+   */
+  def depth(cycles: Int): Int = cycles - 1
 
   /**
    * The one rule of `datapath.memory-delay-min-cycles`: a delay of `cycles` clocks is in block RAM from
