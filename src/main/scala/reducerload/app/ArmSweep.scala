@@ -3,7 +3,7 @@ package reducerload.app
 import circt.stage.ChiselStage
 import reducerload.arm.{ArmDatapath, ArmGolden, ArmModel, ArmParams}
 import reducerload.config.LoadParams
-import reducerload.graph.{ListOrder, Reassociation, ScheduleRequest, Storage}
+import reducerload.graph.{ListOrder, Reassociation, ScheduleRequest, Scheduler, Storage}
 import reducerload.util.{InputError, OutputFile}
 
 import java.nio.file.Path
@@ -82,9 +82,10 @@ object ArmSweep {
    * blocks; then two of them with the fraction bits fitted to 1e-3 N·m (`numeric.target-error`); then the
    * fewest clocks within 66 blocks at 1e-3 with the shortest latency (sums rebuilt as trees, the list placed
    * by height, the schedule refined five times longer than by default: issue 33's UR5 point), and the same
-   * with registered routes (the design that routes on the clock proxy); then values in block-RAM banks
-   * (`schedule.storage = memory`) at 1e-3 N·m from 32 to 512 clocks (88: the UR5 design that meets issue 12's
-   * targets; 114: the Panda's, and at 114 with 5 adder units, which the Panda's latency target needs).
+   * with registered routes (the design that routes on the clock proxy), also on the solver's shortest
+   * schedule (`schedule.scheduler = cp-sat`); then values in block-RAM banks (`schedule.storage = memory`) at
+   * 1e-3 N·m from 32 to 512 clocks (88: the UR5 design that meets issue 12's targets; 114: the Panda's, and
+   * at 114 with 5 adder units, which the Panda's latency target needs).
    */
   val schedules: Seq[Point] =
     Seq(1, 4, 16, 64, 256).map(c => Point(s"ii$c", ScheduleRequest(clocksPerSample = Some(c)))) ++ Seq(
@@ -92,7 +93,12 @@ object ArmSweep {
       Point("budget66-t1e-3", ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)), Seq(1e-3)),
       Point("ii64-t1e-3", ScheduleRequest(clocksPerSample = Some(64)), Seq(1e-3)),
       fast,
-      fast.copy(name = "routed66-t1e-3", routed = true)
+      fast.copy(name = "routed66-t1e-3", routed = true),
+      fast.copy(
+        name = "routed66-cpsat-t1e-3",
+        request = fast.request.copy(scheduler = Scheduler.CpSat),
+        routed = true
+      )
     ) ++
       Seq(32, 64, 88, 114, 128, 512).map(c =>
         Point(
