@@ -160,7 +160,7 @@ final case class ArmReport(
   private def solverBound: String = schedule.shorter.fold("") { s =>
     val stages = schedule.outputStages
     "; CP-SAT: " + (if (s.optimal) "the shortest" else s"at least ${s.provedBound + stages}") +
-      s" with these units, the list schedule ${schedule.listOutputsReady + stages}"
+      s" with these units, the list schedule ${schedule.listLatency}"
   }
   private val adderUnits = p.banked.map(_.adderUnits)
   private def adderUtilization: Double =

@@ -572,7 +572,7 @@ final class Schedule(
         ii,
         nodes,
         graph.outputs.map(_.node.index),
-        graph.outputs.flatMap(o => state.ready(o.node.index)).maxOption.getOrElse(inputCycle),
+        lastOutput(state.ready),
         unitShapes(_).widths,
         LogicCost.muxBit,
         LogicCost.heldBit,
@@ -598,9 +598,12 @@ final class Schedule(
       LatencySearch(problem, list)
     }
 
-  /** The list schedule's outputs-ready cycle, before any solver or refinement moved it (for reports). */
-  def listOutputsReady: Int =
-    graph.outputs.flatMap(o => state.ready(o.node.index)).maxOption.getOrElse(inputCycle)
+  /** The cycle every output is in its register under `readyAt` (no output: the input cycle). */
+  private def lastOutput(readyAt: IndexedSeq[Option[Int]]): Int =
+    graph.outputs.flatMap(o => readyAt(o.node.index)).maxOption.getOrElse(inputCycle)
+
+  /** The list schedule's latency, before any solver or refinement moved it (for reports). */
+  def listLatency: Int = lastOutput(state.ready) + outputStages
 
   /**
    * The schedule refined (`request.refinement` > 0): issue cycles, units and port order moved so that the
@@ -699,7 +702,7 @@ final class Schedule(
   def angleSlot(angle: AngleSum): Slot = state.angleSlots(angle)
 
   /** Cycle at which every output is in its register: the output stage reads them then. */
-  lazy val outputsReady: Int = graph.outputs.flatMap(o => apply(o.node)).maxOption.getOrElse(inputCycle)
+  lazy val outputsReady: Int = lastOutput(ready)
 
   /**
    * Registers of the output stage: [[Schedule.outputStages]], or with registered routes memory storage's
