@@ -196,6 +196,10 @@ final case class ArmReport(
       s", ${schedule.multiplierBlocks} 18x18 blocks${schedule.request.maxMultipliers.fold("")(b => s" (budget $b)")}; " +
       s"${schedule.cordicUnits} CORDIC units for ${counts.sinCos} angles; " + p.banked.fold(
         s"${counts.additions + counts.negations} adders; $heldBits register bits hold values between cycles" +
+          (if (schedule.sharedRegisters.isEmpty) ""
+           else
+             s" (${schedule.sharedRegisters.map(_.members.size).sum} products take turns in " +
+               s"${schedule.sharedRegisters.size} shared registers)") +
           (if (heldDelays == 0) "" else s", $heldDelays block-RAM delays the longer stretches")
       )(b =>
         s"storage memory: ${b.adderUnits} adder units for ${counts.additions + counts.negations} additions, ${b.banks.size} banks of block RAM " +

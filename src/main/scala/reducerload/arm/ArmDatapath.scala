@@ -256,18 +256,27 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
    * that no flag reaches hundreds of registers across the chip. Each copy is the flag two (one) clocks late
    * of the residue two (one) before, its reset value the flag's in cycle 0.
    */
-  private def enable(cycle: Int): Bool =
-    if (!routed) during(cycle)
+  private def enable(cycle: Int): Bool = enableIn(Seq(cycle))
+
+  /**
+   * The write enable of a register written in each of `cycles` (a [[reducerload.graph.SharedRegister]]): the
+   * OR of their flags, with registered routes into the register's own copy.
+   */
+  private def enableIn(cycles: Seq[Int]): Bool = {
+    val residues = cycles.map(_ % ii).distinct
+    if (!routed) residues.map(phaseIs).reduce(_ || _)
     else {
-      val r = cycle % ii
-      val n = enablesHanded(r)
-      enablesHanded(r) = n + 1
-      val first = firstLevelEnables.getOrElseUpdate(
-        (r, n / ArmDatapath.enableFanout),
-        FixedHw.kept(RegNext(phaseIs((r + ii - 2) % ii), ((r + ii - 1) % ii == 0).B))
-      )
-      FixedHw.kept(RegNext(first, (r == 0).B))
+      val firsts = residues.map { r =>
+        val n = enablesHanded(r)
+        enablesHanded(r) = n + 1
+        firstLevelEnables.getOrElseUpdate(
+          (r, n / ArmDatapath.enableFanout),
+          FixedHw.kept(RegNext(phaseIs((r + ii - 2) % ii), ((r + ii - 1) % ii == 0).B))
+        )
+      }
+      FixedHw.kept(RegNext(firsts.reduce(_ || _), residues.contains(0).B))
     }
+  }
 
   /**
    * `stage0`, a register written at the end of cycle `ready - 1` of every sample, as seen in each cycle of
@@ -386,12 +395,24 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     case None => registerStorage()
   }
 
-  /** Every value in its own registers, each unit operand selected among them by the phase. */
+  /**
+   * Every value in its own registers (or products taking turns in a shared one), each unit operand selected
+   * among them by the phase.
+   */
   private def registerStorage(): IndexedSeq[SInt] = {
     // Multiplier units: products wired in after every operand exists.
     def shapeOfUnit(u: Int): MulShape = schedule.unitShape(u)
     val products =
       schedule.mulBindings.indices.map(u => Wire(SInt((shapeOfUnit(u).wide + shapeOfUnit(u).narrow).W)))
+    // Registers products take turns in: each member's rounded product at the widest member's width, written at
+    // each member's phase.
+    val shared: Map[reducerload.graph.SharedRegister, SInt] = schedule.sharedRegisters.map { r =>
+      val rule = analysis.productRounding(r.members.head)
+      r -> RegEnable(
+        FixedHw.fitWidth(FixedHw.shiftRound(products(r.unit), rule.drop, rule.rounding), r.width),
+        enableIn(r.members.map(schedule(_).get - 1))
+      )
+    }.toMap
 
     // The graph, node by node: each value's register and the taps its readers use.
     val values: Vector[Map[Int, SInt]] = graph.ids.foldLeft(Vector.empty[Map[Int, SInt]]) { (done, id) =>
@@ -434,7 +455,11 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
           val captured = !schedule.dedicated || rule.rounding != Rounding.Truncate
           if (schedule.forwarded(id))
             Map(ready.get - 1 -> rounded) // its one reader takes it off the unit's output
-          else kept(if (captured) RegEnable(rounded, enable(ready.get - 1)) else rounded)
+          else
+            schedule.sharedRegisterOf.get(id) match {
+              case Some(r) => kept(fit(shared(r)))
+              case None    => kept(if (captured) RegEnable(rounded, enable(ready.get - 1)) else rounded)
+            }
       }
       done :+ taps
     }
@@ -448,7 +473,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
           val issue = schedule.slot(id).get.issue
           (
             r,
-            schedule.portSource(x, issue),
+            schedule.muxSource(x, issue),
             (graph(x) match {
               case Const(_) => constant(x)
               case _        => values(x.index)(issue)

@@ -189,10 +189,19 @@ final case class ArmParams(
 
   /**
    * Register bits holding values between their cycles in a shared registers datapath: each value's first
-   * register and its chain, the stretches in block RAM left out ([[HeldTaps]]).
+   * register and its chain, the stretches in block RAM left out ([[HeldTaps]]), and the registers products
+   * take turns in ([[reducerload.graph.SharedRegister]]) once each.
    */
   def heldRegisterBits: Long =
-    graph.ids.flatMap(id => heldTaps(id).map(_.registerBits(analysis(id).format.width))).sum
+    unsharedTaps.map { case (id, taps) => taps.registerBits(analysis(id).format.width) }.sum +
+      schedule.sharedRegisters.map(_.width.toLong).sum
+
+  /** Registers holding values in a shared registers datapath (each of a chain, a shared one once). */
+  def heldRegisters: Int = unsharedTaps.map(_._2.registers).sum + schedule.sharedRegisters.size
+
+  /** The held values with registers of their own, and their taps. */
+  private def unsharedTaps: Seq[(NodeId, HeldTaps)] =
+    graph.ids.filterNot(schedule.sharedRegisterOf.contains).flatMap(id => heldTaps(id).map(id -> _))
 
   /** Cycles from a sample on the input port to its torques on the output port. */
   def latency: Int = banked.fold(schedule.latency)(_.latency)

@@ -303,8 +303,7 @@ object ResourceModel {
       }
       ports.sum
     }.sum
-    val heldRegisters = p.graph.ids.flatMap(id => p.heldTaps(id).map(_.registers)).sum
-    (operands + heldRegisters + ceilDiv(heldRegisters, ArmDatapath.enableFanout)).toDouble
+    (operands + p.heldRegisters + ceilDiv(p.heldRegisters, ArmDatapath.enableFanout)).toDouble
   }
 
   def features(p: ArmParams): LogicFeatures = {

@@ -619,6 +619,16 @@ object Settings {
     _.schedule.scheduler
   )
 
+  val scheduleShareRegisters = new Switch(
+    "schedule.share-registers",
+    "",
+    "storage registers, clocks-per-sample >= 2: products of one multiplier unit, rounded alike, whose cycles " +
+      "from ready to last read do not meet within the interval take turns in one register instead of a register " +
+      "each (fewer logic elements; each member's bits as in its own register)",
+    Nil,
+    _.schedule.shareRegisters
+  )
+
   val scheduleAdderUnits = new Count(
     "schedule.adder-units",
     "",
@@ -826,6 +836,7 @@ object Settings {
     scheduleConstantMultiplies,
     scheduleListOrder,
     scheduleScheduler,
+    scheduleShareRegisters,
     scheduleListTries,
     scheduleRefinement,
     scheduleAdderUnits,
@@ -983,7 +994,8 @@ object Settings {
           v(scheduleAdderUnits),
           v(scheduleListTries),
           v(scheduleRefinement),
-          v(scheduleScheduler)
+          v(scheduleScheduler),
+          v(scheduleShareRegisters)
         ),
         monitor = MonitorSettings(
           enabled = v(monitorEnabled),

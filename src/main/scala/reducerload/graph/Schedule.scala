@@ -59,6 +59,10 @@ object Scheduler {
  * @param scheduler
  *   registers storage at 2 clocks per sample or more: the list schedule alone, or the shortest the solver
  *   finds from it ([[Scheduler]])
+ * @param shareRegisters
+ *   registers storage at 2 clocks per sample or more: products of one unit whose cycles from ready to last
+ *   read do not meet modulo the interval take turns in one register ([[SharedRegister]]) instead of a
+ *   register each
  */
 final case class ScheduleRequest(
     clocksPerSample: Option[Int] = None,
@@ -70,7 +74,8 @@ final case class ScheduleRequest(
     adderUnits: Option[Int] = None,
     listTries: Int = ScheduleRequest.defaultListTries,
     refinement: Int = ScheduleRequest.defaultRefinement,
-    scheduler: Scheduler = Scheduler.ListOnly
+    scheduler: Scheduler = Scheduler.ListOnly,
+    shareRegisters: Boolean = false
 ) {
   require(
     listOrder.isEmpty || stored == Storage.Memory || listOrder.contains(ListOrder.ByHeight),
@@ -665,9 +670,55 @@ final class Schedule(
   def ports(id: NodeId): IndexedSeq[NodeId] =
     if (refined.exists(_.swapped(id.index))) byWidth(id).reverse else byWidth(id)
 
-  /** What a unit's port reads for operand `x` of an operation issued in cycle `issue`. */
+  /**
+   * What a unit's port reads for operand `x` of an operation issued in cycle `issue`, each value in its own
+   * registers (the binding's view: registers are shared after it).
+   */
   def portSource(x: NodeId, issue: Int): PortSource =
     if (isConst(x)) PortSource.Literal(x) else PortSource.Held(x, (issue - ready(x.index).get) / ii)
+
+  /**
+   * The input of a unit port's multiplexer for operand `x` of an operation issued in cycle `issue`: its
+   * [[portSource]], or for a product in a [[SharedRegister]] the first member of its width (members of one
+   * width are the same bits of the same register, so one input).
+   */
+  def muxSource(x: NodeId, issue: Int): PortSource = (portSource(x, issue), sharedRegisterOf.get(x)) match {
+    case (PortSource.Held(_, 0), Some(shared)) =>
+      val width = analysis(x).format.width
+      PortSource.Held(shared.members.find(analysis(_).format.width == width).get, 0)
+    case (source, _) => source
+  }
+
+  /**
+   * Registers that products of one unit take turns in (`schedule.share-registers`; registers storage at 2
+   * clocks per sample or more): the products on the units, each with a register (not forwarded), read only
+   * within the interval after it is ready.
+   */
+  lazy val sharedRegisters: IndexedSeq[SharedRegister] =
+    if (!request.shareRegisters || dedicated || request.stored != Storage.Registers) IndexedSeq.empty
+    else
+      SharedRegister.allocate(
+        ii,
+        muls.filterNot(forwarded).flatMap { id =>
+          val rule = analysis.productRounding(id)
+          val t = ready(id.index).get
+          reads(id.index).maxOption
+            .filter(_ - t < ii)
+            .map(last =>
+              SharedRegister.Candidate(
+                id,
+                slot(id).get.unit.get,
+                rule.drop,
+                rule.rounding,
+                analysis(id).format.width,
+                t,
+                last
+              )
+            )
+        }
+      )
+  lazy val sharedRegisterOf: Map[NodeId, SharedRegister] =
+    sharedRegisters.flatMap(r => r.members.map(_ -> r)).toMap
 
   /**
    * Each shared multiply's unit: the refinement's, or with registers storage the list scheduler's (the
@@ -738,7 +789,7 @@ final class Schedule(
    */
   def portSources(u: Int): IndexedSeq[Seq[PortSource]] =
     IndexedSeq(0, 1).map(k =>
-      mulBindings(u).map { case (_, id) => portSource(ports(id)(k), issue(id)) }.distinct
+      mulBindings(u).map { case (_, id) => muxSource(ports(id)(k), issue(id)) }.distinct
     )
 
   /** Angles bound to each CORDIC unit, with their residues. */

@@ -66,7 +66,9 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       (if (p.banked.isDefined) " memory" else "") +
       (if (targetError.isEmpty) "" else s" target ${targetError.mkString(",")} (F=${p.internalFracBits})") +
       (if (reassociate == Reassociation.Off) "" else s" reassociate $reassociate") +
-      (if (routed) " registered routes" else "")
+      (if (routed) " registered routes" else "") +
+      (if (p.schedule.sharedRegisters.isEmpty) ""
+       else s" ${p.schedule.sharedRegisters.size} shared registers")
     ArmChecks.run(
       this,
       label,
@@ -128,7 +130,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
   }
 
   it should "share multipliers and CORDIC units on planar3 (2, 3 and 40 clocks per " +
-    "sample; at 3 and 40 also with registered routes), bit-exact under back-pressure" in {
+    "sample; at 3 and 40 also with registered routes, at 40 products sharing registers), bit-exact under " +
+    "back-pressure" in {
       runRobot("planar3", 44L, ScheduleRequest(clocksPerSample = Some(2)))
       runRobot("planar3", 45L, ScheduleRequest(clocksPerSample = Some(3), cordicUnits = Some(1)))
       runRobot("planar3", 46L, ScheduleRequest(clocksPerSample = Some(40)))
@@ -138,7 +141,12 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
         ScheduleRequest(clocksPerSample = Some(3), cordicUnits = Some(1)),
         routed = true
       )
-      runRobot("planar3", 60L, ScheduleRequest(clocksPerSample = Some(40)), routed = true)
+      runRobot(
+        "planar3",
+        60L,
+        ScheduleRequest(clocksPerSample = Some(40), shareRegisters = true),
+        routed = true
+      )
     }
 
   it should "fit the UR5 in the 66 multiplier blocks of an EP4CE30, bit-exact under back-pressure" in {
@@ -177,7 +185,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     }
 
   it should "meet a 1e-3 N·m target on the UR5 with registered routes at 17 clocks per sample, the sweep's " +
-    "routed point, in 66 blocks, on the solver's shortest schedule, bit-exact under back-pressure" in {
+    "routed point, in 66 blocks, on the solver's shortest schedule, products sharing registers, bit-exact " +
+    "under back-pressure" in {
       runRobot(
         "ur5",
         48L,
@@ -186,7 +195,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
           maxMultipliers = Some(66),
           listOrder = Some(ListOrder.ByHeight),
           refinement = reducerload.app.ArmSweep.fastRefinement,
-          scheduler = Scheduler.CpSat
+          scheduler = Scheduler.CpSat,
+          shareRegisters = true
         ),
         targetError = Seq(1e-3),
         reassociate = Reassociation.Sums,
