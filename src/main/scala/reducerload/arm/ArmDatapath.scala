@@ -404,12 +404,16 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     def shapeOfUnit(u: Int): MulShape = schedule.unitShape(u)
     val products =
       schedule.mulBindings.indices.map(u => Wire(SInt((shapeOfUnit(u).wide + shapeOfUnit(u).narrow).W)))
-    // Registers products take turns in: each member's rounded product at the widest member's width, written at
-    // each member's phase.
+    // A product of multiply `id` (the product rule) at `width` bits.
+    def rounded(product: SInt, id: NodeId, width: Int): SInt = {
+      val rule = analysis.productRounding(id)
+      FixedHw.fitWidth(FixedHw.shiftRound(product, rule.drop, rule.rounding), width)
+    }
+    // Registers products take turns in: the members' rounding (one for all) at the widest member's width,
+    // written at each member's phase.
     val shared: Map[reducerload.graph.SharedRegister, SInt] = schedule.sharedRegisters.map { r =>
-      val rule = analysis.productRounding(r.members.head)
       r -> RegEnable(
-        FixedHw.fitWidth(FixedHw.shiftRound(products(r.unit), rule.drop, rule.rounding), r.width),
+        rounded(products(r.unit), r.members.head, r.width),
         enableIn(r.members.map(schedule(_).get - 1))
       )
     }.toMap
@@ -451,14 +455,14 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
               val (x, constant) = schedule.shiftAddOperands(id)
               ShiftAddMultiplier(tap(x, issue), constant)
             } else products(schedule.slot(id).get.unit.get)
-          val rounded = fit(FixedHw.shiftRound(product, rule.drop, rule.rounding))
+          val own = rounded(product, id, f.width)
           val captured = !schedule.dedicated || rule.rounding != Rounding.Truncate
           if (schedule.forwarded(id))
-            Map(ready.get - 1 -> rounded) // its one reader takes it off the unit's output
+            Map(ready.get - 1 -> own) // its one reader takes it off the unit's output
           else
             schedule.sharedRegisterOf.get(id) match {
               case Some(r) => kept(fit(shared(r)))
-              case None    => kept(if (captured) RegEnable(rounded, enable(ready.get - 1)) else rounded)
+              case None    => kept(if (captured) RegEnable(own, enable(ready.get - 1)) else own)
             }
       }
       done :+ taps

@@ -57,6 +57,10 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       p.errorBound <= ArmChecks.target,
       s"$robot: derived bound ${p.errorBound} misses the target ${ArmChecks.target}"
     )
+    assert(
+      !schedule.shareRegisters || p.schedule.sharedRegisters.nonEmpty,
+      s"$robot: schedule.share-registers asked, no register shared"
+    )
     val rng = new Random(Seeds(s"arm-$robot", seed))
     val random = IndexedSeq.fill(SimBackend.scale(1000)) {
       val (q, qd, qdd) = RandomChains.sample(rng, p.maxVelocity.map(_ * 1.1), p.maxAcceleration.map(_ * 1.1))
