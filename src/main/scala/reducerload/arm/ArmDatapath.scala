@@ -541,7 +541,21 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     when(during(outAt + 2))(outBits.outOfRange := VecInit(jointFlags(outAt + 2).map(_ || anySaturated)))
   }
   io.out.bits := outBits
-  io.out.valid := ShiftRegister(accept, p.latency, false.B, true.B)
+  io.out.valid := (if (ii == 1) ShiftRegister(accept, p.latency, false.B, true.B) else acceptedLatencyAgo)
+
+  /**
+   * `accept`, `p.latency` cycles later, at II >= 2. Samples enter in residue 0 only, so the ones in flight
+   * are the bits of a register chain shifted once per sample interval, and the phase tells in which cycle of
+   * its stretch the last bit is the output's: about latency / II registers where a delay line takes one per
+   * cycle (147 on the UR5 at 17 clocks). The flag is registered, decided in the cycle before the output's.
+   */
+  private def acceptedLatencyAgo: Bool = {
+    val before = p.latency - 1
+    require(before >= 1, s"ArmDatapath: latency ${p.latency} leaves no cycle to decide the output's valid in")
+    // A sample accepted in cycle c is in chain register k during cycles c + k * II + 1 .. c + (k + 1) * II.
+    val chain = ShiftRegister(accept, (before - 1) / ii + 1, false.B, during(0))
+    RegNext(chain && during(before), false.B)
+  }
 }
 
 object ArmDatapath {
