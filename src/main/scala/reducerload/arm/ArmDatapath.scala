@@ -547,7 +547,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
    * `accept`, `p.latency` cycles later, at II >= 2. Samples enter in residue 0 only, so the ones in flight
    * are the bits of a register chain shifted once per sample interval, and the phase tells in which cycle of
    * its stretch the last bit is the output's: about latency / II registers where a delay line takes one per
-   * cycle (147 on the UR5 at 17 clocks). The flag is registered, decided in the cycle before the output's.
+   * cycle. The flag is registered, decided in the cycle before the output's.
    */
   private def acceptedLatencyAgo: Bool = {
     val before = p.latency - 1
