@@ -184,6 +184,9 @@ final case class ArmReport(
   /** Block-RAM delays of held values in a shared registers datapath. */
   private def heldDelays: Int = p.graph.ids.flatMap(p.heldTaps(_)).map(_.delayed.size).sum
 
+  /** Products read off their unit's output past registered routes (`schedule.forward-slack`). */
+  private def forwardedPastRoutes: Int = if (schedule.routed) p.graph.ids.count(schedule.forwarded) else 0
+
   def summaryLines: Seq[String] = estimate.toSeq.flatMap(_.lines) ++ Seq(
     s"Computes: ${p.dynamics.description}",
     s"Robot: ${p.chain.name}, ${joints.size} moving joints (numbered from the base), gravity ${p.chain.gravity.toSeq.mkString("(", ", ", ")")} m/s^2" +
@@ -200,7 +203,11 @@ final case class ArmReport(
            else
              s" (${schedule.sharedRegisters.map(_.members.size).sum} products take turns in " +
                s"${schedule.sharedRegisters.size} shared registers)") +
-          (if (heldDelays == 0) "" else s", $heldDelays block-RAM delays the longer stretches")
+          (if (heldDelays == 0) "" else s", $heldDelays block-RAM delays the longer stretches") +
+          (if (forwardedPastRoutes == 0) ""
+           else
+             s"; $forwardedPastRoutes products taken off their units by their one adder " +
+               s"(schedule.forward-slack ${schedule.request.forwardSlack.get})")
       )(b =>
         s"storage memory: ${b.adderUnits} adder units for ${counts.additions + counts.negations} additions, ${b.banks.size} banks of block RAM " +
           s"(two read ports each, ${b.memoryBits} bits), latency bound from dependences ${b.dependenceBound} cycles; list order ${b.listOrder} (" +

@@ -505,7 +505,7 @@ object Settings {
     "datapath.registered-routes",
     "",
     "registers storage at 2 clocks per sample or more: each shared multiplier's operands pass two registered " +
-      "multiplexer levels, no product is forwarded, each held register has a copy of its write enable of its " +
+      "multiplexer levels, no product is forwarded (but those schedule.forward-slack names), each held register has a copy of its write enable of its " +
       "own (2 clocks more per multiply, one more in the output stage): designs that route and clock on a full " +
       "device; true also gives the CORDIC table's block RAM a register in logic (one clock more per sin/cos, " +
       s"at any interval and storage); auto: routes above ${reducerload.graph.Schedule.directMaxClocks} clocks " +
@@ -627,6 +627,17 @@ object Settings {
       "each (fewer logic elements; each member's bits as in its own register)",
     Nil,
     _.schedule.shareRegisters
+  )
+
+  val scheduleForwardSlack = new Count(
+    "schedule.forward-slack",
+    "clocks",
+    "datapath.registered-routes: a product read by one addition only is taken off its unit's output a cycle " +
+      "early, with no register of its own, when the dependences leave it at most this much slack (0: the " +
+      "longest paths only; none: no product; direct routes forward every such product)",
+    Nil,
+    "none",
+    _.schedule.forwardSlack
   )
 
   val scheduleAdderUnits = new Count(
@@ -837,6 +848,7 @@ object Settings {
     scheduleListOrder,
     scheduleScheduler,
     scheduleShareRegisters,
+    scheduleForwardSlack,
     scheduleListTries,
     scheduleRefinement,
     scheduleAdderUnits,
@@ -995,7 +1007,8 @@ object Settings {
           v(scheduleListTries),
           v(scheduleRefinement),
           v(scheduleScheduler),
-          v(scheduleShareRegisters)
+          v(scheduleShareRegisters),
+          v(scheduleForwardSlack)
         ),
         monitor = MonitorSettings(
           enabled = v(monitorEnabled),

@@ -63,6 +63,10 @@ object Scheduler {
  *   registers storage at 2 clocks per sample or more: products of one unit whose cycles from ready to last
  *   read do not meet modulo the interval take turns in one register ([[SharedRegister]]) instead of a
  *   register each
+ * @param forwardSlack
+ *   registered routes (`datapath.registered-routes`): a product read by one addition only is taken off its
+ *   unit's output a cycle early, with no register of its own, when its slack on the dependences is at most
+ *   this many clocks (0: on a longest path); None: none (direct routes forward every such product)
  */
 final case class ScheduleRequest(
     clocksPerSample: Option[Int] = None,
@@ -75,7 +79,8 @@ final case class ScheduleRequest(
     listTries: Int = ScheduleRequest.defaultListTries,
     refinement: Int = ScheduleRequest.defaultRefinement,
     scheduler: Scheduler = Scheduler.ListOnly,
-    shareRegisters: Boolean = false
+    shareRegisters: Boolean = false,
+    forwardSlack: Option[Int] = None
 ) {
   require(
     listOrder.isEmpty || stored == Storage.Memory || listOrder.contains(ListOrder.ByHeight),
@@ -96,6 +101,10 @@ final case class ScheduleRequest(
   def stored: Storage = storage.getOrElse(Storage.Registers)
 
   require(listTries >= 1 && listTries <= 1024, s"schedule.list-tries must be in 1..1024, got $listTries")
+  require(
+    forwardSlack.forall(s => s >= 0 && s <= 4096),
+    s"schedule.forward-slack must be none or in 0..4096 clocks, got ${forwardSlack.get}"
+  )
   require(
     refinement >= 0 && refinement <= 1000000,
     s"schedule.refinement must be in 0..1000000 steps per operation, got $refinement"
@@ -208,8 +217,8 @@ private final case class ScheduleState(
  *   which the refinement counts
  * @param registeredRoutes
  *   `datapath.registered-routes`: with shared units, [[Schedule.routeStages]] more clocks per multiply on a
- *   unit, no product forwarded, and a three-register output stage (see `routed`); None (`auto`): above
- *   [[Schedule.directMaxClocks]] clocks per sample
+ *   unit, no product forwarded (but those `schedule.forward-slack` names), and a three-register output stage
+ *   (see `routed`); None (`auto`): above [[Schedule.directMaxClocks]] clocks per sample
  */
 final class Schedule(
     val analysis: Analysis,
@@ -437,13 +446,15 @@ final class Schedule(
    */
   private val placementOrder: IndexedSeq[NodeId] =
     if (request.stored != Storage.Registers || !request.listOrder.contains(ListOrder.ByHeight)) ids
-    else {
-      val users = ids.flatMap(id => graph(id).operands.map(_.index -> id.index)).groupMap(_._1)(_._2)
-      val height = ids.reverse.foldLeft(Map.empty[Int, Int]) { (h, id) =>
-        h + (id.index -> (ownLatency(id) + users.getOrElse(id.index, Nil).map(h).maxOption.getOrElse(0)))
-      }
-      ids.sortBy(id => (-height(id.index), id.index))
+    else ids.sortBy(id => (-height(id.index), id.index))
+
+  /** Each node's longest chain of latencies to an output, its own latency included. */
+  private lazy val height: Map[Int, Int] = {
+    val users = ids.flatMap(id => graph(id).operands.map(_.index -> id.index)).groupMap(_._1)(_._2)
+    ids.reverse.foldLeft(Map.empty[Int, Int]) { (h, id) =>
+      h + (id.index -> (ownLatency(id) + users.getOrElse(id.index, Nil).map(h).maxOption.getOrElse(0)))
     }
+  }
 
   /** Clocks from an operation's issue to its value in a register (a literal or an input: none). */
   private def ownLatency(id: NodeId): Int = graph(id) match {
@@ -458,18 +469,35 @@ final class Schedule(
    * product read off its unit a cycle early), a unit free whenever asked, angles read from cycle 1; plus the
    * output stage. The report prints it beside the achieved latency: the distance the list schedule adds.
    */
-  lazy val dependenceBound: Int = {
-    val ready = ids.foldLeft(Vector.empty[Option[Int]]) { (r, id) =>
+  lazy val dependenceBound: Int = lastOutput(unitsUnbounded(earliestRead)) + outputStages
+
+  /**
+   * Each node's ready cycle with a unit free whenever asked and angles read from cycle 1 (a literal: none);
+   * an addition reads operand `x`, ready in `r`, in `read(x, r)`.
+   */
+  private def unitsUnbounded(read: (NodeId, Int) => Int): Vector[Option[Int]] =
+    ids.foldLeft(Vector.empty[Option[Int]]) { (r, id) =>
       def at(x: NodeId) = r(x.index).getOrElse(0)
       r :+ (graph(id) match {
         case Const(_)       => None
         case Input(_)       => Some(inputCycle)
         case Trig(_, _)     => Some(Schedule.firstAngleCycle + ownLatency(id))
         case op @ Mul(_, _) => Some(op.operands.map(at).max + ownLatency(id))
-        case op             => Some(op.operands.map(x => earliestRead(x, at(x))).max + ownLatency(id))
+        case op             => Some(op.operands.map(x => read(x, at(x))).max + ownLatency(id))
       })
     }
-    graph.outputs.flatMap(o => ready(o.node.index)).maxOption.getOrElse(inputCycle) + outputStages
+
+  private def lastOutput(ready: Vector[Option[Int]]): Int =
+    graph.outputs.flatMap(o => ready(o.node.index)).maxOption.getOrElse(inputCycle)
+
+  /**
+   * Clocks each node can be late, units free and no product forwarded, before the last output is: 0 on a
+   * longest path of the dependences. `schedule.forward-slack` forwards the products within it.
+   */
+  private lazy val slack: IndexedSeq[Int] = {
+    val ready = unitsUnbounded((_, r) => r)
+    val end = lastOutput(ready)
+    ids.map(id => end - ready(id.index).getOrElse(0) - (height(id.index) - ownLatency(id)))
   }
 
   private val state: ScheduleState = {
@@ -518,10 +546,14 @@ final class Schedule(
 
   /**
    * A multiply whose only reader is an addition (no other use, not an output): its reader may take the
-   * product off the unit's output the cycle before it is captured.
+   * product off the unit's output the cycle before it is captured. With registered routes only one whose
+   * slack is within `schedule.forward-slack`: the reader is an adder, not a unit's operand multiplexer, so no
+   * registered route is skipped, but each such product is a route from a unit's output with no register on
+   * it, and forwarding every one made the README's UR5 route far slower (docs/timing-closure.md).
    */
   private def forwardable(x: NodeId) =
-    !dedicated && !routed && graph(x).isInstanceOf[Mul] && uses(x.index) == 1
+    !dedicated && graph(x).isInstanceOf[Mul] && uses(x.index) == 1 &&
+      (!routed || request.forwardSlack.exists(slack(x.index) <= _))
 
   /**
    * The first cycle an operation may read `x`, ready (in its register) in `ready`: a cycle early if

@@ -30,6 +30,19 @@ class ScheduleSpec extends AnyFlatSpec {
     // clocks more per multiply; the OR of the saturations gets a register of its own.
     val routed = p.datapath.registeredRoutes.getOrElse(ii > Schedule.directMaxClocks) && ii > 1 &&
       s.request.stored == Storage.Registers
+    // Clocks from an operation's issue to its value in a register, from the hardware's timing rules.
+    def latency(id: NodeId): Int = g(id) match {
+      case Op.Mul(a, b) =>
+        val shape = s.unitShape(s.slot(id).get.unit.get)
+        val rounds = p.analysis.productRounding(id).drop > 0 &&
+          p.productRounding != reducerload.fixedpoint.Rounding.Truncate
+        PipelinedMultiplier.latency(shape.wide, shape.narrow) + p.multiplierLatency - 1 +
+          (if (ii > 1 || rounds) 1 else 0) + (if (routed) 2 else 0)
+      case Op.Trig(_, _) =>
+        1 + p.cordic.latency + (if (ii > 1 || s.cordicUnits < g.angles.size) 1 else 0)
+      case Op.Const(_) => 0
+      case _           => 1
+    }
     g.ids.foreach { id =>
       val op = g(id)
       op match {
@@ -58,7 +71,7 @@ class ScheduleSpec extends AnyFlatSpec {
               assert(op.isInstanceOf[Op.Add] || op.isInstanceOf[Op.Sub] || op.isInstanceOf[Op.Neg])
             }
           }
-          val latency = op match {
+          op match {
             case Op.Mul(a, b) =>
               val own = MulShape.of(p.analysis(a).format.width, p.analysis(b).format.width)
               val shape = s.unitShape(s.slot(id).get.unit.get)
@@ -66,20 +79,11 @@ class ScheduleSpec extends AnyFlatSpec {
                 shape.wide >= own.wide && shape.narrow >= own.narrow,
                 s"node ${id.index}: a $own multiply on a $shape unit"
               )
-              val rounds = p.analysis.productRounding(id).drop > 0 &&
-                p.productRounding != reducerload.fixedpoint.Rounding.Truncate
-              PipelinedMultiplier
-                .latency(shape.wide, shape.narrow) + p.multiplierLatency - 1 + (if (ii > 1 || rounds) 1
-                                                                                else 0) +
-                (if (routed) 2 else 0)
-            case Op.Trig(_, _) =>
-              1 + p.cordic.latency + (if (ii > 1 || s.cordicUnits < g.angles.size) 1 else 0)
-            case Op.Input(_) => 1
-            case _           => 1
+            case _ =>
           }
           assert(
-            s(id).get == issue + latency,
-            s"node ${id.index} ($op): ready ${s(id).get}, issued $issue + latency $latency"
+            s(id).get == issue + latency(id),
+            s"node ${id.index} ($op): ready ${s(id).get}, issued $issue + latency ${latency(id)}"
           )
       }
     }
@@ -98,7 +102,31 @@ class ScheduleSpec extends AnyFlatSpec {
     // Readers: the output stage reads after every output is ready; latency is that plus its registers.
     g.outputs.foreach(o => assert(s(o.node).get <= s.outputsReady))
     assert(s.latency == g.outputs.map(o => s(o.node).get).max + (if (routed) 3 else 2))
-    if (routed) assert(g.ids.forall(x => !s.forwarded(x)), "a product forwarded past its registered route")
+    // Past registered routes only products within schedule.forward-slack of a longest path of the
+    // dependences (units free, nothing forwarded; angles from cycle 1, inputs when the schedule has them).
+    if (routed) {
+      val asap = g.ids.foldLeft(Vector.empty[Int]) { (r, id) =>
+        r :+ (g(id) match {
+          case Op.Const(_)   => 0
+          case Op.Input(_)   => s(id).get
+          case Op.Trig(_, _) => Schedule.firstAngleCycle + latency(id)
+          case op            => op.operands.map(x => r(x.index)).max + latency(id)
+        })
+      }
+      val tail = g.ids.reverse.foldLeft(Map.empty[Int, Int]) { (t, id) =>
+        val readers = g.ids.filter(u => g(u).operands.contains(id))
+        t + (id.index -> readers.map(u => latency(u) + t(u.index)).maxOption.getOrElse(0))
+      }
+      val longest = g.outputs.map(o => asap(o.node.index)).max
+      g.ids.filter(s.forwarded).foreach { x =>
+        val slack = longest - asap(x.index) - tail(x.index)
+        assert(
+          s.request.forwardSlack.exists(slack <= _),
+          s"node ${x.index} forwarded past its registered route with slack $slack, " +
+            s"schedule.forward-slack ${s.request.forwardSlack}"
+        )
+      }
+    }
     // The dependences' latency (printed in the report's limits) is one no schedule beats.
     assert(
       s.dependenceBound <= s.latency,
@@ -249,6 +277,28 @@ class ScheduleSpec extends AnyFlatSpec {
       }
       // One clock per sample has no shared unit and so no route to register.
       assert(!check(ur5.copy(datapath = ur5.datapath.copy(registeredRoutes = Some(true)))).routed)
+    }
+
+  it should "forward past registered routes only the products schedule.forward-slack names, the longest " +
+    "paths' first, for a shorter latency" in {
+      val routes = ur5.copy(datapath = ur5.datapath.copy(registeredRoutes = Some(true)))
+      def at(slack: Option[Int]) = {
+        val p = scheduled(routes, ScheduleRequest(clocksPerSample = Some(17), forwardSlack = slack))
+        figures(s"ur5 II=17 routed forward-slack ${slack.fold("none")(_.toString)}", p)
+        val s = check(p)
+        (s, p.graph.ids.count(s.forwarded))
+      }
+      val (none, noneForwarded) = at(None)
+      val (critical, criticalForwarded) = at(Some(0))
+      val (all, allForwarded) = at(Some(4096))
+      println(
+        s"[schedule] forwarded products: none $noneForwarded, slack 0 $criticalForwarded, any $allForwarded"
+      )
+      assert(noneForwarded == 0 && criticalForwarded > 0 && allForwarded > criticalForwarded)
+      assert(
+        critical.dependenceBound < none.dependenceBound && all.dependenceBound <= critical.dependenceBound
+      )
+      assert(critical.latency < none.latency, s"slack 0: ${critical.latency} cycles, none: ${none.latency}")
     }
 
   it should "register the routes by itself above a few clocks per sample (datapath.registered-routes = auto)" in {
