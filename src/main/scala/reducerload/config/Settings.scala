@@ -505,8 +505,9 @@ object Settings {
     "datapath.registered-routes",
     "",
     "registers storage at 2 clocks per sample or more: each shared multiplier's operands pass two registered " +
-      "multiplexer levels, no product is forwarded (but those schedule.forward-slack names), each held register has a copy of its write enable of its " +
-      "own (2 clocks more per multiply, one more in the output stage): designs that route and clock on a full " +
+      "multiplexer levels, no product is forwarded (but those schedule.forward-slack names), each held " +
+      "register has a copy of its write enable of its own (2 clocks more per multiply, one more in the output " +
+      "stage): designs that route and clock on a full " +
       "device; true also gives the CORDIC table's block RAM a register in logic (one clock more per sin/cos, " +
       s"at any interval and storage); auto: routes above ${reducerload.graph.Schedule.directMaxClocks} clocks " +
       "per sample, whichever the device fit chooses",

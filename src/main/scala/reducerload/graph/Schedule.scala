@@ -487,6 +487,7 @@ final class Schedule(
       })
     }
 
+  /** The cycle the last output is ready in, given each node's `ready` cycle. */
   private def lastOutput(ready: Vector[Option[Int]]): Int =
     graph.outputs.flatMap(o => ready(o.node.index)).maxOption.getOrElse(inputCycle)
 

@@ -32,7 +32,7 @@ class ScheduleSpec extends AnyFlatSpec {
       s.request.stored == Storage.Registers
     // Clocks from an operation's issue to its value in a register, from the hardware's timing rules.
     def latency(id: NodeId): Int = g(id) match {
-      case Op.Mul(a, b) =>
+      case Op.Mul(_, _) =>
         val shape = s.unitShape(s.slot(id).get.unit.get)
         val rounds = p.analysis.productRounding(id).drop > 0 &&
           p.productRounding != reducerload.fixedpoint.Rounding.Truncate
