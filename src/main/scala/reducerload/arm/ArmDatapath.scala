@@ -93,11 +93,11 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
    * from a counter [[selectAhead]] cycles ahead of the phase, then registered that many times, so the lookup
    * sits between two flip-flops of its own and the select's route to the multiplexer is a
    * register-to-register hop. For a select that reaches far (a CORDIC unit's input among the angle sums: a
-   * select decoded from the phase, even a cycle early, keeps the decode on the route). With `fromReset` the
-   * select is right from the first cycle after reset (registered routes issue angles from cycle 1); without
-   * it (memory storage) the lookup is a ROM, a cycle earlier still, and right from the first cycle too.
+   * select decoded from the phase, even a cycle early, keeps the decode on the route). The lookup is a ROM, a
+   * cycle earlier still, and the select is right from the first cycle after reset (registered routes issue
+   * angles from cycle 1).
    */
-  private def byPhaseRegistered[T <: Data](entries: Seq[(Int, T)], fromReset: Boolean = false): T =
+  private def byPhaseRegistered[T <: Data](entries: Seq[(Int, T)]): T =
     if (entries.size == 1) entries.head._2
     else {
       val sorted = entries.sortBy(_._1)
@@ -110,21 +110,16 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       // gives residue `ahead` - `selectAhead`'s in cycle 0, the next residues' until `v`'s indices reach it
       def setByReset(v: UInt, ahead: Int) =
         (1 to selectAhead).foldLeft(v)((r, k) => RegNext(r, at(ahead - k)))
-      val select =
-        if (fromReset) setByReset(lookup(selectAhead), selectAhead)
-        else {
-          // No reset on the lookup's registers: synthesis makes the lookup a block-RAM ROM and the registers
-          // its read and output registers (with a reset the output register stays in the fabric and the ROM
-          // is read bare). A fabric register after them, near the multiplexer, takes the index a cycle later:
-          // the ROM's output crossed the die to the multiplexer (the Z1 at 88 clocks, seed 2,
-          // docs/timing-closure.md). While the ROM's registers fill (a flag set by reset), registers set by
-          // reset give the indices they would hold.
-          val read = (1 to selectAhead).foldLeft(lookup(selectAhead + 1))((v, _) => RegNext(v))
-          val filling = (1 to selectAhead).foldLeft(false.B)((v, _) => RegNext(v, true.B))
-          val early = setByReset(at(selectAhead), selectAhead + 1)
-          RegNext(Mux(filling, early, read), at(0))
-        }
-      VecInit(sorted.map(_._2))(select)
+      // No reset on the lookup's registers: synthesis makes the lookup a block-RAM ROM and the registers its
+      // read and output registers (with a reset the output register stays in the fabric and the ROM is read
+      // bare, 5.6 ns of the 6.7 at 150 MHz). A fabric register after them, near the multiplexer, takes the
+      // index a cycle later: the ROM's output crossed the die to the multiplexer (the Z1 at 88 clocks, seed 2,
+      // docs/timing-closure.md). While the ROM's registers fill (a flag set by reset), registers set by reset
+      // give the indices they would hold.
+      val read = (1 to selectAhead).foldLeft(lookup(selectAhead + 1))((v, _) => RegNext(v))
+      val filling = (1 to selectAhead).foldLeft(false.B)((v, _) => RegNext(v, true.B))
+      val early = setByReset(at(selectAhead), selectAhead + 1)
+      VecInit(sorted.map(_._2))(RegNext(Mux(filling, early, read), at(0)))
     }
 
   /**
@@ -304,7 +299,10 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       // memory storage keeps its few held values (angles, flags) in registers: its block RAM is its banks'
       val taps = HeldTaps(ii, ready, reads, if (p.banked.isEmpty && inBlockRam) p.memoryDelayMinCycles else 0)
       val stages = (1 to taps.chain).scanLeft(stage0)((prev, _) => RegEnable(prev, enable(ready - 1)))
-      val delayed = taps.delayed.map(k => k -> MemoryDelay.shared(stage0, delayPointer(k * ii))).toMap
+      val delayed = taps.delayed.map { k =>
+        val fabric = ArmDatapath.delayFabricRegisters(routed, k * ii)
+        k -> MemoryDelay.shared(stage0, delayPointer(k * ii - fabric), fabric)
+      }.toMap
       reads.map { r =>
         val k = (r - ready) / ii
         r -> delayed.getOrElse(k, stages(k))
@@ -373,9 +371,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     // flags, limited the clock next); registers storage keeps the phase-decoded one, which does not limit
     // the clock of its designs.
     unit.io.in.bits := RegNext(
-      if (p.banked.isDefined) byPhaseRegistered(sums)
-      else if (routed) byPhaseRegistered(sums, fromReset = true)
-      else byPhase(sums)
+      if (p.banked.isDefined || routed) byPhaseRegistered(sums) else byPhase(sums)
     )
     unit.io.out.bits
   }
@@ -559,6 +555,16 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 }
 
 object ArmDatapath {
+
+  /**
+   * Registers in logic after a block-RAM delay of `cycles` clocks of a held value, the delay a clock shorter
+   * in block RAM: one with registered routes, where the block RAM keeps its shortest delay. The block RAM's
+   * own output register sits by the block RAM, and its word went across the chip into a reader's group
+   * multiplexer: that route limited the README's UR5 on three seeds of four (docs/timing-closure.md, "a
+   * register after each block-RAM delay"); a register in logic is placed toward the readers.
+   */
+  def delayFabricRegisters(routed: Boolean, cycles: Int): Int =
+    if (routed && cycles - 1 >= MemoryDelay.minCycles) 1 else 0
 
   /** Sources per first-level multiplexer with registered routes: a 4:1 multiplexer is two LUT4s per bit. */
   val routeGroup: Int = 4

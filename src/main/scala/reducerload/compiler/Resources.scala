@@ -133,8 +133,13 @@ object ResourceModel {
         values ++ angles
       case None =>
         // registers storage at 2 clocks per sample or more: the block-RAM taps of held values (HeldTaps)
-        def delays(what: String, width: Int, taps: HeldTaps) =
-          taps.delayed.map(k => MemoryArray.delay(what, k * s.clocksPerSample, width))
+        // a delay's last clock in logic with registered routes (ArmDatapath.delayFabricRegisters); those
+        // registers are not counted in the logic: they pack with the LUTs of the group multiplexers they
+        // feed (the open-tool estimate did not grow with them: docs/timing-closure.md)
+        def delays(what: String, width: Int, taps: HeldTaps) = taps.delayed.map { k =>
+          val cycles = k * s.clocksPerSample
+          MemoryArray.delay(what, cycles - ArmDatapath.delayFabricRegisters(s.routed, cycles), width)
+        }
         val g = p.graph
         val values =
           g.ids.flatMap(id => p.heldTaps(id).toSeq.flatMap(delays("delay", p.analysis(id).format.width, _)))

@@ -32,7 +32,10 @@ class MemoryDelay(width: Int, cycles: Int) extends Module {
  * its block RAM.
  */
 final class DelayPointer(val cycles: Int, kept: Boolean = false) {
-  require(cycles >= 3, s"MemoryDelay: use registers below 3 cycles, got $cycles")
+  require(
+    cycles >= MemoryDelay.minCycles,
+    s"MemoryDelay: use registers below ${MemoryDelay.minCycles} cycles, got $cycles"
+  )
 
   /** Slots of the circular buffer ([[MemoryDelay.depth]]). */
   val depth: Int = MemoryDelay.depth(cycles)
@@ -56,6 +59,9 @@ final class DelayPointer(val cycles: Int, kept: Boolean = false) {
 }
 
 object MemoryDelay {
+
+  /** The shortest delay in block RAM: the write, the synchronous read and the output register. */
+  val minCycles: Int = 3
 
   /**
    * Slots of the circular buffer of a delay of `cycles` clocks: the synchronous read and the output register
@@ -83,10 +89,12 @@ object MemoryDelay {
   }
 
   /**
-   * `x` delayed by `pointer.cycles` clocks in a block RAM of the current module, at a shared pointer, the
-   * word read into an output register.
+   * `x` delayed by `pointer.cycles` + `fabric` clocks in a block RAM of the current module, at a shared
+   * pointer: the word read into an output register (the block RAM's own), then `fabric` registers in logic,
+   * which the placer can put by the word's readers.
    */
-  def shared[T <: Data](x: T, pointer: DelayPointer): T = RegNext(read(x.asUInt, pointer)).asTypeOf(x)
+  def shared[T <: Data](x: T, pointer: DelayPointer, fabric: Int = 0): T =
+    (0 to fabric).foldLeft(read(x.asUInt, pointer))((v, _) => RegNext(v)).asTypeOf(x)
 
   /** `x` delayed by `cycles` clocks through a [[MemoryDelay]]. */
   def apply[T <: Data](x: T, cycles: Int): T = {
