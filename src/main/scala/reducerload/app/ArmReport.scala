@@ -223,7 +223,7 @@ final case class ArmReport(
       (if (p.fracBitLimits.isEmpty) ")"
        else s"; ${p.fracBitLimits.byNode.size} constants and products have fewer, see every node's format)"),
     s"Output format: ${p.analysis.outputPortFormat}; widest internal node: ${p.analysis.widest._2.format}"
-  ) ++ p.cordic.report.linesIterator.toSeq ++ monitorLines
+  ) ++ schedule.cordic.report.linesIterator.toSeq ++ monitorLines
 
   /** The monitor's derivation, 20-year proof and register map (plain text, for the emitted header). */
   private def monitorLines: Seq[String] = monitor.toSeq.flatMap { m =>
@@ -395,9 +395,9 @@ final case class ArmReport(
       "acceleration_format" -> fmt(n.accelerationPortFormat),
       "output_format" -> fmt(p.analysis.outputPortFormat),
       "cordic" -> Map(
-        "tag" -> p.cordic.tag,
-        "latency_cycles" -> p.cordic.latency,
-        "error_bound" -> p.cordic.errorBound
+        "tag" -> schedule.cordic.tag,
+        "latency_cycles" -> schedule.cordic.latency,
+        "error_bound" -> schedule.cordic.errorBound
       ).asJava,
       "estimate" -> estimate.map(_.toMap.asJava).orNull
     ) ++ monitor.map(m => "monitor" -> ArmReport.monitorJson(m).asJava) ++ fit.map { f =>

@@ -360,7 +360,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       )
     }
   private val cordicOutputs = schedule.cordicBindings.map { bound =>
-    val unit = Module(new CordicSinCos(p.cordic))
+    val unit = Module(new CordicSinCos(schedule.cordic))
     val sums = bound.map { case (residue, angle) =>
       residue -> angleSum(angle, schedule.angleSlot(angle).issue)
     }

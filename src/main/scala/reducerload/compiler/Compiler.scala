@@ -130,9 +130,7 @@ object Compiler {
       c,
       perJoint(c, p.robot.maxVelocity, "robot.max-velocity", Some(c.joints.map(_.velocityLimit))),
       perJoint(c, p.robot.maxAcceleration, "robot.max-acceleration", None),
-      // the route from the CORDIC table's block RAM is one more of the routes a register is put on (asked
-      // for: the CORDIC unit is fixed before the device fit chooses the interval that `auto` depends on)
-      cordic = p.cordic.copy(tableRouteRegister = p.datapath.registeredRoutes.contains(true)),
+      cordic = p.cordic,
       datapath = p.datapath,
       scheduleRequest = p.schedule,
       dynamics = if (p.model.closedForm) Dynamics.Joint3(p.model, p.robot) else Dynamics.Rnea,

@@ -81,7 +81,7 @@ object ResourceModel {
    * The arrays of one CORDIC unit: the start-vector table ROM and the residual rotation's block-RAM delay.
    */
   private def cordicArrays(p: ArmParams): Seq[MemoryArray] = {
-    val c = p.cordic
+    val c = p.schedule.cordic
     val w = c.xyFormat.width
     (if (c.tableBits > 0) Seq(MemoryArray("CORDIC start table", 1 << c.tableBits, 2 * w)) else Nil) ++
       (if (c.residual)
@@ -313,7 +313,7 @@ object ResourceModel {
 
   def features(p: ArmParams): LogicFeatures = {
     val s: Schedule = p.schedule
-    val c = p.cordic
+    val c = p.schedule.cordic
     val stageBits = 2 * c.xyFormat.width + c.zFracBits
     val cordicBits = s.cordicUnits.toDouble * stageBits *
       (c.iterations - c.firstIteration + 2 + c.tableRouteRegisters)

@@ -30,9 +30,9 @@ import reducerload.graph.Reassociation
  *   multiplier passes registers ([[reducerload.graph.Schedule.routeStages]] more clocks per multiply), so
  *   that the design routes and clocks on a full device (design.md, "Registered routes"). None (`auto`): above
  *   [[reducerload.graph.Schedule.directMaxClocks]] clocks per sample, whichever the device fit chooses.
- *   Some(true) also gives the CORDIC table's block RAM a register in logic
- *   ([[reducerload.cordic.CordicParams.tableRouteRegister]]; at any interval and storage, since the compiler
- *   sets it before the device fit chooses them)
+ *   Wherever routes are registered the CORDIC table's block RAM also gets a register in logic
+ *   ([[reducerload.cordic.CordicParams.tableRouteRegister]], set by the schedule: Some(true) at any interval
+ *   and storage, None above `directMaxClocks` in either storage)
  * @param reassociate
  *   whether sums of several terms are rebuilt as trees, the earliest terms first
  *   ([[reducerload.graph.Reassociate]]): a shorter critical path; the same values, their formats and bounds

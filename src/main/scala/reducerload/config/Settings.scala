@@ -508,9 +508,10 @@ object Settings {
       "multiplexer levels, no product is forwarded (but those schedule.forward-slack names), each held " +
       "register has a copy of its write enable of its own (2 clocks more per multiply, one more in the output " +
       "stage): designs that route and clock on a full " +
-      "device; true also gives the CORDIC table's block RAM a register in logic (one clock more per sin/cos, " +
-      s"at any interval and storage); auto: routes above ${reducerload.graph.Schedule.directMaxClocks} clocks " +
-      "per sample, whichever the device fit chooses",
+      "device; wherever routes are registered the CORDIC table's block RAM also gets a register in logic (one " +
+      "clock more per sin/cos; true: at any interval and storage); auto: above " +
+      s"${reducerload.graph.Schedule.directMaxClocks} clocks per sample, whichever the device fit chooses (the " +
+      "table's register in either storage)",
     Nil,
     _.datapath.registeredRoutes
   )

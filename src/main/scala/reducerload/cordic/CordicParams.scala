@@ -54,7 +54,8 @@ object CordicArchitecture {
  * @param tableRouteRegister
  *   with a table: one more register, in logic, after the table's data register (the block RAM's output
  *   register), so that the route from the block RAM to the first rotation stage has a clock of its own. The
- *   arm datapath sets it with `datapath.registered-routes`, where that route limits the clock
+ *   arm datapath's schedule sets it wherever routes are registered (`Schedule.cordic`): on a full device that
+ *   route limits the clock
  */
 final case class CordicParams(
     angleBits: Int = 26,

@@ -209,6 +209,9 @@ private final case class ScheduleState(
  *   - sin/cos of an angle sum: the sum registered, then the CORDIC unit, then (shared) a capture register.
  * Every value is held in a chain of registers written once per sample (see `stages`).
  *
+ * @param requestedCordic
+ *   the CORDIC unit as configured; `cordic` is the one built (with its table's route register where routes
+ *   are registered)
  * @param inputCycle
  *   cycle at which the clamped velocities and accelerations are in registers (the angles are in the input
  *   register from cycle 1)
@@ -223,7 +226,7 @@ private final case class ScheduleState(
 final class Schedule(
     val analysis: Analysis,
     val request: ScheduleRequest,
-    cordic: CordicParams,
+    requestedCordic: CordicParams,
     multiplierLatency: Int,
     val inputCycle: Int,
     memoryDelayMinCycles: Int = 0,
@@ -298,7 +301,7 @@ final class Schedule(
   private def blocksFor(ii: Int): Int =
     classes.map(c => unitsFor(c.ops.size, ii) * c.shape.blocks).sum + cordicUnitsAt(
       ii
-    ) * cordic.multiplierBlocks
+    ) * requestedCordic.multiplierBlocks
 
   /** The fewest blocks any interval needs: one unit per class, the fewest CORDIC units. */
   private val leastBlocks: Int = blocksFor(math.max(1, math.max(muls.size, angles.size)))
@@ -340,6 +343,16 @@ final class Schedule(
     registeredRoutes.getOrElse(
       ii > Schedule.directMaxClocks
     ) && !dedicated && request.stored == Storage.Registers
+
+  /**
+   * The CORDIC units as built: the route from the start table's block RAM to the first rotation adder gets a
+   * register in logic ([[CordicParams.tableRouteRegister]]) wherever routes are registered, in either storage
+   * (`registered-routes = true` at any interval; `auto` above [[Schedule.directMaxClocks]] clocks per
+   * sample): on a full device that route is as long as the others.
+   */
+  val cordic: CordicParams = requestedCordic.copy(tableRouteRegister =
+    requestedCordic.tableRouteRegister || registeredRoutes.getOrElse(ii > Schedule.directMaxClocks)
+  )
 
   /**
    * Each multiplier unit's shape: one unit per multiply at II = 1, else per class the fewest that fit its
@@ -854,7 +867,7 @@ final class Schedule(
   def clocksLowerBound(budget: Int): Option[Int] = {
     val blockSlots = muls.map(id => shapeOf(id).blocks).sum
     def at(cordics: Int): Option[Int] = {
-      val forProducts = budget - cordics * cordic.multiplierBlocks
+      val forProducts = budget - cordics * requestedCordic.multiplierBlocks
       if (forProducts <= 0 && blockSlots > 0) None
       else
         Some(

@@ -161,8 +161,9 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     runRobot("ur5", 47L, ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)))
   }
 
-  it should "keep values in block-RAM banks read by address (storage = memory) on planar3 at 6, 8 and 40 " +
-    "clocks per sample (there with 4 adder units, one left idle), bit-exact under back-pressure" in {
+  it should "keep values in block-RAM banks read by address (storage = memory) on planar3 at 6, 8 (the CORDIC " +
+    "table's route register of registered routes) and 40 clocks per sample (there with 4 adder units, one left " +
+    "idle), bit-exact under back-pressure" in {
       runRobot(
         "planar3",
         51L,
@@ -171,7 +172,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       runRobot(
         "planar3",
         50L,
-        ScheduleRequest(clocksPerSample = Some(8), cordicUnits = Some(1), storage = Some(Storage.Memory))
+        ScheduleRequest(clocksPerSample = Some(8), cordicUnits = Some(1), storage = Some(Storage.Memory)),
+        routed = true
       )
       runRobot("planar3", 49L, ScheduleRequest(clocksPerSample = Some(6), storage = Some(Storage.Memory)))
     }

@@ -33,26 +33,30 @@ class DeviceFitSpec extends AnyFlatSpec with Matchers {
     r.logicElements should be <= (d.logicElements * 0.8).toInt
     c.arm.schedule.multiplierBlocks shouldBe r.multiplierBlocks
     c.fit.line should startWith(s"device EP4CE30: chose ${c.arm.schedule.clocksPerSample} clocks per sample")
-    // The fastest: one clock fewer does not fit, with or without block-RAM delays.
+    // The fastest: one clock fewer does not fit, with or without block-RAM delays, nor refined again.
     val faster = c.arm.schedule.clocksPerSample - 1
-    Seq("4", "0").foreach { delays =>
-      val tighter = Compiler.arm(
-        params(
-          ur5 ++ Seq(
-            "--clocks-per-sample",
-            faster.toString,
-            "--schedule.storage",
-            "registers",
-            "--datapath.memory-delay-min-cycles",
-            delays
+    val steps = reducerload.graph.ScheduleRequest.defaultRefinement
+    Seq("4" -> steps, "4" -> steps * DeviceFit.closeRefinementFactor, "0" -> steps).foreach {
+      case (delays, n) =>
+        val tighter = Compiler.arm(
+          params(
+            ur5 ++ Seq(
+              "--clocks-per-sample",
+              faster.toString,
+              "--schedule.storage",
+              "registers",
+              "--datapath.memory-delay-min-cycles",
+              delays,
+              "--schedule.refinement",
+              n.toString
+            )
           )
         )
-      )
-      val fr = ResourceModel.of(tighter, d.family)
-      withClue(s"$faster clocks per sample, memory-delay-min-cycles $delays: ") {
-        (fr.multiplierBlocks > d.multiplierBlocks || fr.memoryBlocks > d.memoryBlocks ||
-          fr.logicElements > (d.logicElements * 0.8).toInt) shouldBe true
-      }
+        val fr = ResourceModel.of(tighter, d.family)
+        withClue(s"$faster clocks per sample, memory-delay-min-cycles $delays, refinement $n: ") {
+          (fr.multiplierBlocks > d.multiplierBlocks || fr.memoryBlocks > d.memoryBlocks ||
+            fr.logicElements > (d.logicElements * 0.8).toInt) shouldBe true
+        }
     }
   }
 

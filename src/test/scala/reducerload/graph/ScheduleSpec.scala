@@ -30,6 +30,13 @@ class ScheduleSpec extends AnyFlatSpec {
     // clocks more per multiply; the OR of the saturations gets a register of its own.
     val routed = p.datapath.registeredRoutes.getOrElse(ii > Schedule.directMaxClocks) && ii > 1 &&
       s.request.stored == Storage.Registers
+    // The CORDIC start table's block RAM gets a register in logic wherever routes are registered (any storage).
+    val tableRegister =
+      if (
+        p.cordic.tableBits > 0 && !p.cordic.tableRouteRegister &&
+        p.datapath.registeredRoutes.getOrElse(ii > Schedule.directMaxClocks)
+      ) 1
+      else 0
     // Clocks from an operation's issue to its value in a register, from the hardware's timing rules.
     def latency(id: NodeId): Int = g(id) match {
       case Op.Mul(_, _) =>
@@ -39,7 +46,7 @@ class ScheduleSpec extends AnyFlatSpec {
         PipelinedMultiplier.latency(shape.wide, shape.narrow) + p.multiplierLatency - 1 +
           (if (ii > 1 || rounds) 1 else 0) + (if (routed) 2 else 0)
       case Op.Trig(_, _) =>
-        1 + p.cordic.latency + (if (ii > 1 || s.cordicUnits < g.angles.size) 1 else 0)
+        1 + p.cordic.latency + tableRegister + (if (ii > 1 || s.cordicUnits < g.angles.size) 1 else 0)
       case Op.Const(_) => 0
       case _           => 1
     }
