@@ -33,6 +33,8 @@ object Dynamics {
  *   declared max |qd_j| per joint, rad/s
  * @param maxAcceleration
  *   declared max |qdd_j| per joint, rad/s^2
+ * @param cordic
+ *   the sin/cos unit as configured: its numerics; the unit built, with its timing, is `schedule.cordic`
  * @param datapath
  *   the configuration's `datapath.*` settings (fraction bits moved by the target-error fit)
  * @param fracBitLimits

@@ -130,7 +130,7 @@ object Compiler {
       c,
       perJoint(c, p.robot.maxVelocity, "robot.max-velocity", Some(c.joints.map(_.velocityLimit))),
       perJoint(c, p.robot.maxAcceleration, "robot.max-acceleration", None),
-      cordic = p.cordic,
+      p.cordic,
       datapath = p.datapath,
       scheduleRequest = p.schedule,
       dynamics = if (p.model.closedForm) Dynamics.Joint3(p.model, p.robot) else Dynamics.Rnea,

@@ -16,7 +16,11 @@ final case class Candidate(arm: ArmParams, resources: Resources, refinedAgain: B
   def describe: String =
     s"$clocksPerSample clock${if (clocksPerSample == 1) "" else "s"} per sample, ${storage.name} storage" +
       (if (storage == Storage.Registers && arm.memoryDelayMinCycles == 0) ", no block-RAM delays" else "") +
-      (if (refinedAgain) s", refined with ${arm.scheduleRequest.refinement} steps per operation" else "")
+      refinement
+
+  /** How the fit refined it, when beyond what was asked. */
+  def refinement: String =
+    if (refinedAgain) s", refined with ${arm.scheduleRequest.refinement} steps per operation" else ""
 }
 
 /**
@@ -42,7 +46,7 @@ final case class Fitted(
       s"~${grouped(r.logicElements)}/${grouped(d.logicElements)} ${d.family.logicCell} predicted"
     val why = passedOver.fold("") { c =>
       val over = DeviceFit.exceeded(target, c)
-      s" (${c.storage.name} at ${c.clocksPerSample} clocks: ${if (over.isEmpty) "over the multiplier budget"
+      s" (${c.storage.name} at ${c.clocksPerSample} clocks${c.refinement}: ${if (over.isEmpty) "over the multiplier budget"
         else over})"
     }
     if (chosen) s"device $d: chose ${design.describe}: $use$why"
@@ -75,12 +79,14 @@ object DeviceFit {
   val screenMargin: Double = 1.10
 
   /**
-   * A registers candidate predicted over the logic budget by at most this fraction is refined again with
-   * `closeRefinementFactor` times the steps before the fit passes over it: the annealing's prediction moves
-   * by a few percent with its steps (the UR5 at 22 clocks: 23,249 LEs at 20,000 steps, 22,731 at 30,000,
-   * 22,626 at 100,000), so a design within that noise of the budget is not given up on one run of it.
+   * A registers candidate predicted over the logic budget by its logic alone, by at most this fraction, is
+   * refined again with `closeRefinementFactor` times the steps, and that result is the fit's word on its
+   * interval: the annealing's prediction moves by a few percent with its steps (docs/device.md), so a design
+   * within that noise of the budget is not given up on one run of it.
    */
   val closeMargin: Double = 1.05
+
+  /** How many times the asked refinement steps a candidate within `closeMargin` is refined with again. */
   val closeRefinementFactor: Int = 5
 
   private def blocksWithin(t: DeviceTarget, budget: Int)(c: Candidate): Boolean =
@@ -134,14 +140,14 @@ object DeviceFit {
         val design = chosen.getOrElse(first)
         Fitted(target, design, chosen.isDefined, chosen.map(_ => first), over(target, design))
       case None =>
-        // Registers storage keeps long stretches of held values in block RAM (HeldTaps); where only the M9K
-        // they take keep a design off the device, its held values stay in registers (more LEs, which the fit
-        // has: on the UR5 this is 18 clocks per sample where the delays need 19).
         // Over the budget by its logic only, and by no more than the refinement's noise.
         def closeToFitting(c: Candidate): Boolean =
           request.refinement > 0 && blocksWithin(target, budget + monitorBlocks)(c) &&
             c.resources.memoryBlocks <= target.part.memoryBlocks &&
             c.resources.logicElements <= target.logicBudget * closeMargin
+        // Registers storage keeps long stretches of held values in block RAM (HeldTaps); where only the M9K
+        // they take keep a design off the device, its held values stay in registers (more LEs, which the fit
+        // has: on the UR5 this is 18 clocks per sample where the delays need 19).
         // Each interval and storage once: the search, the runner-up and the screen below ask again.
         val tried = scala.collection.mutable.Map.empty[(Storage, Int), Candidate]
         def at(s: Storage)(ii: Int): Candidate = tried.getOrElseUpdate(
@@ -149,11 +155,9 @@ object DeviceFit {
             val r = request.copy(clocksPerSample = Some(ii), storage = Some(s))
             val c = candidate(r)
             if (s != Storage.Registers || fits(c)) c
-            else if (closeToFitting(c)) {
-              val again = candidate(r.copy(refinement = r.refinement * closeRefinementFactor))
-                .copy(refinedAgain = true)
-              if (fits(again)) again else c
-            } else if (base.memoryDelayMinCycles == 0 || c.resources.memoryBlocks <= target.part.memoryBlocks)
+            else if (closeToFitting(c))
+              candidate(r.copy(refinement = r.refinement * closeRefinementFactor)).copy(refinedAgain = true)
+            else if (base.memoryDelayMinCycles == 0 || c.resources.memoryBlocks <= target.part.memoryBlocks)
               c
             else Some(candidate(r, noDelays)).filter(fits).getOrElse(c)
           }

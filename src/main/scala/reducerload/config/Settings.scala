@@ -604,7 +604,8 @@ object Settings {
     "steps per operation",
     "storage registers, clocks-per-sample >= 2: annealing steps (seeded, so the same every run) moving the list " +
       "schedule's cycles, units and operand order so that operand multiplexers and held registers take the fewest " +
-      "logic elements at no more latency (0: the list schedule as it is)",
+      "logic elements at no more latency (0: the list schedule as it is; the device fit refines a candidate just " +
+      "over its logic budget again with more steps and says so)",
     Nil,
     _.schedule.refinement
   )

@@ -335,14 +335,16 @@ final class Schedule(
   val dedicated: Boolean = ii == 1
 
   /**
+   * `datapath.registered-routes` as decided for this interval (`auto`: above [[Schedule.directMaxClocks]]).
+   */
+  private def routesRegistered: Boolean = registeredRoutes.getOrElse(ii > Schedule.directMaxClocks)
+
+  /**
    * Routes between value registers and shared units pass registers (`datapath.registered-routes`; the
    * hardware in ArmDatapath): registers storage with shared units only (memory storage's routes pass
    * registers already). The bit-accurate model does not change.
    */
-  val routed: Boolean =
-    registeredRoutes.getOrElse(
-      ii > Schedule.directMaxClocks
-    ) && !dedicated && request.stored == Storage.Registers
+  val routed: Boolean = routesRegistered && !dedicated && request.stored == Storage.Registers
 
   /**
    * The CORDIC units as built: the route from the start table's block RAM to the first rotation adder gets a
@@ -350,9 +352,8 @@ final class Schedule(
    * (`registered-routes = true` at any interval; `auto` above [[Schedule.directMaxClocks]] clocks per
    * sample): on a full device that route is as long as the others.
    */
-  val cordic: CordicParams = requestedCordic.copy(tableRouteRegister =
-    requestedCordic.tableRouteRegister || registeredRoutes.getOrElse(ii > Schedule.directMaxClocks)
-  )
+  val cordic: CordicParams =
+    requestedCordic.copy(tableRouteRegister = requestedCordic.tableRouteRegister || routesRegistered)
 
   /**
    * Each multiplier unit's shape: one unit per multiply at II = 1, else per class the fewest that fit its
