@@ -116,6 +116,9 @@ final case class ArmParams(
     datapath.reassociate match {
       case Reassociation.Off  => (written, hints)
       case Reassociation.Sums => Reassociate(written, hints, arrivalDelays)
+      case Reassociation.SumsAndProducts =>
+        val (g, h) = Reassociate(written, hints, arrivalDelays, products = true)
+        Reassociate.distributeConstants(g, h, arrivalDelays)
     }
   }
 

@@ -34,7 +34,8 @@ import reducerload.graph.Reassociation
  *   ([[reducerload.cordic.CordicParams.tableRouteRegister]], set by the schedule: Some(true) at any interval
  *   and storage, None above `directMaxClocks` in either storage)
  * @param reassociate
- *   whether sums of several terms are rebuilt as trees, the earliest terms first
+ *   whether sums of several terms are rebuilt as trees, the earliest terms first, and with `SumsAndProducts`
+ *   products too, and the constants on the critical path pushed into the sums they scale
  *   ([[reducerload.graph.Reassociate]]): a shorter critical path; the same values, their formats and bounds
  *   derived anew
  */

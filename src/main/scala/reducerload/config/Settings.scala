@@ -519,8 +519,10 @@ object Settings {
   val datapathReassociate = new Choice(
     "datapath.reassociate",
     "",
-    "off (sums as RNEA writes them, left to right) or sums (each sum of several terms rebuilt as a tree, " +
-      "the earliest terms first: a shorter critical path; the same values, their formats and bounds derived anew)",
+    "off (sums as RNEA writes them, left to right), sums (each sum of several terms rebuilt as a tree, " +
+      "the earliest terms first: a shorter critical path; the same values, their formats and bounds derived anew) " +
+      "or sums-and-products (also each product of several factors, two earliest first, and each constant on the " +
+      "critical path pushed into the sum it scales: a shorter critical path still, for a few more products)",
     Nil,
     Reassociation.all,
     (r: Reassociation) => r.name,

@@ -142,33 +142,32 @@ final class Analysis(
    * with cos^2 + sin^2 = 1, |value| <= hypot(|u|, |w|) and the error of u and w enters as hypot(e_u, e_w),
    * where intervals would add them. Without this, ranges and errors grow by up to 2x per joint down the
    * chain. None when the node does not have that shape.
+   *
+   * A factor may be a constant times the sin/cos, `(k cos(a)) u` (products reassociated, [[Reassociate]]):
+   * the same argument with k u in place of u bounds the value by hypot(|k| |u|, |k'| |w|); the computed
+   * factor's error e_c (the constant's, the sin/cos's and the rounding of k cos(a)) enters as e_c |u'|, as
+   * the sin/cos's own error does for a plain factor.
    */
   private def rotated(
       a: NodeId,
       b: NodeId,
       isSum: Boolean,
       at: NodeId => NodeNumerics
-  ): Option[NodeNumerics] = {
-    def split(m: NodeId): Option[(TrigFn, AngleSum, NodeId)] = graph(m) match {
-      case Mul(x, y) =>
-        (graph(x), graph(y)) match {
-          case (Trig(fn, angle), _) => Some((fn, angle, y))
-          case (_, Trig(fn, angle)) => Some((fn, angle, x))
-          case _                    => None
-        }
-      case _ => None
-    }
-    (split(a), split(b)) match {
-      case (Some((fa, angle, u)), Some((fb, angleB, w))) if angle == angleB && fa != fb =>
-        val (nu, nw) = (at(u), at(w))
+  ): Option[NodeNumerics] =
+    Rotation.terms(graph, a, b) match {
+      case Some((p, q)) =>
+        val (nu, nw) = (at(p.u), at(q.u))
         def roundingOf(m: NodeId) = {
           val Mul(x, y) = graph(m): @unchecked
           rule(m, at(x).format.fracBits, at(y).format.fracBits).errorBound
         }
-        val bound = math.hypot(nu.range.maxAbs, nw.range.maxAbs)
-        val error = math.hypot(nu.error, nw.error) + trigError(
-          angle
-        ) * (nu.computedMaxAbs + nw.computedMaxAbs) + roundingOf(a) + roundingOf(b)
+        // |k|, and the error of the computed factor k cos(q) (the sin/cos's own for a plain factor).
+        def scale(t: Rotation.Term) = t.scale.fold(1.0)(math.abs)
+        def factorError(t: Rotation.Term) = if (t.scale.isEmpty) trigError(t.angle) else at(t.factor).error
+        val bound = math.hypot(scale(p) * nu.range.maxAbs, scale(q) * nw.range.maxAbs)
+        val error =
+          math.hypot(scale(p) * nu.error, scale(q) * nw.error) + factorError(p) * nu.computedMaxAbs +
+            factorError(q) * nw.computedMaxAbs + roundingOf(a) + roundingOf(b)
         // Both bounds are sound: keep the tighter of each.
         val plain = exact(
           if (isSum) at(a).range + at(b).range else at(a).range - at(b).range,
@@ -181,7 +180,6 @@ final class Analysis(
         Some(NodeNumerics(range, e, FixedFormat.forRange(range.maxAbs + e, plain.format.fracBits)))
       case _ => None
     }
-  }
 
   private def exact(range: Interval, error: Double, a: NodeNumerics, b: NodeNumerics): NodeNumerics = {
     val frac = math.max(a.format.fracBits, b.format.fracBits)

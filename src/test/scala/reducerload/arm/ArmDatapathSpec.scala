@@ -157,6 +157,22 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       )
     }
 
+  it should "reassociate products and push critical constants into rotations on planar3 (3 clocks per " +
+    "sample, registered routes, the solver's schedule, products forwarded), bit-exact under back-pressure" in {
+      runRobot(
+        "planar3",
+        67L,
+        ScheduleRequest(
+          clocksPerSample = Some(3),
+          cordicUnits = Some(1),
+          scheduler = Scheduler.CpSat,
+          forwardSlack = Some(0)
+        ),
+        reassociate = Reassociation.SumsAndProducts,
+        routed = true
+      )
+    }
+
   it should "fit the UR5 in the 66 multiplier blocks of an EP4CE30, bit-exact under back-pressure" in {
     runRobot("ur5", 47L, ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)))
   }
