@@ -29,17 +29,24 @@ object ArmSweep {
   val robots: Seq[String] = Seq("planar3", "ur5", "panda")
 
   /**
+   * A CORDIC unit of fewer pipeline stages than the robot's: a start table of 2^tableBits entries
+   * (`cordic.table-bits`) and `iterationsPerStage` micro-rotations between registers.
+   */
+  final case class ShortCordic(tableBits: Int, iterationsPerStage: Int)
+
+  /**
    * One point of the schedule axis: its name, the schedule asked for, the per-torque error target (none: the
-   * default fraction bits), whether sums are rebuilt as trees (`datapath.reassociate`) and whether routes
+   * default fraction bits), whether sums are rebuilt as trees (`datapath.reassociate`), whether routes
    * between units pass registers (`datapath.registered-routes`, with every held value in registers:
-   * `datapath.memory-delay-min-cycles = 0`, the combination measured to route).
+   * `datapath.memory-delay-min-cycles = 0`, the combination measured to route) and a shorter CORDIC unit.
    */
   final case class Point(
       name: String,
       request: ScheduleRequest,
       targetError: Seq[Double] = Nil,
       reassociate: Reassociation = Reassociation.Off,
-      routed: Boolean = false
+      routed: Boolean = false,
+      cordic: Option[ShortCordic] = None
   ) {
 
     /** The robot's golden-trace configuration with this point's settings. */
@@ -47,6 +54,9 @@ object ArmSweep {
       base.copy(
         targetError = targetError,
         schedule = request,
+        cordic = cordic.fold(base.cordic)(c =>
+          base.cordic.copy(tableBits = c.tableBits, iterationsPerStage = c.iterationsPerStage)
+        ),
         datapath = base.datapath.copy(
           reassociate = reassociate,
           registeredRoutes = Some(routed),
@@ -83,9 +93,12 @@ object ArmSweep {
    * fewest clocks within 66 blocks at 1e-3 with the shortest latency (sums rebuilt as trees, the list placed
    * by height, the schedule refined five times longer than by default: issue 33's UR5 point), and the same
    * with registered routes (the design that routes on the clock proxy), also on the solver's shortest
-   * schedule (`schedule.scheduler = cp-sat`); then values in block-RAM banks (`schedule.storage = memory`) at
-   * 1e-3 N·m from 32 to 512 clocks (88: the UR5 design that meets issue 12's targets; 114: the Panda's, and
-   * at 114 with 5 adder units, which the Panda's latency target needs).
+   * schedule (`schedule.scheduler = cp-sat`), and on it with products reassociated, the products of slack 0
+   * forwarded and a CORDIC unit of two micro-rotations per stage from a 2^11 table (`datapath.reassociate =
+   * sums-and-products`, `schedule.forward-slack = 0`: issue 33's latency point); then values in block-RAM
+   * banks (`schedule.storage = memory`) at 1e-3 N·m from 32 to 512 clocks (88: the UR5 design that meets
+   * issue 12's targets; 114: the Panda's, and at 114 with 5 adder units, which the Panda's latency target
+   * needs).
    */
   val schedules: Seq[Point] =
     Seq(1, 4, 16, 64, 256).map(c => Point(s"ii$c", ScheduleRequest(clocksPerSample = Some(c)))) ++ Seq(
@@ -98,6 +111,13 @@ object ArmSweep {
         name = "routed66-cpsat-t1e-3",
         request = fast.request.copy(scheduler = Scheduler.CpSat),
         routed = true
+      ),
+      fast.copy(
+        name = "latency66-t1e-3",
+        request = fast.request.copy(scheduler = Scheduler.CpSat, forwardSlack = Some(0)),
+        reassociate = Reassociation.SumsAndProducts,
+        routed = true,
+        cordic = Some(ShortCordic(tableBits = 11, iterationsPerStage = 2))
       )
     ) ++
       Seq(32, 64, 88, 114, 128, 512).map(c =>
@@ -221,12 +241,14 @@ object ArmSweep {
 
   /**
    * Whether a row's design routes on the clock proxy: registers storage above
-   * [[reducerload.graph.Schedule.directMaxClocks]] clocks per sample routes only with registered routes
-   * (docs/timing-closure.md: the UR5's direct designs at 17-18 clocks did not route at all); a row of no
-   * point of this sweep counts as direct.
+   * [[reducerload.graph.Schedule.directMaxClocks]] clocks per sample routes only with registered routes and
+   * no product forwarded past them (docs/timing-closure.md: the UR5's direct designs at 17-18 clocks did not
+   * route at all, nor did its registered-routes designs with `schedule.forward-slack = 0`); a row of no point
+   * of this sweep counts as direct.
    */
   def routes(row: Map[String, String]): Boolean =
-    pointOf(row("schedule")).exists(_.routed) || row("storage") != Storage.Registers.name ||
+    pointOf(row("schedule")).exists(p => p.routed && p.request.forwardSlack.isEmpty) ||
+      row("storage") != Storage.Registers.name ||
       row("clocks_per_sample").toInt <= reducerload.graph.Schedule.directMaxClocks
 
   /**

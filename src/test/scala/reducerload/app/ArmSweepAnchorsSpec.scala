@@ -4,7 +4,8 @@ import org.scalatest.flatspec.AnyFlatSpec
 
 /**
  * The README's FPGA-beside-CPU rows: of the points that fit an EP4CE30, only designs that route on the clock
- * proxy are anchors (registers storage above 4 clocks per sample only with registered routes).
+ * proxy are anchors (registers storage above 4 clocks per sample only with registered routes and no product
+ * forwarded past them).
  */
 class ArmSweepAnchorsSpec extends AnyFlatSpec {
   behavior of "the arm sweep's CPU anchors"
@@ -32,11 +33,12 @@ class ArmSweepAnchorsSpec extends AnyFlatSpec {
   private def fpgaRows(arms: Seq[Seq[String]]) =
     ArmSweep.anchors(ArmSweep.header +: arms, cpu, detail = false).filter(_.contains("EP4CE30"))
 
-  it should "leave out registers designs above 4 clocks per sample with direct routes" in {
+  it should "leave out registers designs above 4 clocks per sample with direct routes or forwarded products" in {
     val rows = fpgaRows(
       Seq(
         row("fast66-t1e-3", "registers", 17, 8.82e6, 727, 14731), // direct at 17 clocks: does not route
         row("routed66-t1e-3", "registers", 17, 8.82e6, 980, 23693),
+        row("latency66-t1e-3", "registers", 18, 8.33e6, 767, 22749), // products forwarded: did not route
         row("mem-ii88-t1e-3", "memory", 88, 1.70e6, 1553, 8400),
         row("budget66", "registers", 4, 3.0e6, 500, 20000), // direct at 4 clocks: routes
         row("no-such-point", "registers", 10, 9.9e6, 400, 9000) // unknown: counted as direct

@@ -3,6 +3,7 @@ package reducerload.arm
 import chiseltest._
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.compiler.Compiler
+import reducerload.cordic.CordicParams
 import reducerload.dynamics.{RandomChains, Rnea}
 import reducerload.graph.{ListOrder, Reassociation, ScheduleRequest, Scheduler, Storage}
 import reducerload.testutil.{ArmGolden, Seeds, SimBackend}
@@ -30,7 +31,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       targetError: Seq[Double] = Nil,
       reassociate: Reassociation = Reassociation.Off,
       routed: Boolean = false,
-      memoryDelayMinCycles: Option[Int] = None
+      memoryDelayMinCycles: Option[Int] = None,
+      cordic: CordicParams => CordicParams = identity
   ): Unit = {
     val traces = ArmGolden.of(robot)
     traces.foreach(t =>
@@ -46,6 +48,7 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       config.copy(
         targetError = targetError,
         schedule = schedule,
+        cordic = cordic(config.cordic),
         datapath = config.datapath.copy(
           reassociate = reassociate,
           registeredRoutes = Some(routed),
@@ -158,7 +161,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     }
 
   it should "reassociate products and push critical constants into rotations on planar3 (3 clocks per " +
-    "sample, registered routes, the solver's schedule, products forwarded), bit-exact under back-pressure" in {
+    "sample, registered routes, the solver's schedule, products forwarded, a CORDIC of two micro-rotations " +
+    "per stage from a 2^11 table: the UR5's latency recipe), bit-exact under back-pressure" in {
       runRobot(
         "planar3",
         67L,
@@ -169,7 +173,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
           forwardSlack = Some(0)
         ),
         reassociate = Reassociation.SumsAndProducts,
-        routed = true
+        routed = true,
+        cordic = _.copy(tableBits = 11, iterationsPerStage = 2)
       )
     }
 
