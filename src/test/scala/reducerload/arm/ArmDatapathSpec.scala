@@ -160,23 +160,23 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       )
     }
 
-  it should "reassociate products and push critical constants into rotations on planar3 (3 clocks per " +
-    "sample, registered routes, the solver's schedule, products forwarded, a CORDIC of two micro-rotations " +
-    "per stage from a 2^11 table: the UR5's latency recipe), bit-exact under back-pressure" in {
-      runRobot(
-        "planar3",
-        67L,
-        ScheduleRequest(
-          clocksPerSample = Some(3),
-          cordicUnits = Some(1),
-          scheduler = Scheduler.CpSat,
-          forwardSlack = Some(0)
-        ),
-        reassociate = Reassociation.SumsAndProducts,
-        routed = true,
-        cordic = _.copy(tableBits = 11, iterationsPerStage = 2)
-      )
-    }
+  // The sweep's latency66 recipe: 3 clocks per sample, registered routes, the solver's schedule, slack-0
+  // products forwarded, a CORDIC of two micro-rotations per stage from a 2^11 table.
+  it should "push critical constants into rotations on planar3, bit-exact under back-pressure" in {
+    runRobot(
+      "planar3",
+      67L,
+      ScheduleRequest(
+        clocksPerSample = Some(3),
+        cordicUnits = Some(1),
+        scheduler = Scheduler.CpSat,
+        forwardSlack = Some(0)
+      ),
+      reassociate = Reassociation.SumsAndProducts,
+      routed = true,
+      cordic = _.copy(tableBits = 11, iterationsPerStage = 2)
+    )
+  }
 
   it should "fit the UR5 in the 66 multiplier blocks of an EP4CE30, bit-exact under back-pressure" in {
     runRobot("ur5", 47L, ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)))
