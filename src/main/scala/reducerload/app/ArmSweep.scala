@@ -36,7 +36,7 @@ object ArmSweep {
 
   /**
    * One point of the schedule axis: its name, the schedule asked for, the per-torque error target (none: the
-   * default fraction bits), whether sums are rebuilt as trees (`datapath.reassociate`), whether routes
+   * default fraction bits), how sums (and products) are rebuilt (`datapath.reassociate`), whether routes
    * between units pass registers (`datapath.registered-routes`, with every held value in registers:
    * `datapath.memory-delay-min-cycles = 0`, the combination measured to route) and a shorter CORDIC unit.
    */

@@ -83,7 +83,8 @@ object ResourceModel {
   private def cordicArrays(p: ArmParams): Seq[MemoryArray] = {
     val c = p.schedule.cordic
     val w = c.xyFormat.width
-    (if (c.tableBits > 0) Seq(MemoryArray("CORDIC start table", 1 << c.tableBits, 2 * w)) else Nil) ++
+    (if (c.tableBits > 0) Seq(MemoryArray("CORDIC start table", 1 << c.tableBits, c.startTableVaryingBits))
+     else Nil) ++
       (if (c.residual)
          Seq(MemoryArray.delay("CORDIC residual delay", ResidualRotation.stateDelayInMemory, 2 * w + 2))
        else Nil)

@@ -522,7 +522,8 @@ object Settings {
     "off (sums as RNEA writes them, left to right), sums (each sum of several terms rebuilt as a tree, " +
       "the earliest terms first: a shorter critical path; the same values, their formats and bounds derived anew) " +
       "or sums-and-products (also each product of several factors, two earliest first, and each constant on the " +
-      "critical path pushed into the sum it scales: a shorter critical path still, for a few more products)",
+      "critical path pushed into the sum it scales, a sum read only there or a rotation: a shorter critical path " +
+      "still, for a few more products)",
     Nil,
     Reassociation.all,
     (r: Reassociation) => r.name,

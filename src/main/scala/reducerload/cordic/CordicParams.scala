@@ -152,6 +152,18 @@ final case class CordicParams(
   }
 
   /**
+   * Bit columns of the start table's word (x then y, `xyFormat.width` bits each, as QuadrantPreprocessor
+   * stores it) that differ between entries: synthesis stores no other column (every vector lies in the first
+   * quadrant, so the sign bits and the top bits of a large table never change).
+   */
+  lazy val startTableVaryingBits: Int = {
+    val w = xyFormat.width
+    val mask = (BigInt(1) << w) - 1
+    val words = startTable.map { case (x, y) => ((x & mask) << w) | (y & mask) }
+    (0 until 2 * w).count(b => words.exists(_.testBit(b)) && !words.forall(_.testBit(b)))
+  }
+
+  /**
    * Bound on |z| entering iteration i (raw units), for i = firstIteration .. iterations: half a segment at
    * the start (45 degrees without a table), then |z_{i+1}| <= atan(2^-i) + 2 LSB (table rounding can break
    * the exact halving by up to 1.5 LSB). Convergence: half a segment, (pi/4) 2^-T rad, is below 2

@@ -124,6 +124,14 @@ final case class Graph(ops: IndexedSeq[Op], outputs: IndexedSeq[Output]) {
   def apply(id: NodeId): Op = ops(id.index)
   def ids: IndexedSeq[NodeId] = ops.indices.map(NodeId(_))
 
+  /** How often each node is read: its occurrences as an operand, and as an output (read by the port). */
+  lazy val readers: IndexedSeq[Int] = {
+    val counts = Array.fill(ops.size)(0)
+    ops.foreach(_.operands.foreach(x => counts(x.index) += 1))
+    outputs.foreach(o => counts(o.node.index) += 1)
+    counts.toIndexedSeq
+  }
+
   /** Evaluate every node in order with `f`, given the values of its operands. */
   def fold[T](f: (Op, NodeId => T) => T): IndexedSeq[T] =
     ops.foldLeft(Vector.empty[T])((done, op) => done :+ f(op, id => done(id.index)))

@@ -74,12 +74,9 @@ object Reassociate {
       delays: ArrivalDelays,
       products: Boolean = false
   ): (Graph, RangeHints) = {
-    val readers = Array.fill(graph.ops.size)(0)
+    val readers = graph.readers
     val reader = Array.fill(graph.ops.size)(-1)
-    graph.ids.foreach(id =>
-      graph(id).operands.foreach { x => readers(x.index) += 1; reader(x.index) = id.index }
-    )
-    graph.outputs.foreach(o => readers(o.node.index) += 1)
+    graph.ids.foreach(id => graph(id).operands.foreach(x => reader(x.index) = id.index))
     def rotation(i: Int): Boolean = Rotation.isRotation(graph, NodeId(i))
     // An inner node of a sum tree: a sum with one reader, itself a sum (outputs are read by the port).
     val inner: IndexedSeq[Boolean] = graph.ops.indices.map(i =>
@@ -107,23 +104,37 @@ object Reassociate {
         }
       }
 
-      /** The terms summed two earliest first; a negative total negated at the end. */
-      def balanced(leaves: Seq[(Int, Boolean)]): (NodeId, Int) = {
+      /**
+       * `leaves` combined two earliest first (of equal arrivals, the first given), the greedy pairing that
+       * minimises the latest arrival: `combine` gives a pair's node and sign, which arrives `delay` after the
+       * later of the two.
+       */
+      def earliestFirst(leaves: Seq[(NodeId, Int, Boolean)], delay: Int)(
+          combine: (Term, Term) => (NodeId, Boolean)
+      ): Term = {
         val queue = mutable.PriorityQueue.empty[Term](Ordering.by((t: Term) => (t.arrival, t.order)).reverse)
-        leaves.zipWithIndex.foreach { case ((x, neg), k) => queue += Term(built(x), arrival(x), neg, k) }
+        leaves.zipWithIndex.foreach { case ((x, at, neg), k) => queue += Term(x, at, neg, k) }
         var next = leaves.size
         while (queue.size > 1) {
           val (p, q) = (queue.dequeue(), queue.dequeue())
-          val (node, negative) = (p.negative, q.negative) match {
-            case (false, false) => (b.plus(p.node, q.node), false)
-            case (true, true)   => (b.plus(p.node, q.node), true)
-            case (false, true)  => (b.minus(p.node, q.node), false)
-            case (true, false)  => (b.minus(q.node, p.node), false)
-          }
-          queue += Term(node, math.max(p.arrival, q.arrival) + delays.add, negative, next)
+          val (node, negative) = combine(p, q)
+          queue += Term(node, math.max(p.arrival, q.arrival) + delay, negative, next)
           next += 1
         }
-        val last = queue.dequeue()
+        queue.dequeue()
+      }
+
+      /** The terms summed two earliest first; a negative total negated at the end. */
+      def balanced(leaves: Seq[(Int, Boolean)]): (NodeId, Int) = {
+        val last = earliestFirst(leaves.map { case (x, neg) => (built(x), arrival(x), neg) }, delays.add) {
+          (p, q) =>
+            (p.negative, q.negative) match {
+              case (false, false) => (b.plus(p.node, q.node), false)
+              case (true, true)   => (b.plus(p.node, q.node), true)
+              case (false, true)  => (b.minus(p.node, q.node), false)
+              case (true, false)  => (b.minus(q.node, p.node), false)
+            }
+        }
         if (last.negative) (b.negate(last.node), last.arrival + delays.add) else (last.node, last.arrival)
       }
 
@@ -133,15 +144,9 @@ object Reassociate {
 
       /** The product of `leaves`, two earliest first. */
       def multiplied(leaves: Seq[(NodeId, Int)]): (NodeId, Int) = {
-        val queue = mutable.PriorityQueue.empty[Term](Ordering.by((t: Term) => (t.arrival, t.order)).reverse)
-        leaves.zipWithIndex.foreach { case ((x, at), k) => queue += Term(x, at, negative = false, k) }
-        var next = leaves.size
-        while (queue.size > 1) {
-          val (p, q) = (queue.dequeue(), queue.dequeue())
-          queue += Term(b.times(p.node, q.node), math.max(p.arrival, q.arrival) + delays.mul, false, next)
-          next += 1
-        }
-        val last = queue.dequeue()
+        val last = earliestFirst(leaves.map { case (x, at) => (x, at, false) }, delays.mul)((p, q) =>
+          (b.times(p.node, q.node), false)
+        )
         (last.node, last.arrival)
       }
 
@@ -220,9 +225,7 @@ object Reassociate {
       delays: ArrivalDelays
   ): Option[(Graph, RangeHints)] = {
     val at = arrivals(graph, delays)
-    val readers = Array.fill(graph.ops.size)(0)
-    graph.ids.foreach(id => graph(id).operands.foreach(x => readers(x.index) += 1))
-    graph.outputs.foreach(o => readers(o.node.index) += 1)
+    val readers = graph.readers
     // The latest cycle each node may arrive at without moving the latest output.
     val required = Array.fill(graph.ops.size)(Int.MaxValue)
     graph.outputs.foreach(o => required(o.node.index) = depth(graph, delays))

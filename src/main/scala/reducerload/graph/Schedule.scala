@@ -445,13 +445,6 @@ final class Schedule(
       .flatMap(r => units.find(u => !taken((isMul, u, r % ii))).map(u => Slot(Some(u), r)))
       .next()
 
-  /** Readers of each node: operand occurrences and outputs. */
-  private val uses: IndexedSeq[Int] = {
-    val counts = (ids.flatMap(id => graph(id).operands) ++ graph.outputs
-      .map(_.node)).groupBy(_.index).view.mapValues(_.size).toMap
-    ids.map(id => counts.getOrElse(id.index, 0))
-  }
-
   /**
    * The order the list scheduler places the nodes in: the graph's, or for registers storage with list order
    * by-height the longest chain of latencies to an output first (a topological order: every operation is
@@ -567,7 +560,7 @@ final class Schedule(
    * it, and forwarding every one made the README's UR5 route far slower (docs/timing-closure.md).
    */
   private def forwardable(x: NodeId) =
-    !dedicated && graph(x).isInstanceOf[Mul] && uses(x.index) == 1 &&
+    !dedicated && graph(x).isInstanceOf[Mul] && graph.readers(x.index) == 1 &&
       (!routed || request.forwardSlack.exists(slack(x.index) <= _))
 
   /**

@@ -24,16 +24,11 @@ class ResourceModelSpec extends AnyFlatSpec with Matchers {
     // Registers storage (CORDIC tables and block-RAM delays): exactly; memory storage (banks and the
     // microcode table, counted before the table shares equal fields): within one block, but for the
     // five-adder point, whose table the synthesis shares more of (more still since the multipliers' operand
-    // shifts have select fields of their own). A CORDIC start table of 2^11 entries or more (2048x4 blocks)
-    // within two: the count takes every bit column of the table, synthesis drops those the contents fix
-    // (latency66: 18 counted, 16-17 estimated).
+    // shifts have select fields of their own).
     armPoints.foreach { pt =>
       val est = pt.estM9k.get
       val tol =
-        if (pt.p.banked.isEmpty)
-          (if (pt.p.schedule.clocksPerSample == 1) est / 10
-           else if (pt.p.schedule.cordic.tableBits >= 11) 2
-           else 1)
+        if (pt.p.banked.isEmpty) (if (pt.p.schedule.clocksPerSample == 1) est / 10 else 1)
         else if (pt.name.contains("-a5-")) est / 2
         else 1
       withClue(pt.name)(math.abs(pt.m9k - est) should be <= tol)
