@@ -90,14 +90,15 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
   /**
    * The entry of the current phase through a multiplexer whose select is a register: which entry is looked up
-   * from a counter [[selectAhead]] cycles ahead of the phase, then registered that many times, so the lookup
-   * sits between two flip-flops of its own and the select's route to the multiplexer is a
-   * register-to-register hop. For a select that reaches far (a CORDIC unit's input among the angle sums: a
-   * select decoded from the phase, even a cycle early, keeps the decode on the route). The lookup is a ROM, a
-   * cycle earlier still, and the select is right from the first cycle after reset (registered routes issue
-   * angles from cycle 1).
+   * from a counter [[selectAhead]] cycles ahead of the phase, so the lookup sits between flip-flops of its
+   * own and the select's routes to the multiplexer are register-to-register hops. For a select that reaches
+   * far (a CORDIC unit's input among the angle sums: a select decoded from the phase, even a cycle early,
+   * keeps the decode on the route). The lookup is a ROM with its read and output registers, then a register
+   * in the fabric, then a kept copy of the select per [[ArmDatapath.selectSliceBits]] bits of the entries,
+   * beside its slice of the multiplexer. The select is right from the first cycle after reset (registered
+   * routes issue angles from cycle 1).
    */
-  private def byPhaseRegistered[T <: Data](entries: Seq[(Int, T)]): T =
+  private def byPhaseRegistered(entries: Seq[(Int, UInt)]): UInt =
     if (entries.size == 1) entries.head._2
     else {
       val sorted = entries.sortBy(_._1)
@@ -105,21 +106,25 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       val index = (0 until ii).map(r => sorted.lastIndexWhere(_._1 <= r).max(0))
       val bits = log2Ceil(sorted.size)
       def at(residue: Int) = index(residue % ii).U(bits.W)
-      def lookup(ahead: Int) = VecInit(index.map(_.U(bits.W)))(residueCounter(ahead))
-      // `selectAhead` registers after `v`, the k-th set by reset to the index of residue `ahead` - k: the last
-      // gives residue `ahead` - `selectAhead`'s in cycle 0, the next residues' until `v`'s indices reach it
-      def setByReset(v: UInt, ahead: Int) =
-        (1 to selectAhead).foldLeft(v)((r, k) => RegNext(r, at(ahead - k)))
       // No reset on the lookup's registers: synthesis makes the lookup a block-RAM ROM and the registers its
       // read and output registers (with a reset the output register stays in the fabric and the ROM is read
-      // bare, 5.6 ns of the 6.7 at 150 MHz). A fabric register after them, near the multiplexer, takes the
-      // index a cycle later: the ROM's output crossed the die to the multiplexer (the Z1 at 88 clocks, seed 2,
-      // docs/timing-closure.md). While the ROM's registers fill (a flag set by reset), registers set by reset
-      // give the indices they would hold.
-      val read = (1 to selectAhead).foldLeft(lookup(selectAhead + 1))((v, _) => RegNext(v))
-      val filling = (1 to selectAhead).foldLeft(false.B)((v, _) => RegNext(v, true.B))
-      val early = setByReset(at(selectAhead), selectAhead + 1)
-      VecInit(sorted.map(_._2))(RegNext(Mux(filling, early, read), at(0)))
+      // bare, 5.6 ns of the 6.7 at 150 MHz). A fabric register after them takes the index a cycle later: the
+      // ROM's output crossed the die to the multiplexer (the Z1 at 88 clocks, seed 2, docs/timing-closure.md).
+      // That register feeds the copies and nothing else: copies fed by the ROM's output register stopped
+      // synthesis from absorbing it into the block RAM (timing-closure.md, 2026-11-29), and one select
+      // decoded for every bit of the CORDIC input crossed the chip (the UR5's 1e-3 fit, 2026-12-05).
+      val romRegisters = 2
+      val read = FixedHw.delay(VecInit(index.map(_.U(bits.W)))(residueCounter(selectAhead)), romRegisters)
+      // While the ROM's registers fill (a flag set by reset), registers set by reset give the indices they
+      // would hold: the k-th after `at(selectAhead - 1)` set to that of residue `selectAhead - k`.
+      val filling = (1 to romRegisters).foldLeft(false.B)((v, _) => RegNext(v, true.B))
+      val early = (1 to romRegisters).foldLeft(at(selectAhead - 1))((r, k) => RegNext(r, at(selectAhead - k)))
+      val hop = RegNext(Mux(filling, early, read), at(1))
+      val width = sorted.map(_._2.getWidth).max
+      Cat((0 until width).grouped(ArmDatapath.selectSliceBits).toSeq.reverse.map { slice =>
+        val select = FixedHw.kept(RegNext(hop, at(0)))
+        VecInit(sorted.map(_._2.pad(width)(slice.last, slice.head)))(select)
+      })
     }
 
   /**
@@ -232,8 +237,11 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     if (schedule.routed) new DelayPointer(cycles, kept = true)
     else delayPointers.getOrElseUpdate(cycles, new DelayPointer(cycles))
 
-  /** Cycles a registered select is looked up ahead of its use: the lookup, then a hop. */
-  private val selectAhead = 2
+  /**
+   * Cycles a registered select is looked up ahead of its use: the ROM's two registers, the register in the
+   * fabric and the slice's copy.
+   */
+  private val selectAhead = 4
 
   /** True in cycle `cycle` of every sample (and in every cycle at II = 1). */
   private def during(cycle: Int): Bool = phaseIs(cycle % ii)
