@@ -108,12 +108,11 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       def at(residue: Int) = index(residue % ii).U(bits.W)
       // No reset on the lookup's registers: synthesis makes the lookup a block-RAM ROM and the registers its
       // read and output registers (with a reset the output register stays in the fabric and the ROM is read
-      // bare, 5.6 ns of the 6.7 at 150 MHz). A fabric register after them takes the index a cycle later: the
-      // ROM's output crossed the die to the multiplexer (the Z1 at 88 clocks, seed 2, docs/timing-closure.md).
-      // That register feeds the copies and nothing else: copies fed by the ROM's output register stopped
-      // synthesis from absorbing it into the block RAM (timing-closure.md, 2026-11-29), and one select
-      // decoded for every bit of the CORDIC input crossed the chip (the UR5's 1e-3 fit, 2026-12-05).
-      val romRegisters = 2
+      // bare, most of a clock). A fabric register after them takes the index a cycle later, since the ROM's
+      // output crossed the die to the multiplexer. That register feeds the copies and nothing else: copies fed
+      // by the ROM's output register stopped synthesis from absorbing it into the block RAM, and one select
+      // decoded for every bit of the CORDIC input crossed the chip (docs/timing-closure.md, "the CORDIC select
+      // copied per 8 bits").
       val read = FixedHw.delay(VecInit(index.map(_.U(bits.W)))(residueCounter(selectAhead)), romRegisters)
       // While the ROM's registers fill (a flag set by reset), registers set by reset give the indices they
       // would hold: the k-th after `at(selectAhead - 1)` set to that of residue `selectAhead - k`.
@@ -237,11 +236,14 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     if (schedule.routed) new DelayPointer(cycles, kept = true)
     else delayPointers.getOrElseUpdate(cycles, new DelayPointer(cycles))
 
+  /** Registers of a registered select's lookup ROM: its block RAM's read and output registers. */
+  private val romRegisters = 2
+
   /**
-   * Cycles a registered select is looked up ahead of its use: the ROM's two registers, the register in the
-   * fabric and the slice's copy.
+   * Cycles a registered select is looked up ahead of its use: the ROM's registers, the register in the fabric
+   * and the slice's copy.
    */
-  private val selectAhead = 4
+  private val selectAhead = romRegisters + 2
 
   /** True in cycle `cycle` of every sample (and in every cycle at II = 1). */
   private def during(cycle: Int): Bool = phaseIs(cycle % ii)
@@ -581,7 +583,7 @@ object ArmDatapath {
    * A port's sources (indices into `sources`) in the first-level groups of registered routes: held values and
    * literals in groups of their own. A literal among held values would let synthesis turn its select into the
    * group register's synchronous set and reset, a net that reaches every bit of the register, which sit
-   * beside their own sources across the chip (it limited the clock at 109 MHz on the UR5).
+   * beside their own sources across the chip (it limited the UR5's clock: docs/timing-closure.md).
    */
   def routeGroups(sources: Seq[reducerload.graph.PortSource]): Seq[Seq[Int]] = {
     val (literals, held) =
@@ -590,9 +592,9 @@ object ArmDatapath {
   }
 
   /**
-   * Bits of a first-level group register steered by one copy of its select with registered routes: the bits
-   * of one register sit beside their own sources, so one select reaching all of them crosses the chip (the
-   * UR5's limiting path before the copies: docs/timing-closure.md).
+   * Bits of a first-level group register, or of a CORDIC unit's input, steered by one copy of its select with
+   * registered routes: the bits of one register sit beside their own sources, so one select reaching all of
+   * them crosses the chip (the UR5's limiting paths before the copies: docs/timing-closure.md).
    */
   val selectSliceBits: Int = 8
 
