@@ -203,6 +203,10 @@ final case class ArmReport(
            else
              s" (${schedule.sharedRegisters.map(_.members.size).sum} products take turns in " +
                s"${schedule.sharedRegisters.size} shared registers)") +
+          (if (schedule.readerCopies.isEmpty) ""
+           else
+             s" (${schedule.readerCopies.values.map(_.size).sum} readers' copies of ${schedule.readerCopies.size} " +
+               "values)") +
           (if (heldDelays == 0) "" else s", $heldDelays block-RAM delays the longer stretches") +
           (if (forwardedPastRoutes == 0) ""
            else

@@ -474,6 +474,13 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       done :+ taps
     }
 
+    // Readers' copies (`schedule.reader-copies`): each loaded a clock after the value's register, so it holds
+    // the value in the cycles its unit reads it (all after the one it is ready in: Schedule.readerCopies).
+    val copies: Map[(NodeId, Int), SInt] = schedule.readerCopies.toSeq.flatMap { case (x, units) =>
+      val ready = schedule(x).get
+      val register = values(x.index).collectFirst { case (t, v) if t - ready < ii => v }.get
+      units.map(u => (x, u) -> FixedHw.kept(RegEnable(register, enable(ready))))
+    }.toMap
     schedule.mulBindings.zipWithIndex.foreach { case (bound, u) =>
       val shape = shapeOfUnit(u)
       def port(k: Int, width: Int): SInt = (if (routed) bySourceRouted _ else bySource _) (
@@ -485,8 +492,9 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
             r,
             schedule.muxSource(x, issue),
             (graph(x) match {
-              case Const(_) => constant(x)
-              case _        => values(x.index)(issue)
+              case Const(_)                                                     => constant(x)
+              case _ if issue - schedule(x).get < ii && copies.contains((x, u)) => copies((x, u))
+              case _                                                            => values(x.index)(issue)
             }).pad(width)
           )
         }

@@ -195,14 +195,22 @@ final case class ArmParams(
   /**
    * Register bits holding values between their cycles in a shared registers datapath: each value's first
    * register and its chain, the stretches in block RAM left out ([[HeldTaps]]), and the registers products
-   * take turns in ([[reducerload.graph.SharedRegister]]) once each.
+   * take turns in ([[reducerload.graph.SharedRegister]]) once each, and the readers' copies
+   * ([[reducerload.graph.Schedule.readerCopies]]).
    */
   def heldRegisterBits: Long =
     unsharedTaps.map { case (id, taps) => taps.registerBits(analysis(id).format.width) }.sum +
-      schedule.sharedRegisters.map(_.width.toLong).sum
+      schedule.sharedRegisters.map(_.width.toLong).sum +
+      schedule.readerCopies.map { case (id, units) => units.size.toLong * analysis(id).format.width }.sum
 
-  /** Registers holding values in a shared registers datapath (each of a chain, a shared one once). */
-  def heldRegisters: Int = unsharedTaps.map(_._2.registers).sum + schedule.sharedRegisters.size
+  /**
+   * Registers holding values in a shared registers datapath (each of a chain, a shared one once, a reader's
+   * copy).
+   */
+  def heldRegisters: Int =
+    unsharedTaps.map(_._2.registers).sum + schedule.sharedRegisters.size + schedule.readerCopies.values
+      .map(_.size)
+      .sum
 
   /** The held values with registers of their own, and their taps. */
   private def unsharedTaps: Seq[(NodeId, HeldTaps)] =

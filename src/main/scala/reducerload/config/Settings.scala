@@ -635,6 +635,16 @@ object Settings {
     _.schedule.shareRegisters
   )
 
+  val scheduleReaderCopies = new Switch(
+    "schedule.reader-copies",
+    "",
+    "datapath.registered-routes: a value several multiplier units read within the interval after it is ready " +
+      "reaches each of them but one through a copy of its register loaded a clock later, placed beside that " +
+      "unit (more logic elements, no more latency; no effect without registered routes)",
+    Nil,
+    _.schedule.readerCopies
+  )
+
   val scheduleForwardSlack = new Count(
     "schedule.forward-slack",
     "clocks",
@@ -854,6 +864,7 @@ object Settings {
     scheduleListOrder,
     scheduleScheduler,
     scheduleShareRegisters,
+    scheduleReaderCopies,
     scheduleForwardSlack,
     scheduleListTries,
     scheduleRefinement,
@@ -1014,6 +1025,7 @@ object Settings {
           v(scheduleRefinement),
           v(scheduleScheduler),
           v(scheduleShareRegisters),
+          v(scheduleReaderCopies),
           v(scheduleForwardSlack)
         ),
         monitor = MonitorSettings(

@@ -63,6 +63,9 @@ object Scheduler {
  *   registers storage at 2 clocks per sample or more: products of one unit whose cycles from ready to last
  *   read do not meet modulo the interval take turns in one register ([[SharedRegister]]) instead of a
  *   register each
+ * @param readerCopies
+ *   registered routes: a value read within its first interval by several multiplier units, a clock or more
+ *   after it is ready, reaches all but one of them through a copy of its register ([[Schedule.readerCopies]])
  * @param forwardSlack
  *   registered routes (`datapath.registered-routes`): a product read by one addition only is taken off its
  *   unit's output a cycle early, with no register of its own, when its slack on the dependences is at most
@@ -80,6 +83,7 @@ final case class ScheduleRequest(
     refinement: Int = ScheduleRequest.defaultRefinement,
     scheduler: Scheduler = Scheduler.ListOnly,
     shareRegisters: Boolean = false,
+    readerCopies: Boolean = false,
     forwardSlack: Option[Int] = None
 ) {
   require(
@@ -815,6 +819,39 @@ final class Schedule(
   /** Cycles at which joint `j`'s angle is read from the input register: by the angle sums that contain it. */
   def angleReads(j: Int): Seq[Int] =
     angles.filter(_.joints.contains(j)).map(a => angleSlot(a).issue).distinct.sorted
+
+  /**
+   * `schedule.reader-copies` (registered routes): for each value in a register of its own that several
+   * multiplier units read within the interval after it is ready, the units that read it through a copy of
+   * that register, loaded a clock after it (so the copy holds the value from ready + 1 to ready + II). Every
+   * such unit gets one but the unit left on the register itself: one that reads the value when it is ready (a
+   * copy has it a clock later), else the one with the most reads; a second unit reading it when ready stays
+   * on the register too. A register read by units the placer puts apart crossed the die to the far one (the
+   * Panda's limit: docs/timing-closure.md); each copy is placed beside its own unit's multiplexers.
+   */
+  lazy val readerCopies: Map[NodeId, Set[Int]] =
+    if (!request.readerCopies || !routed) Map.empty
+    else {
+      val early = for {
+        (bound, u) <- mulBindings.zipWithIndex
+        (_, id) <- bound
+        x <- ports(id)
+        if !isConst(x) && !forwarded(x) && !sharedRegisterOf.contains(x)
+        if !graph(x).isInstanceOf[Trig] || capturesCordic
+        offset = issue(id) - ready(x.index).get
+        if offset < ii
+      } yield (x, u, offset)
+      early
+        .groupBy(_._1)
+        .view
+        .flatMap { case (x, reads) =>
+          val byUnit = reads.groupMap(_._2)(_._3)
+          val home = byUnit.find(_._2.contains(0)).getOrElse(byUnit.maxBy(r => (r._2.size, -r._1)))._1
+          val copied = byUnit.collect { case (u, offsets) if u != home && !offsets.contains(0) => u }.toSet
+          Option.when(copied.nonEmpty)(x -> copied)
+        }
+        .toMap
+    }
 
   /** Multiplies bound to each multiplier unit, with their residues. */
   lazy val mulBindings: IndexedSeq[Seq[(Int, NodeId)]] = {

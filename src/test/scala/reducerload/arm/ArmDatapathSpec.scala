@@ -65,6 +65,10 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       s"$robot: schedule.share-registers asked, no register shared"
     )
     assert(
+      !schedule.readerCopies || p.schedule.readerCopies.nonEmpty,
+      s"$robot: schedule.reader-copies asked, no reader's copy"
+    )
+    assert(
       schedule.forwardSlack.isEmpty || p.graph.ids.exists(p.schedule.forwarded),
       s"$robot: schedule.forward-slack asked, no product forwarded"
     )
@@ -79,7 +83,9 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       (if (reassociate == Reassociation.Off) "" else s" reassociate $reassociate") +
       (if (routed) " registered routes" else "") +
       (if (p.schedule.sharedRegisters.isEmpty) ""
-       else s" ${p.schedule.sharedRegisters.size} shared registers")
+       else s" ${p.schedule.sharedRegisters.size} shared registers") +
+      (if (p.schedule.readerCopies.isEmpty) ""
+       else s" ${p.schedule.readerCopies.values.map(_.size).sum} copies")
     ArmChecks.run(
       this,
       label,
@@ -140,8 +146,9 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     runRobot("panda", 43L)
   }
 
-  it should "share multipliers and CORDIC units on planar3 (2, 3 and 40 clocks per " +
-    "sample; at 3 and 40 also with registered routes, at 40 products sharing registers), bit-exact under " +
+  it should "share multipliers and CORDIC units on planar3 (2, 3, 4 and 40 clocks per " +
+    "sample; at 3 and 40 also with registered routes, at 4 values reaching units through readers' copies, at " +
+    "40 products sharing registers), bit-exact under " +
     "back-pressure" in {
       runRobot("planar3", 44L, ScheduleRequest(clocksPerSample = Some(2)))
       runRobot("planar3", 45L, ScheduleRequest(clocksPerSample = Some(3), cordicUnits = Some(1)))
@@ -150,6 +157,12 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
         "planar3",
         59L,
         ScheduleRequest(clocksPerSample = Some(3), cordicUnits = Some(1)),
+        routed = true
+      )
+      runRobot(
+        "planar3",
+        68L,
+        ScheduleRequest(clocksPerSample = Some(4), cordicUnits = Some(1), readerCopies = true),
         routed = true
       )
       runRobot(
