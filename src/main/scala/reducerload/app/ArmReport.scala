@@ -205,7 +205,7 @@ final case class ArmReport(
                s"${schedule.sharedRegisters.size} shared registers)") +
           (if (schedule.readerCopies.isEmpty) ""
            else
-             s" (${schedule.readerCopies.values.map(_.size).sum} readers' copies of ${schedule.readerCopies.size} " +
+             s" (${schedule.readerCopyCount} readers' copies of ${schedule.readerCopies.size} " +
                "values)") +
           (if (heldDelays == 0) "" else s", $heldDelays block-RAM delays the longer stretches") +
           (if (forwardedPastRoutes == 0) ""

@@ -492,9 +492,9 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
             r,
             schedule.muxSource(x, issue),
             (graph(x) match {
-              case Const(_)                                                     => constant(x)
-              case _ if issue - schedule(x).get < ii && copies.contains((x, u)) => copies((x, u))
-              case _                                                            => values(x.index)(issue)
+              case Const(_)                             => constant(x)
+              case _ if schedule.readsCopy(x, u, issue) => copies((x, u))
+              case _                                    => values(x.index)(issue)
             }).pad(width)
           )
         }

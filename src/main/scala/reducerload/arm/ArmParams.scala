@@ -208,9 +208,7 @@ final case class ArmParams(
    * copy).
    */
   def heldRegisters: Int =
-    unsharedTaps.map(_._2.registers).sum + schedule.sharedRegisters.size + schedule.readerCopies.values
-      .map(_.size)
-      .sum
+    unsharedTaps.map(_._2.registers).sum + schedule.sharedRegisters.size + schedule.readerCopyCount
 
   /** The held values with registers of their own, and their taps. */
   private def unsharedTaps: Seq[(NodeId, HeldTaps)] =

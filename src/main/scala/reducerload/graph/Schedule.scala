@@ -853,6 +853,17 @@ final class Schedule(
         .toMap
     }
 
+  /** Copies [[readerCopies]] builds, all values together. */
+  def readerCopyCount: Int = readerCopies.values.map(_.size).sum
+
+  /**
+   * Whether unit `u` takes operand `x` of an operation issued in cycle `issue` from its copy of `x`'s
+   * register ([[readerCopies]]): a read within the interval after `x` is ready (later reads take the chain's
+   * stages).
+   */
+  def readsCopy(x: NodeId, u: Int, issue: Int): Boolean =
+    issue - ready(x.index).get < ii && readerCopies.get(x).exists(_.contains(u))
+
   /** Multiplies bound to each multiplier unit, with their residues. */
   lazy val mulBindings: IndexedSeq[Seq[(Int, NodeId)]] = {
     val bound =

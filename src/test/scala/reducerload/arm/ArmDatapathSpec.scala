@@ -85,7 +85,7 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       (if (p.schedule.sharedRegisters.isEmpty) ""
        else s" ${p.schedule.sharedRegisters.size} shared registers") +
       (if (p.schedule.readerCopies.isEmpty) ""
-       else s" ${p.schedule.readerCopies.values.map(_.size).sum} copies")
+       else s" ${p.schedule.readerCopyCount} copies")
     ArmChecks.run(
       this,
       label,
