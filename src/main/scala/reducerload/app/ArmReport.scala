@@ -2,7 +2,8 @@ package reducerload.app
 
 import com.typesafe.config.{ConfigRenderOptions, ConfigValueFactory}
 import chisel3.Data
-import reducerload.arm.{ArmIO, ArmParams}
+import reducerload.arm.{ArmIO, ArmParams, Dynamics}
+import reducerload.dynamics.Rnea
 import reducerload.compiler.{DeviceFit, Fitted, Resource}
 import reducerload.monitor.MonitoredArmIO
 import reducerload.fixedpoint.FixedFormat
@@ -187,8 +188,21 @@ final case class ArmReport(
   /** Products read off their unit's output past registered routes (`schedule.forward-slack`). */
   private def forwardedPastRoutes: Int = if (schedule.routed) p.graph.ids.count(schedule.forwarded) else 0
 
+  /** The runs of parallel axes RNEA crosses in one rotation (`datapath.compose-parallel-axes`), if any. */
+  private def composedRuns: String = {
+    val runs =
+      if (p.dynamics == Dynamics.Rnea && p.datapath.composeParallelAxes)
+        Rnea.parallelRuns(p.chain).filter(_.size > 1)
+      else Nil
+    if (runs.isEmpty) ""
+    else
+      runs
+        .map(r => s"joints ${r.head + 1}-${r.last + 1}")
+        .mkString("; parallel axes crossed in one rotation: ", ", ", "")
+  }
+
   def summaryLines: Seq[String] = estimate.toSeq.flatMap(_.lines) ++ Seq(
-    s"Computes: ${p.dynamics.description}",
+    s"Computes: ${p.dynamics.description}" + composedRuns,
     s"Robot: ${p.chain.name}, ${joints.size} moving joints (numbered from the base), gravity ${p.chain.gravity.toSeq.mkString("(", ", ", ")")} m/s^2" +
       p.gravity.fold("")(g => s" at reset; run-time gravity, each component within ±${g.maxMagnitude} m/s^2"),
     "Joints kept:"

@@ -2,7 +2,7 @@ package reducerload.arm
 
 import reducerload.config.DatapathParams
 import reducerload.cordic.CordicParams
-import reducerload.dynamics.{JointState, Rnea, Sym3, V3}
+import reducerload.dynamics.{CosSin, JointState, Rnea, Sym3, V3}
 import reducerload.fixedpoint.Rounding
 import reducerload.graph._
 import reducerload.load.{Joint3Load, LoadModel}
@@ -110,7 +110,15 @@ final case class ArmParams(
    */
   private lazy val built: (Graph, RangeHints) = {
     val (written, hints) = dynamics match {
-      case Dynamics.Rnea => ArmParams.rneaGraph(chain, maxVelocity, maxAcceleration, payload, gravity)
+      case Dynamics.Rnea =>
+        ArmParams.rneaGraph(
+          chain,
+          maxVelocity,
+          maxAcceleration,
+          payload,
+          gravity,
+          datapath.composeParallelAxes
+        )
       case Dynamics.Joint3(model, r) => (ArmParams.joint3Graph(chain, model, r), RangeHints.none)
     }
     datapath.reassociate match {
@@ -273,7 +281,8 @@ object ArmParams {
       maxVelocity: Seq[Double],
       maxAcceleration: Seq[Double],
       payload: Option[PayloadSpec] = None,
-      gravity: Option[GravitySpec] = None
+      gravity: Option[GravitySpec] = None,
+      composeParallelAxes: Boolean = false
   ): (Graph, RangeHints) =
     GraphBuilder.buildWithBounds { b =>
       val va = new TrackingAlgebra(b)
@@ -304,7 +313,14 @@ object ArmParams {
         val g = Signal.gravity.map(s => va.leaf(b.input(s), spec.maxMagnitude))
         V3(g(0), g(1), g(2))
       }
-      val torques = Rnea.torques(chain, state, added.toMap, runtimeGravity)(va)
+      // cos and sin of a run of joints' summed angle: one CORDIC angle, the binary angles added.
+      val summed = Option.when(composeParallelAxes) { (span: Range) =>
+        CosSin(
+          va.leaf(b.trig(TrigFn.Cos, AngleSum.of(span: _*)), 1.0),
+          va.leaf(b.trig(TrigFn.Sin, AngleSum.of(span: _*)), 1.0)
+        )
+      }
+      val torques = Rnea.torques(chain, state, added.toMap, runtimeGravity, summed)(va)
       (chain.joints.map(_.name).zip(torques.map(_.node)), va.hints)
     }
 

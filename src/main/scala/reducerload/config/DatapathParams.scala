@@ -38,6 +38,10 @@ import reducerload.graph.Reassociation
  *   products too, and the constants on the critical path pushed into the sums they scale
  *   ([[reducerload.graph.Reassociate]]): a shorter critical path; the same values, their formats and bounds
  *   derived anew
+ * @param composeParallelAxes
+ *   whether RNEA crosses each run of consecutive parallel axes in one rotation by the summed angle
+ *   ([[reducerload.dynamics.Rnea.parallelRuns]]): fewer multiply levels on the critical path for a few more
+ *   products and sin/cos pairs
  */
 final case class DatapathParams(
     velocityFracBits: Int = 20,
@@ -49,7 +53,8 @@ final case class DatapathParams(
     multiplierLatency: Int = 1,
     memoryDelayMinCycles: Int = 4,
     registeredRoutes: Option[Boolean] = None,
-    reassociate: Reassociation = Reassociation.Off
+    reassociate: Reassociation = Reassociation.Off,
+    composeParallelAxes: Boolean = false
 ) {
   reducerload.graph.Numerics.checkFracBits(
     velocityFracBits,

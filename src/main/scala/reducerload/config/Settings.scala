@@ -530,6 +530,16 @@ object Settings {
     _.datapath.reassociate
   )
 
+  val datapathComposeParallelAxes = new Switch(
+    "datapath.compose-parallel-axes",
+    "",
+    "model rnea: each run of consecutive joints with parallel axes (a UR5's shoulder, elbow and wrist 1) is " +
+      "crossed in one rotation by its summed angle, in both passes: fewer multiply levels on the critical path " +
+      "(a shorter latency) for more products and sin/cos pairs (docs/design.md, \"Parallel axes\")",
+    Nil,
+    _.datapath.composeParallelAxes
+  )
+
   val scheduleClocksPerSample = new Count(
     "schedule.clocks-per-sample",
     "clocks",
@@ -856,6 +866,7 @@ object Settings {
     datapathMemoryDelayMinCycles,
     datapathRegisteredRoutes,
     datapathReassociate,
+    datapathComposeParallelAxes,
     scheduleClocksPerSample,
     scheduleMaxMultipliers,
     scheduleCordicUnits,
@@ -1008,7 +1019,8 @@ object Settings {
           multiplierLatency = v(datapathMultiplierLatency),
           memoryDelayMinCycles = v(datapathMemoryDelayMinCycles),
           registeredRoutes = v(datapathRegisteredRoutes),
-          reassociate = v(datapathReassociate)
+          reassociate = v(datapathReassociate),
+          composeParallelAxes = v(datapathComposeParallelAxes)
         ),
         targetError = v(numericTargetError),
         device = DeviceTarget(v(deviceName), v(deviceMaxLogicFraction)),

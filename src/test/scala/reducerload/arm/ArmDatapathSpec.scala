@@ -32,7 +32,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       reassociate: Reassociation = Reassociation.Off,
       routed: Boolean = false,
       memoryDelayMinCycles: Option[Int] = None,
-      cordic: CordicParams => CordicParams = identity
+      cordic: CordicParams => CordicParams = identity,
+      composeParallelAxes: Boolean = false
   ): Unit = {
     val traces = ArmGolden.of(robot)
     traces.foreach(t =>
@@ -52,7 +53,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
         datapath = config.datapath.copy(
           reassociate = reassociate,
           registeredRoutes = Some(routed),
-          memoryDelayMinCycles = memoryDelayMinCycles.getOrElse(config.datapath.memoryDelayMinCycles)
+          memoryDelayMinCycles = memoryDelayMinCycles.getOrElse(config.datapath.memoryDelayMinCycles),
+          composeParallelAxes = composeParallelAxes
         )
       )
     )
@@ -82,6 +84,7 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       (if (targetError.isEmpty) "" else s" target ${targetError.mkString(",")} (F=${p.internalFracBits})") +
       (if (reassociate == Reassociation.Off) "" else s" reassociate $reassociate") +
       (if (routed) " registered routes" else "") +
+      (if (composeParallelAxes) " parallel axes composed" else "") +
       (if (p.schedule.sharedRegisters.isEmpty) ""
        else s" ${p.schedule.sharedRegisters.size} shared registers") +
       (if (p.schedule.readerCopies.isEmpty) ""
@@ -248,6 +251,27 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
         reassociate = Reassociation.Sums,
         routed = true,
         memoryDelayMinCycles = Some(0)
+      )
+    }
+
+  it should "cross the UR5's parallel axes (joints 2-4) in one rotation each, the latency recipe of issue 33 " +
+    "(18 clocks per sample, 66 blocks, registered routes, the solver's schedule, sums and products " +
+    "reassociated, a 1e-3 N·m target), bit-exact under back-pressure" in {
+      runRobot(
+        "ur5",
+        69L,
+        ScheduleRequest(
+          clocksPerSample = Some(18),
+          maxMultipliers = Some(66),
+          listOrder = Some(ListOrder.ByHeight),
+          refinement = reducerload.app.ArmSweep.fastRefinement,
+          scheduler = Scheduler.CpSat
+        ),
+        targetError = Seq(1e-3),
+        reassociate = Reassociation.SumsAndProducts,
+        routed = true,
+        memoryDelayMinCycles = Some(34),
+        composeParallelAxes = true
       )
     }
 

@@ -47,6 +47,19 @@ object RandomChains {
     gravity = Vec3(0, 0, -9.81)
   )
 
+  /**
+   * A random arm with runs of parallel axes: each joint after the first, with even odds, turns about an axis
+   * its fixed rotation carries onto its parent's ([[Rnea.parallelRuns]]).
+   */
+  def parallelChain(rng: Random, joints: Int): SerialChain = {
+    val random = chain(rng, joints)
+    val turned = random.joints.tail.foldLeft(Vector(random.joints.head)) { (done, j) =>
+      if (rng.nextBoolean()) done :+ j
+      else done :+ j.copy(axis = j.origin.rotation.transpose * done.last.axis)
+    }
+    random.copy(name = s"parallel$joints", joints = turned)
+  }
+
   /** Angles anywhere on the circle, velocities and accelerations uniform within their limits. */
   def sample(
       rng: Random,
