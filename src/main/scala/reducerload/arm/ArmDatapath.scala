@@ -362,17 +362,22 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
   // Angles: each joint's code from the input register, at the cycles its sums are issued.
   private val angleTaps = (0 until joints).map(j => held(angles(j), 1, schedule.angleReads(j)))
-  private def angleSum(angle: AngleSum, cycle: Int): UInt =
-    angle.terms.foldLeft(0.U(numerics.angleBits.W)) { case (acc, (j, k)) =>
+  // Each angle sum at its issue: added from the taps its register stages before (Schedule.angleSumStages).
+  private def angleSum(angle: AngleSum): UInt = {
+    val stages = schedule.angleSumStages(angle)
+    val cycle = schedule.angleSlot(angle).issue - stages
+    val sum = angle.terms.foldLeft(0.U(numerics.angleBits.W)) { case (acc, (j, k)) =>
       // binary angles wrap modulo one turn, as angles do
       (0 until k.abs).foldLeft(acc)((a, _) =>
         if (k > 0) a +% angleTaps(j)(cycle) else a -% angleTaps(j)(cycle)
       )
     }
+    ShiftRegister(sum, stages)
+  }
   private val cordicOutputs = schedule.cordicBindings.map { bound =>
     val unit = Module(new CordicSinCos(schedule.cordic))
     val sums = bound.map { case (residue, angle) =>
-      residue -> angleSum(angle, schedule.angleSlot(angle).issue)
+      residue -> angleSum(angle)
     }
     // no data register waits on valid; the datapath's own valid chain says which samples count
     unit.io.in.valid := true.B

@@ -360,6 +360,16 @@ final class Schedule(
     requestedCordic.copy(tableRouteRegister = requestedCordic.tableRouteRegister || routesRegistered)
 
   /**
+   * Registers between a sum of several joint angles and its CORDIC unit's input multiplexer: one wherever
+   * routes are registered, as for the CORDIC table (the sum's carry chains and the multiplexer in one clock
+   * limited the clock: docs/timing-closure.md), none for a joint's own angle.
+   */
+  def angleSumStages(angle: AngleSum): Int = if (routesRegistered && angle.weight > 1) 1 else 0
+
+  /** The first cycle `angle` can be issued to a CORDIC unit. */
+  private def angleEarliest(angle: AngleSum): Int = Schedule.firstAngleCycle + angleSumStages(angle)
+
+  /**
    * Each multiplier unit's shape: one unit per multiply at II = 1, else per class the fewest that fit its
    * multiplies in II slots.
    */
@@ -492,7 +502,7 @@ final class Schedule(
       r :+ (graph(id) match {
         case Const(_)       => None
         case Input(_)       => Some(inputCycle)
-        case Trig(_, _)     => Some(Schedule.firstAngleCycle + ownLatency(id))
+        case Trig(_, angle) => Some(angleEarliest(angle) + ownLatency(id))
         case op @ Mul(_, _) => Some(op.operands.map(at).max + ownLatency(id))
         case op             => Some(op.operands.map(x => read(x, at(x))).max + ownLatency(id))
       })
@@ -526,7 +536,7 @@ final class Schedule(
             s.angleSlots.get(angle) match {
               case Some(slot) => plain(Some(slot.issue + trigLatency), Some(slot))
               case None =>
-                val slot = place(s.taken, isMul = false, 0 until cordicUnits, Schedule.firstAngleCycle)
+                val slot = place(s.taken, isMul = false, 0 until cordicUnits, angleEarliest(angle))
                 s.copy(
                   ready = s.ready.updated(id.index, Some(slot.issue + trigLatency)),
                   slots = s.slots.updated(id.index, Some(slot)),
@@ -816,9 +826,12 @@ final class Schedule(
     ids.map(id => all.getOrElse(id.index, Nil).distinct.sorted)
   }
 
-  /** Cycles at which joint `j`'s angle is read from the input register: by the angle sums that contain it. */
+  /**
+   * Cycles at which joint `j`'s angle is read from the input register: by the angle sums that contain it,
+   * [[angleSumStages]] before their issue.
+   */
   def angleReads(j: Int): Seq[Int] =
-    angles.filter(_.joints.contains(j)).map(a => angleSlot(a).issue).distinct.sorted
+    angles.filter(_.joints.contains(j)).map(a => angleSlot(a).issue - angleSumStages(a)).distinct.sorted
 
   /**
    * `schedule.reader-copies` (registered routes): for each value in a register of its own that several

@@ -198,8 +198,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     runRobot("ur5", 47L, ScheduleRequest(clocksPerSample = None, maxMultipliers = Some(66)))
   }
 
-  it should "keep values in block-RAM banks read by address (storage = memory) on planar3 at 6, 8 (the CORDIC " +
-    "table's route register of registered routes) and 40 clocks per sample (there with 4 adder units, one left " +
+  it should "keep values in block-RAM banks read by address (storage = memory) on planar3 at 6, 8 (registered " +
+    "routes, parallel axes composed) and 40 clocks per sample (there with 4 adder units, one left " +
     "idle), bit-exact under back-pressure" in {
       runRobot(
         "planar3",
@@ -210,7 +210,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
         "planar3",
         50L,
         ScheduleRequest(clocksPerSample = Some(8), cordicUnits = Some(1), storage = Some(Storage.Memory)),
-        routed = true
+        routed = true,
+        composeParallelAxes = true
       )
       runRobot("planar3", 49L, ScheduleRequest(clocksPerSample = Some(6), storage = Some(Storage.Memory)))
     }

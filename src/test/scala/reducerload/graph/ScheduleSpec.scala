@@ -114,9 +114,10 @@ class ScheduleSpec extends AnyFlatSpec {
     if (routed) {
       val asap = g.ids.foldLeft(Vector.empty[Int]) { (r, id) =>
         r :+ (g(id) match {
-          case Op.Const(_)   => 0
-          case Op.Input(_)   => s(id).get
-          case Op.Trig(_, _) => Schedule.firstAngleCycle + latency(id)
+          case Op.Const(_) => 0
+          case Op.Input(_) => s(id).get
+          // a sum of several angles passes a register of its own first
+          case Op.Trig(_, a) => Schedule.firstAngleCycle + (if (a.weight > 1) 1 else 0) + latency(id)
           case op            => op.operands.map(x => r(x.index)).max + latency(id)
         })
       }
