@@ -38,7 +38,8 @@ object ArmSweep {
    * One point of the schedule axis: its name, the schedule asked for, the per-torque error target (none: the
    * default fraction bits), how sums (and products) are rebuilt (`datapath.reassociate`), whether routes
    * between units pass registers (`datapath.registered-routes`, with every held value in registers:
-   * `datapath.memory-delay-min-cycles = 0`, the combination measured to route) and a shorter CORDIC unit.
+   * `datapath.memory-delay-min-cycles = 0`, the combination measured to route), a shorter CORDIC unit and
+   * whether runs of parallel axes are crossed in one rotation (`datapath.compose-parallel-axes`).
    */
   final case class Point(
       name: String,
@@ -46,7 +47,8 @@ object ArmSweep {
       targetError: Seq[Double] = Nil,
       reassociate: Reassociation = Reassociation.Off,
       routed: Boolean = false,
-      cordic: Option[ShortCordic] = None
+      cordic: Option[ShortCordic] = None,
+      composeParallelAxes: Boolean = false
   ) {
 
     /** The robot's golden-trace configuration with this point's settings. */
@@ -60,7 +62,8 @@ object ArmSweep {
         datapath = base.datapath.copy(
           reassociate = reassociate,
           registeredRoutes = Some(routed),
-          memoryDelayMinCycles = if (routed) 0 else base.datapath.memoryDelayMinCycles
+          memoryDelayMinCycles = if (routed) 0 else base.datapath.memoryDelayMinCycles,
+          composeParallelAxes = composeParallelAxes
         )
       )
   }
@@ -95,7 +98,9 @@ object ArmSweep {
    * with registered routes (the design that routes on the clock proxy), also on the solver's shortest
    * schedule (`schedule.scheduler = cp-sat`), and on it with products reassociated, the products of slack 0
    * forwarded and a CORDIC unit of two micro-rotations per stage from a 2^11 table (`datapath.reassociate =
-   * sums-and-products`, `schedule.forward-slack = 0`: issue 33's latency point); then values in block-RAM
+   * sums-and-products`, `schedule.forward-slack = 0`: issue 33's first latency point), and on it with
+   * products reassociated and runs of parallel axes crossed in one rotation, no product forwarded
+   * (`datapath.compose-parallel-axes`: issue 33's latency point without forwarding); then values in block-RAM
    * banks (`schedule.storage = memory`) at 1e-3 N·m from 32 to 512 clocks (88: the UR5 design that meets
    * issue 12's targets; 114: the Panda's, and at 114 with 5 adder units, which the Panda's latency target
    * needs).
@@ -118,6 +123,13 @@ object ArmSweep {
         reassociate = Reassociation.SumsAndProducts,
         routed = true,
         cordic = Some(ShortCordic(tableBits = 11, iterationsPerStage = 2))
+      ),
+      fast.copy(
+        name = "parallel66-t1e-3",
+        request = fast.request.copy(scheduler = Scheduler.CpSat),
+        reassociate = Reassociation.SumsAndProducts,
+        routed = true,
+        composeParallelAxes = true
       )
     ) ++
       Seq(32, 64, 88, 114, 128, 512).map(c =>
