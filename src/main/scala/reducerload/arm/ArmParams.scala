@@ -274,7 +274,9 @@ object ArmParams {
 
   /**
    * Every joint's torque as a graph output, named after the joint; beside it, magnitude bounds that RNEA's
-   * vectors prove over the declared ranges (rotations keep lengths), for the range analysis.
+   * vectors prove over the declared ranges (rotations keep lengths), for the range analysis. With
+   * `composeParallelAxes` each run of parallel axes is crossed in one rotation by its summed angle
+   * ([[Rnea.torques]]).
    */
   def rneaGraph(
       chain: SerialChain,
@@ -286,10 +288,14 @@ object ArmParams {
   ): (Graph, RangeHints) =
     GraphBuilder.buildWithBounds { b =>
       val va = new TrackingAlgebra(b)
+      // cos and sin of an angle sum: one CORDIC angle (binary angles add).
+      def cosSin(angle: AngleSum) =
+        CosSin(va.leaf(b.trig(TrigFn.Cos, angle), 1.0), va.leaf(b.trig(TrigFn.Sin, angle), 1.0))
       val state = chain.joints.indices.map { j =>
+        val cs = cosSin(AngleSum.of(j))
         JointState(
-          va.leaf(b.trig(TrigFn.Cos, AngleSum.of(j)), 1.0),
-          va.leaf(b.trig(TrigFn.Sin, AngleSum.of(j)), 1.0),
+          cs.cos,
+          cs.sin,
           va.leaf(b.input(Signal.Velocity(j)), maxVelocity(j)),
           va.leaf(b.input(Signal.Acceleration(j)), maxAcceleration(j))
         )
@@ -313,13 +319,7 @@ object ArmParams {
         val g = Signal.gravity.map(s => va.leaf(b.input(s), spec.maxMagnitude))
         V3(g(0), g(1), g(2))
       }
-      // cos and sin of a run of joints' summed angle: one CORDIC angle, the binary angles added.
-      val summed = Option.when(composeParallelAxes) { (span: Range) =>
-        CosSin(
-          va.leaf(b.trig(TrigFn.Cos, AngleSum.of(span: _*)), 1.0),
-          va.leaf(b.trig(TrigFn.Sin, AngleSum.of(span: _*)), 1.0)
-        )
-      }
+      val summed = Option.when(composeParallelAxes)((span: Range) => cosSin(AngleSum.of(span: _*)))
       val torques = Rnea.torques(chain, state, added.toMap, runtimeGravity, summed)(va)
       (chain.joints.map(_.name).zip(torques.map(_.node)), va.hints)
     }
