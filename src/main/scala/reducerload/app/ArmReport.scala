@@ -2,8 +2,7 @@ package reducerload.app
 
 import com.typesafe.config.{ConfigRenderOptions, ConfigValueFactory}
 import chisel3.Data
-import reducerload.arm.{ArmIO, ArmParams, Dynamics}
-import reducerload.dynamics.Rnea
+import reducerload.arm.{ArmIO, ArmParams}
 import reducerload.compiler.{DeviceFit, Fitted, Resource}
 import reducerload.monitor.MonitoredArmIO
 import reducerload.fixedpoint.FixedFormat
@@ -189,17 +188,12 @@ final case class ArmReport(
   private def forwardedPastRoutes: Int = if (schedule.routed) p.graph.ids.count(schedule.forwarded) else 0
 
   /** The runs of parallel axes RNEA crosses in one rotation (`datapath.compose-parallel-axes`), if any. */
-  private def composedRuns: String = {
-    val runs =
-      if (p.dynamics == Dynamics.Rnea && p.datapath.composeParallelAxes)
-        Rnea.parallelRuns(p.chain).filter(_.size > 1)
-      else Nil
-    if (runs.isEmpty) ""
+  private def composedRuns: String =
+    if (p.composedRuns.isEmpty) ""
     else
-      runs
+      p.composedRuns
         .map(r => s"joints ${r.head + 1}-${r.last + 1}")
         .mkString("; parallel axes crossed in one rotation: ", ", ", "")
-  }
 
   def summaryLines: Seq[String] = estimate.toSeq.flatMap(_.lines) ++ Seq(
     s"Computes: ${p.dynamics.description}" + composedRuns,
