@@ -3,6 +3,7 @@ package reducerload.app
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.config.LoadParams
 import reducerload.monitor.MonitorDoc
+import reducerload.testutil.Scratch
 
 import java.nio.charset.StandardCharsets
 import java.nio.file.{Files, Path, Paths}
@@ -149,7 +150,7 @@ class DocsFreshnessSpec extends AnyFlatSpec {
   }
 
   it should "refuse a CPU-anchor file with a missing column or a bad number, naming the file and line" in {
-    val dir = Files.createTempDirectory("cpu-anchors")
+    val dir = Scratch.dir("cpu-anchors-")
     val good = read(sweepDir.resolve("cpu.csv"))
     def refused(text: String, expected: String): Unit = {
       Files.write(dir.resolve("cpu.csv"), text.getBytes(StandardCharsets.UTF_8))
