@@ -94,8 +94,10 @@ def yosys_label(exe):
 def run(cmd, log, cwd, minutes=None):
     """Run `cmd` with its output in `log`; a failure ends the estimate. With `minutes`, a run still going then
     is stopped: returns False (True when it finished)."""
+    # The tools' own temporary directories (yowasp's, one per run) go in `cwd`: a run stopped here is killed
+    # before it can remove them, and `cwd` goes with the estimate's work directory.
     with open(log, "w") as f:
-        p = subprocess.Popen(cmd, stdout=f, stderr=subprocess.STDOUT, cwd=cwd)
+        p = subprocess.Popen(cmd, stdout=f, stderr=subprocess.STDOUT, cwd=cwd, env=dict(os.environ, TMPDIR=os.path.abspath(cwd)))
         try:
             code = p.wait(timeout=None if minutes is None else minutes * 60)
         except subprocess.TimeoutExpired:
@@ -428,70 +430,73 @@ def main():
         fail(f"--minutes {a.minutes}: a positive number of minutes")
     work = a.keep or tempfile.mkdtemp(prefix="estimate-")
     os.makedirs(work, exist_ok=True)
-    if len({os.path.basename(f) for f in a.files}) != len(a.files):
-        fail("input files must have distinct names")
-    for f in a.files:
-        shutil.copy(f, os.path.join(work, os.path.basename(f)))
-    t0 = time.time()
-    r = cyclone_estimate(a.files, a.top, work)
-    r["seconds_cyclone"] = round(time.time() - t0, 1)
-    r["fmax_ecp5_mhz"], r["critical_path"] = None, None
-    runs = []
-    if not a.no_fmax:
-        t1 = time.time()
-        ecp5_synthesis(a.files, a.top, work)
-        # one synthesis; each seed places and routes a copy of its netlist in a directory of its own
-        dirs = [work] if len(a.seed) == 1 else [os.path.join(work, f"seed{s}") for s in a.seed]
-        for d in dirs if len(dirs) > 1 else []:
-            os.makedirs(d, exist_ok=True)
-            shutil.copy(os.path.join(work, "ecp5.json"), os.path.join(d, "ecp5.json"))
-        with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
-            runs = list(pool.map(lambda sd: nextpnr(sd[1], a.freq, sd[0], a.device, not a.no_route, a.minutes),
-                                 zip(a.seed, dirs)))
-        done = [x for x in runs if x["fmax_mhz"] is not None]
-        # the slowest seed's clock: the figure a design can be said to reach on this proxy
-        worst = min(done, key=lambda x: x["fmax_mhz"]) if done else None
-        r["fmax_ecp5_mhz"] = worst["fmax_mhz"] if worst else None
-        r["critical_path"] = worst["critical_path"] if worst else None
-        r["routed"] = not a.no_route and len(done) == len(runs)
-        r["seconds_fmax"] = round(time.time() - t1, 1)
-        if len(runs) > 1:
-            r["runs"] = runs
-    r["top"] = a.top
-    r["seed"] = a.seed[0] if len(a.seed) == 1 else a.seed
-    r["device"] = "LFE5U-" + a.device.upper().replace("K", "F")
-    print(f"| design | est. LEs | arith LEs | logic LEs | registers | 18x18 mults | memory bits | M9K blocks | ECP5-6 Fmax |")
-    print(f"| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
-    if a.no_fmax:
-        fm = "not run"
-    elif r["fmax_ecp5_mhz"] is None:
-        fm = "not routed"
-    else:
-        fm = f"{r['fmax_ecp5_mhz']:.1f} MHz" + (" (slowest seed)" if len(runs) > 1 else "")
-        if a.no_route:
-            fm += " (after placement, not routed)"
-    print(f"| {a.top} | {r['les']} | {r['les_arith']} | {r['les_logic']} | {r['registers']} | {r['mult18x18']} | {r['memory_bits']} | {r['m9k_blocks']} | {fm} |")
-    if len(runs) > 1 or any(not x["routed"] for x in runs if not a.no_route):
-        print()
-        print("| seed | after placement | wirelength | routed | minutes | critical path |")
-        print("| --- | --- | --- | --- | --- | --- |")
-        for x in runs:
-            if x["routed"]:
-                routed = f"{x['fmax_mhz']:.1f} MHz"
-            elif a.no_route:
-                routed = "not asked"
-            else:
-                left = f", {x['arcs_left']:,} arcs left" if x["arcs_left"] is not None else ""
-                routed = f"stopped{left}"
-            placed = f"{x['placed_mhz']:.1f} MHz" if x["placed_mhz"] is not None else "not placed"
-            print(f"| {x['seed']} | {placed} | {x['wirelength'] if x['wirelength'] is not None else '-'} | {routed} | "
-                  f"{x['seconds'] / 60:.1f} | {x['critical_path'] or '-'} |")
-    if a.json:
-        with open(a.json, "w") as f:
-            json.dump(r, f, indent=2, sort_keys=True)
-            f.write("\n")
-    if not a.keep:
-        shutil.rmtree(work, ignore_errors=True)
+    try:
+        if len({os.path.basename(f) for f in a.files}) != len(a.files):
+            fail("input files must have distinct names")
+        for f in a.files:
+            shutil.copy(f, os.path.join(work, os.path.basename(f)))
+        t0 = time.time()
+        r = cyclone_estimate(a.files, a.top, work)
+        r["seconds_cyclone"] = round(time.time() - t0, 1)
+        r["fmax_ecp5_mhz"], r["critical_path"] = None, None
+        runs = []
+        if not a.no_fmax:
+            t1 = time.time()
+            ecp5_synthesis(a.files, a.top, work)
+            # one synthesis; each seed places and routes a copy of its netlist in a directory of its own
+            dirs = [work] if len(a.seed) == 1 else [os.path.join(work, f"seed{s}") for s in a.seed]
+            for d in dirs if len(dirs) > 1 else []:
+                os.makedirs(d, exist_ok=True)
+                shutil.copy(os.path.join(work, "ecp5.json"), os.path.join(d, "ecp5.json"))
+            with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
+                runs = list(pool.map(lambda sd: nextpnr(sd[1], a.freq, sd[0], a.device, not a.no_route, a.minutes),
+                                     zip(a.seed, dirs)))
+            done = [x for x in runs if x["fmax_mhz"] is not None]
+            # the slowest seed's clock: the figure a design can be said to reach on this proxy
+            worst = min(done, key=lambda x: x["fmax_mhz"]) if done else None
+            r["fmax_ecp5_mhz"] = worst["fmax_mhz"] if worst else None
+            r["critical_path"] = worst["critical_path"] if worst else None
+            r["routed"] = not a.no_route and len(done) == len(runs)
+            r["seconds_fmax"] = round(time.time() - t1, 1)
+            if len(runs) > 1:
+                r["runs"] = runs
+        r["top"] = a.top
+        r["seed"] = a.seed[0] if len(a.seed) == 1 else a.seed
+        r["device"] = "LFE5U-" + a.device.upper().replace("K", "F")
+        print(f"| design | est. LEs | arith LEs | logic LEs | registers | 18x18 mults | memory bits | M9K blocks | ECP5-6 Fmax |")
+        print(f"| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+        if a.no_fmax:
+            fm = "not run"
+        elif r["fmax_ecp5_mhz"] is None:
+            fm = "not routed"
+        else:
+            fm = f"{r['fmax_ecp5_mhz']:.1f} MHz" + (" (slowest seed)" if len(runs) > 1 else "")
+            if a.no_route:
+                fm += " (after placement, not routed)"
+        print(f"| {a.top} | {r['les']} | {r['les_arith']} | {r['les_logic']} | {r['registers']} | {r['mult18x18']} | {r['memory_bits']} | {r['m9k_blocks']} | {fm} |")
+        if len(runs) > 1 or any(not x["routed"] for x in runs if not a.no_route):
+            print()
+            print("| seed | after placement | wirelength | routed | minutes | critical path |")
+            print("| --- | --- | --- | --- | --- | --- |")
+            for x in runs:
+                if x["routed"]:
+                    routed = f"{x['fmax_mhz']:.1f} MHz"
+                elif a.no_route:
+                    routed = "not asked"
+                else:
+                    left = f", {x['arcs_left']:,} arcs left" if x["arcs_left"] is not None else ""
+                    routed = f"stopped{left}"
+                placed = f"{x['placed_mhz']:.1f} MHz" if x["placed_mhz"] is not None else "not placed"
+                print(f"| {x['seed']} | {placed} | {x['wirelength'] if x['wirelength'] is not None else '-'} | {routed} | "
+                      f"{x['seconds'] / 60:.1f} | {x['critical_path'] or '-'} |")
+        if a.json:
+            with open(a.json, "w") as f:
+                json.dump(r, f, indent=2, sort_keys=True)
+                f.write("\n")
+    finally:
+        # a failure (estimate: ... and exit 2) leaves no work directory behind either
+        if not a.keep:
+            shutil.rmtree(work, ignore_errors=True)
 
 
 if __name__ == "__main__":
