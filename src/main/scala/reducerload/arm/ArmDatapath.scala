@@ -197,15 +197,48 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   }
 
   /**
+   * Kept copies of the phase flags, handed out one residue at a time, each copy serving `fanout` takers in
+   * the order they ask; `copy(r)` builds residue r's.
+   */
+  private final class FlagCopies(fanout: Int, copy: Int => Bool) {
+    private val handed = Array.fill(ii)(0)
+    private val copies = scala.collection.mutable.Map.empty[(Int, Int), Bool]
+    def apply(r: Int): Bool = {
+      val n = handed(r)
+      handed(r) = n + 1
+      copies.getOrElseUpdate((r, n / fanout), copy(r))
+    }
+  }
+
+  /**
+   * The phase flags the selects' decodes read with registered routes: each a kept copy of the ring's flag,
+   * shared by the partial ORs of up to [[ArmDatapath.decodeFanout]] decodes in the order they are built (a
+   * unit's ports, one after the other). Read straight from the ring, synthesis built the partial ORs of
+   * selects across the chip from each other's terms (a flag and the reset in a LUT shared by tens of
+   * partials, ORs of more flags chained from it): two to four LUTs apart by long routes, the limit of several
+   * runs (docs/timing-closure.md). A copy is a ring stage (the flag of the residue before, a clock later, the
+   * ring's reset value), so every decode is as before, cycle for cycle.
+   */
+  private lazy val decodeFlags =
+    new FlagCopies(
+      ArmDatapath.decodeFanout,
+      r => FixedHw.kept(RegNext(phaseIs((r + ii - 1) % ii), (r == 0).B))
+    )
+
+  /**
    * A register whose value in residue r is `table(r)`, decoded from the phase flags two clocks ahead: each
    * bit the OR of up to four flags into a register, then the OR of those into the select. No select waits on
    * a decode of flags from across the chip (with registered routes those paths limit the clock next). With
    * several `copies`, each select register is kept apart (one per slice of a wide register it steers). The
    * partial ORs are kept too, each select's its own: synthesis merges equal ones across selects, and a shared
    * partial OR reaching the selects of several groups across the chip limited the clock (timing-closure.md).
-   * They cost few logic elements (each packs with a LUT), so the resource prediction leaves them out.
+   * They cost few logic elements (each packs with a LUT), so the resource prediction leaves them out, and the
+   * flags' copies too ([[ArmDatapath.decodeFanout]]).
    */
   private def decodedAhead(table: IndexedSeq[Int], copies: Int): Seq[UInt] = {
+    // one copy of each flag for all of this decode's partial ORs
+    val taken = scala.collection.mutable.Map.empty[Int, Bool]
+    def flag(r: Int) = taken.getOrElseUpdate(r, decodeFlags(r))
     val bits = (0 until log2Ceil(table.max + 1).max(1)).map { b =>
       def set(r: Int) = (table(r % ii) >> b & 1) == 1
       val residues = (0 until ii).filter(r => set(r + 2))
@@ -216,7 +249,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
           residues
             .grouped(4)
             .toSeq
-            .map(g => FixedHw.kept(RegNext(g.map(phaseIs).reduce(_ || _), g.contains(ii - 1).B)))
+            .map(g => FixedHw.kept(RegNext(g.map(flag).reduce(_ || _), g.contains(ii - 1).B)))
         val select = partial.reduce(_ || _)
         if (copies == 1) Seq(RegNext(select, set(0).B))
         else Seq.fill(copies)(FixedHw.kept(RegNext(select, set(0).B)))
@@ -251,9 +284,11 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
   /** Routes between value registers and shared units pass registers (`datapath.registered-routes`). */
   private val routed = schedule.routed
 
-  /** Copies of each residue's phase flag handed out so far, and the first-level copies they come from. */
-  private val enablesHanded = Array.fill(ii)(0)
-  private val firstLevelEnables = scala.collection.mutable.Map.empty[(Int, Int), Bool]
+  /** First-level copies of the phase flags the held registers' enables come from ([[enableIn]]). */
+  private lazy val firstLevelEnables = new FlagCopies(
+    ArmDatapath.enableFanout,
+    r => FixedHw.kept(RegNext(phaseIs((r + ii - 2) % ii), ((r + ii - 1) % ii == 0).B))
+  )
 
   /**
    * The write enable of a held register written in cycle `cycle`: [[during]], or with registered routes a
@@ -271,14 +306,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     val residues = cycles.map(_ % ii).distinct
     if (!routed) residues.map(phaseIs).reduce(_ || _)
     else {
-      val firsts = residues.map { r =>
-        val n = enablesHanded(r)
-        enablesHanded(r) = n + 1
-        firstLevelEnables.getOrElseUpdate(
-          (r, n / ArmDatapath.enableFanout),
-          FixedHw.kept(RegNext(phaseIs((r + ii - 2) % ii), ((r + ii - 1) % ii == 0).B))
-        )
-      }
+      val firsts = residues.map(firstLevelEnables(_))
       FixedHw.kept(RegNext(firsts.reduce(_ || _), residues.contains(0).B))
     }
   }
@@ -616,6 +644,13 @@ object ArmDatapath {
    */
   def groupSelectBits(width: Int, members: Int): Int =
     if (members <= 1) 0 else reducerload.util.IntMath.ceilDiv(width, selectSliceBits) * log2Ceil(members)
+
+  /**
+   * Select decodes served by one copy of a phase flag with registered routes (the datapath's `decodeFlags`):
+   * about 1 % more logic elements on the UR5 and UR10; the only value measured, with which the decode left
+   * the limiting paths (docs/timing-closure.md).
+   */
+  val decodeFanout: Int = 4
 
   /** Held registers served by one first-level copy of a phase flag with registered routes. */
   val enableFanout: Int = 16
