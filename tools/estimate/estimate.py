@@ -428,11 +428,11 @@ def main():
         fail(f"--jobs {a.jobs}: at least 1")
     if a.minutes is not None and a.minutes <= 0:
         fail(f"--minutes {a.minutes}: a positive number of minutes")
+    if len({os.path.basename(f) for f in a.files}) != len(a.files):
+        fail("input files must have distinct names")
     work = a.keep or tempfile.mkdtemp(prefix="estimate-")
     os.makedirs(work, exist_ok=True)
     try:
-        if len({os.path.basename(f) for f in a.files}) != len(a.files):
-            fail("input files must have distinct names")
         for f in a.files:
             shutil.copy(f, os.path.join(work, os.path.basename(f)))
         t0 = time.time()

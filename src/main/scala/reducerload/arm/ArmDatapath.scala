@@ -647,8 +647,8 @@ object ArmDatapath {
 
   /**
    * Select decodes served by one copy of a phase flag with registered routes (the datapath's `decodeFlags`):
-   * about 1 % more logic elements on the UR5 and UR10; the only value measured, with which the decode left
-   * the limiting paths (docs/timing-closure.md).
+   * the only value measured; its logic elements and the paths it took off the limit are in
+   * docs/timing-closure.md ("the select decode's flags").
    */
   val decodeFanout: Int = 4
 

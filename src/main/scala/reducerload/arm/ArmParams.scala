@@ -105,16 +105,16 @@ final case class ArmParams(
   )
 
   /**
-   * The dynamics on graph nodes, the datapath's structure written once, and the vector-level bounds proved
-   * while building it.
-   */
-  /**
    * The runs of parallel axes RNEA crosses in one rotation (`datapath.compose-parallel-axes`, model rnea).
    */
   lazy val composedRuns: Seq[Range] =
     if (dynamics == Dynamics.Rnea && datapath.composeParallelAxes) Rnea.parallelRuns(chain).filter(_.size > 1)
     else Nil
 
+  /**
+   * The dynamics on graph nodes, the datapath's structure written once, and the vector-level bounds proved
+   * while building it.
+   */
   private lazy val built: (Graph, RangeHints) = {
     val (written, hints) = dynamics match {
       case Dynamics.Rnea =>
