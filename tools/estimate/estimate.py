@@ -35,6 +35,7 @@ import math
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -91,6 +92,20 @@ def yosys_label(exe):
     return f"{os.path.basename(exe)} {yosys_release(exe)}"
 
 
+# The tools running now (several with --jobs), killed when the estimate is stopped.
+RUNNING = set()
+STOPPING = []
+
+
+def stop(signum, frame):
+    """SIGTERM (a sweep's timeout, a batch system): the tools go first, then the run ends through main's
+    `finally`, which removes the work directory; the default action would leave both behind."""
+    STOPPING.append(signum)
+    for p in list(RUNNING):
+        p.kill()
+    sys.exit(128 + signum)
+
+
 def run(cmd, log, cwd, minutes=None):
     """Run `cmd` with its output in `log`; a failure ends the estimate. With `minutes`, a run still going then
     is stopped: returns False (True when it finished)."""
@@ -98,12 +113,21 @@ def run(cmd, log, cwd, minutes=None):
     # before it can remove them, and `cwd` goes with the estimate's work directory.
     with open(log, "w") as f:
         p = subprocess.Popen(cmd, stdout=f, stderr=subprocess.STDOUT, cwd=cwd, env=dict(os.environ, TMPDIR=os.path.abspath(cwd)))
+        RUNNING.add(p)
         try:
             code = p.wait(timeout=None if minutes is None else minutes * 60)
         except subprocess.TimeoutExpired:
             p.kill()
             p.wait()
             return False
+        except BaseException:  # Ctrl-C: the tool goes too, then the work directory
+            p.kill()
+            p.wait()
+            raise
+        finally:
+            RUNNING.discard(p)
+    if STOPPING:  # killed by `stop`, not a tool's failure
+        return False
     if code != 0:
         tail = open(log).read().splitlines()[-15:]
         fail(f"{os.path.basename(cmd[0])} failed ({log}):\n" + "\n".join(tail))
@@ -421,6 +445,7 @@ def main():
                     help="stop nextpnr after placement: its estimate then (no bound on the routed clock; to compare designs the router does not finish)")
     ap.add_argument("--keep", help="keep the work files in this directory (one subdirectory per seed with several)")
     a = ap.parse_args()
+    signal.signal(signal.SIGTERM, stop)
     for f in a.files:
         if not os.path.isfile(f):
             fail(f"{f}: no such file")

@@ -134,8 +134,13 @@ def estimate_job(top, verilog, seed, fmax, timeout, estimate_dir):
             status = "ok" if p.returncode == 0 and os.path.isfile(out) else "failed"
             error = None if status == "ok" else f"estimate.py exited {p.returncode}"
         except subprocess.TimeoutExpired:
-            os.killpg(p.pid, signal.SIGKILL)
-            log, _ = p.communicate()
+            # SIGTERM first: estimate.py then stops its tools and removes its work directory.
+            os.killpg(p.pid, signal.SIGTERM)
+            try:
+                log, _ = p.communicate(timeout=30)
+            except subprocess.TimeoutExpired:
+                os.killpg(p.pid, signal.SIGKILL)
+                log, _ = p.communicate()
             status, error = "failed", f"timed out after {timeout} s"
         estimate = json.load(open(out)) if status == "ok" else None
     return {"status": status, "error": error, "estimate": estimate, "log": " ".join(cmd) + "\n" + (log or ""),

@@ -41,6 +41,10 @@ started = []
 
 
 def start(cmd, log, env=None):
+    # Temporary files in the test's own directory: a worker killed mid-job (check 1) cannot remove its job's.
+    tmp = os.path.join(os.path.dirname(os.path.abspath(log)), "tmp")
+    os.makedirs(tmp, exist_ok=True)
+    env = dict(env if env is not None else os.environ, TMPDIR=tmp)
     p = subprocess.Popen(cmd, stdout=open(log, "w"), stderr=subprocess.STDOUT, start_new_session=True, env=env)
     started.append(p)
     return p
