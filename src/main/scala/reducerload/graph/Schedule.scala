@@ -516,7 +516,7 @@ final class Schedule(
    * Clocks each node can be late, units free and no product forwarded, before the last output is: 0 on a
    * longest path of the dependences. `schedule.forward-slack` forwards the products within it.
    */
-  private lazy val slack: IndexedSeq[Int] = {
+  private[graph] lazy val slack: IndexedSeq[Int] = {
     val ready = unitsUnbounded((_, r) => r)
     val end = lastOutput(ready)
     ids.map(id => end - ready(id.index).getOrElse(0) - (height(id.index) - ownLatency(id)))

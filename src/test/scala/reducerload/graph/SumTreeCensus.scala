@@ -19,6 +19,9 @@ import reducerload.app.Cli
  */
 object SumTreeCensus {
 
+  /** A sum (`root`), the sums below it read by it alone (`sums`, the root included) and what they read. */
+  private final case class Tree(root: NodeId, sums: Seq[NodeId], leaves: Seq[NodeId])
+
   def main(args: Array[String]): Unit = {
     val arm = Cli.parse("emit", args.toSeq, Nil).compiled.arm
     val g = arm.graph
@@ -34,9 +37,9 @@ object SumTreeCensus {
       s +: g(s).operands.filter(o => isSum(o) && readOnceBySum(o)).flatMap(inside)
     def leaves(s: NodeId): Seq[NodeId] =
       inside(s).flatMap(g(_).operands).filterNot(o => isSum(o) && readOnceBySum(o))
-    val trees = g.ids.filter(s => isSum(s) && !readOnceBySum(s)).map(r => (r, inside(r), leaves(r)))
-    val kept = trees.filter(_._3.count(accumulable) >= 2)
-    val products = kept.flatMap(_._3.filter(accumulable))
+    val trees = g.ids.filter(s => isSum(s) && !readOnceBySum(s)).map(r => Tree(r, inside(r), leaves(r)))
+    val kept = trees.filter(_.leaves.count(accumulable) >= 2)
+    val products = kept.flatMap(_.leaves.filter(accumulable))
     println(
       s"${muls.size} products (${muls.map(width).sum} bits), ${accumulable.size} of them read once by a sum"
     )
@@ -44,53 +47,34 @@ object SumTreeCensus {
     println("| leaves | of them products read once | trees |")
     println("| --- | --- | --- |")
     trees
-      .groupBy(t => (t._3.size, t._3.count(accumulable)))
+      .groupBy(t => (t.leaves.size, t.leaves.count(accumulable)))
       .toSeq
       .sortBy(_._1)
       .foreach { case ((n, p), ts) => println(s"| $n | $p | ${ts.size} |") }
     println()
-    // Slack by the dependences alone (a unit free whenever asked): each node's ready cycle, its longest chain
-    // of latencies to an output, and the tree's root's distance from the longest chain. k products on one unit
-    // are ready k - 1 clocks after the first, plus the accumulator's clock, where the tree sums them in
-    // ceil(log2 k) levels: the tree can be accumulated at no latency when its root's slack covers the difference.
+    // k products on one unit are ready k - 1 clocks after the first, plus the accumulator's clock, where the
+    // tree sums them in ceil(log2 k) levels: the tree can be accumulated at no latency when its root's slack by
+    // the dependences alone ([[Schedule.slack]]) covers the difference.
     val schedule = arm.schedule
-    def own(id: NodeId): Int = g(id) match {
-      case _: Op.Mul                 => schedule.mulLatency(id)
-      case _: Op.Trig                => schedule.trigLatency
-      case _: Op.Const | _: Op.Input => 0
-      case _                         => 1
-    }
-    val ready = g.ids.foldLeft(Vector.empty[Int]) { (r, id) =>
-      r :+ (g(id) match {
-        case _: Op.Const       => 0
-        case _: Op.Input       => schedule.inputCycle
-        case Op.Trig(_, angle) => Schedule.firstAngleCycle + schedule.angleSumStages(angle) + own(id)
-        case op                => op.operands.map(o => r(o.index)).max + own(id)
-      })
-    }
-    val height = g.ids.reverse.foldLeft(Map.empty[Int, Int]) { (h, id) =>
-      h + (id.index -> (own(id) + readBy(id.index).map(u => h(u.index)).maxOption.getOrElse(0)))
-    }
-    val bound = g.outputs.map(o => ready(o.node.index)).max
-    def slack(id: NodeId) = bound - (ready(id.index) + height(id.index) - own(id))
     def extra(k: Int) = k - (32 - Integer.numberOfLeadingZeros(k - 1))
     println(
       s"trees with two or more such products: ${kept.size}; their products ${products.size} (${products.map(width).sum} " +
-        s"capture bits), the sums inside them ${kept.map(_._2.size).sum} (${kept.flatMap(_._2).map(width).sum} adder " +
-        s"bits), roots ${kept.size} (${kept.map(t => width(t._1)).sum} bits); products of one fraction-bit count in " +
-        s"${kept.count(t => t._3.filter(accumulable).map(arm.analysis(_).format.fracBits).distinct.size == 1)} trees"
+        s"capture bits), the sums inside them ${kept.map(_.sums.size).sum} (${kept.flatMap(_.sums).map(width).sum} adder " +
+        s"bits), roots ${kept.size} (${kept.map(t => width(t.root)).sum} bits); products of one fraction-bit count in " +
+        s"${kept.count(t => t.leaves.filter(accumulable).map(arm.analysis(_).format.fracBits).distinct.size == 1)} trees"
     )
     println()
     println(
-      "| latency allowed over the dependences' | trees accumulated | products | capture bits | sums | adder bits |"
+      s"| latency allowed over the dependences' ${schedule.dependenceBound} cycles | trees accumulated | products | " +
+        "capture bits | sums | adder bits |"
     )
     println("| --- | --- | --- | --- | --- | --- |")
     Seq(0, 4, 9, 16).foreach { more =>
-      val free = kept.filter(t => slack(t._1) + more >= extra(t._3.count(accumulable)))
-      val freeProducts = free.flatMap(_._3.filter(accumulable))
+      val free = kept.filter(t => schedule.slack(t.root.index) + more >= extra(t.leaves.count(accumulable)))
+      val freeProducts = free.flatMap(_.leaves.filter(accumulable))
       println(
-        s"| +$more clocks (ready by ${bound + more}) | ${free.size} | ${freeProducts.size} | ${freeProducts.map(width).sum} | " +
-          s"${free.map(_._2.size).sum} | ${free.flatMap(_._2).map(width).sum} |"
+        s"| +$more | ${free.size} | ${freeProducts.size} | ${freeProducts.map(width).sum} | " +
+          s"${free.map(_.sums.size).sum} | ${free.flatMap(_.sums).map(width).sum} |"
       )
     }
   }
