@@ -206,7 +206,8 @@ final case class ArmReport(
     s"Schedule: $throughput, latency ${p.latency} cycles; multiplier units: ${schedule.unitSummary} (operand bits)" +
       s", ${schedule.multiplierBlocks} 18x18 blocks${schedule.request.maxMultipliers.fold("")(b => s" (budget $b)")}; " +
       s"${schedule.cordicUnits} CORDIC units for ${counts.sinCos} angles; " + p.banked.fold(
-        s"${counts.additions + counts.negations} adders; $heldBits register bits hold values between cycles" +
+        s"${counts.additions + counts.negations - schedule.accumulations.map(_.inner.size).sum} adders; " +
+          s"$heldBits register bits hold values between cycles" +
           (if (schedule.sharedRegisters.isEmpty) ""
            else
              s" (${schedule.sharedRegisters.map(_.members.size).sum} products take turns in " +
@@ -219,7 +220,11 @@ final case class ArmReport(
           (if (forwardedPastRoutes == 0) ""
            else
              s"; $forwardedPastRoutes products taken off their units by their one adder " +
-               s"(schedule.forward-slack ${schedule.request.forwardSlack.get})")
+               s"(schedule.forward-slack ${schedule.request.forwardSlack.get})") +
+          (if (schedule.accumulations.isEmpty) ""
+           else
+             s"; ${schedule.accumulations.map(_.terms.size).sum} products summed by ${schedule.accumulations.size} " +
+               s"accumulators (schedule.accumulate-slack ${schedule.request.accumulateSlack.get})")
       )(b =>
         s"storage memory: ${b.adderUnits} adder units for ${counts.additions + counts.negations} additions, ${b.banks.size} banks of block RAM " +
           s"(two read ports each, ${b.memoryBits} bits), latency bound from dependences ${b.dependenceBound} cycles; list order ${b.listOrder} (" +

@@ -457,6 +457,46 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       )
     }.toMap
 
+    /**
+     * The root's register of an accumulated tree ([[reducerload.graph.Accumulation]]): each product, rounded
+     * as its own register would hold it and aligned to the root's fraction bits, goes from its unit's output
+     * into one adder with the partial sum (none with the first product, subtracted where the tree subtracts
+     * it); the accumulator takes every sum, the root's register the last. Products of one unit rounded alike
+     * are one input of the adder.
+     */
+    def accumulate(a: Accumulation): SInt = {
+      val f = analysis(a.root).format
+      // each product on its unit's output in the cycle before it would be in a register of its own
+      def out(t: Accumulation.Term) = schedule(t.product).get - 1
+      val terms = a.terms.sortBy(out)
+      def alike(t: Accumulation.Term) =
+        (
+          schedule.slot(t.product).get.unit.get,
+          analysis.productRounding(t.product),
+          analysis(t.product).format.fracBits
+        )
+      val inputs = terms.map(alike).distinct.map { case key @ (unit, _, fracBits) =>
+        val members = terms.filter(alike(_) == key)
+        val width = members.map(t => analysis(t.product).format.width).max
+        // at the widest member's width: a narrower one's value fits, so its bits are the same
+        val own = rounded(products(unit), members.head.product, width)
+        key -> (own << (f.fracBits - fracBits)).asSInt.pad(f.width)
+      }
+      val term = inputs.tail.foldLeft(inputs.head._2) { case (other, (key, v)) =>
+        Mux(enableIn(terms.filter(alike(_) == key).map(out)), v, other)
+      }
+      val negated = terms.filter(_.negated).map(out)
+      val subtract =
+        if (negated.isEmpty) false.B else if (negated.size == terms.size) true.B else enableIn(negated)
+      val accumulator = Reg(SInt(f.width.W)) // no reset: the first product replaces it
+      val base = Mux(enable(out(terms.head)), 0.S(f.width.W), accumulator)
+      // a subtraction as the complement and a carry in, so that one adder does both
+      val sum =
+        (base.asUInt + (term.asUInt ^ Fill(f.width, subtract)) + subtract.asUInt)(f.width - 1, 0).asSInt
+      when(enableIn(terms.init.map(out)))(accumulator := sum)
+      RegEnable(sum, enable(out(terms.last)))
+    }
+
     // The graph, node by node: each value's register and the taps its readers use.
     val values: Vector[Map[Int, SInt]] = graph.ids.foldLeft(Vector.empty[Map[Int, SInt]]) { (done, id) =>
       val f = analysis(id).format
@@ -476,6 +516,9 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       /** The value's register, seen by its readers. */
       def kept(stage0: SInt): Map[Int, SInt] = held(stage0, ready.get, schedule.reads(id.index))
       val taps: Map[Int, SInt] = graph(id) match {
+        case Add(_, _) | Sub(_, _) | Mul(_, _) if schedule.accumulation(id).isDefined =>
+          // an accumulated tree: its root's register, no register for its products and inner sums
+          schedule.accumulation(id).filter(_.root == id).fold(Map.empty[Int, SInt])(a => kept(accumulate(a)))
         case Const(_)                      => Map.empty
         case Input(Signal.Velocity(j))     => kept(velocities(j)._1)
         case Input(Signal.Acceleration(j)) => kept(accelerations(j)._1)

@@ -196,10 +196,14 @@ final case class ArmParams(
 
   /**
    * How each value reaches its reads in a shared registers datapath ([[HeldTaps]]; None: a constant, a
-   * product forwarded to its one reader, or a design with one clock per sample or memory storage).
+   * product forwarded to its one reader, a product or a sum below the root of an accumulated tree, or a
+   * design with one clock per sample or memory storage).
    */
   def heldTaps(id: NodeId): Option[HeldTaps] =
-    if (schedule.dedicated || banked.isDefined || schedule.forwarded(id)) None
+    if (
+      schedule.dedicated || banked.isDefined || schedule.forwarded(id) ||
+      schedule.accumulation(id).exists(_.root != id)
+    ) None
     else
       (schedule(id), schedule.reads(id.index)) match {
         case (Some(ready), reads) if reads.nonEmpty =>
@@ -210,20 +214,23 @@ final case class ArmParams(
   /**
    * Register bits holding values between their cycles in a shared registers datapath: each value's first
    * register and its chain, the stretches in block RAM left out ([[HeldTaps]]), and the registers products
-   * take turns in ([[reducerload.graph.SharedRegister]]) once each, and the readers' copies
-   * ([[reducerload.graph.Schedule.readerCopies]]).
+   * take turns in ([[reducerload.graph.SharedRegister]]) once each, the readers' copies
+   * ([[reducerload.graph.Schedule.readerCopies]]) and the accumulators of accumulated trees (each as wide as
+   * its root).
    */
   def heldRegisterBits: Long =
     unsharedTaps.map { case (id, taps) => taps.registerBits(analysis(id).format.width) }.sum +
       schedule.sharedRegisters.map(_.width.toLong).sum +
+      schedule.accumulations.map(a => analysis(a.root).format.width.toLong).sum +
       schedule.readerCopies.map { case (id, units) => units.size.toLong * analysis(id).format.width }.sum
 
   /**
    * Registers holding values in a shared registers datapath (each of a chain, a shared one once, a reader's
-   * copy).
+   * copy, an accumulator).
    */
   def heldRegisters: Int =
-    unsharedTaps.map(_._2.registers).sum + schedule.sharedRegisters.size + schedule.readerCopyCount
+    unsharedTaps.map(_._2.registers).sum + schedule.sharedRegisters.size + schedule.readerCopyCount +
+      schedule.accumulations.size
 
   /** The held values with registers of their own, and their taps. */
   private def unsharedTaps: Seq[(NodeId, HeldTaps)] =

@@ -666,6 +666,18 @@ object Settings {
     _.schedule.forwardSlack
   )
 
+  val scheduleAccumulateSlack = new Count(
+    "schedule.accumulate-slack",
+    "clocks",
+    "storage registers, clocks-per-sample >= 2: a tree of additions whose leaves are products read once is " +
+      "summed by an accumulator that takes each product off its unit in turn (no register per product, no " +
+      "adder per sum: fewer logic elements), when the clocks that costs over adders (k products: k - 1 - " +
+      "ceil(log2 k)) are within the dependences' slack of its root plus this many (none: no tree)",
+    Nil,
+    "none",
+    _.schedule.accumulateSlack
+  )
+
   val scheduleAdderUnits = new Count(
     "schedule.adder-units",
     "",
@@ -877,6 +889,7 @@ object Settings {
     scheduleShareRegisters,
     scheduleReaderCopies,
     scheduleForwardSlack,
+    scheduleAccumulateSlack,
     scheduleListTries,
     scheduleRefinement,
     scheduleAdderUnits,
@@ -1038,7 +1051,8 @@ object Settings {
           v(scheduleScheduler),
           v(scheduleShareRegisters),
           v(scheduleReaderCopies),
-          v(scheduleForwardSlack)
+          v(scheduleForwardSlack),
+          v(scheduleAccumulateSlack)
         ),
         monitor = MonitorSettings(
           enabled = v(monitorEnabled),

@@ -97,6 +97,10 @@ object LatencySearch {
       val c = m.addCumulative(units.size.toLong)
       ops.foreach(i => c.addDemand(m.newFixedSizeIntervalVar(residue(i), 1, s"slot$i"), 1L))
     }
+    // a chained multiply keeps the hint's cycle: its chain's rules are the refinement's
+    shared
+      .filter(nodes(_).asInstanceOf[Shared].chained.isDefined)
+      .foreach(i => m.addEquality(start(i).get, hint.issue(i)))
     m.minimize(makespan)
     nodes.indices.foreach(i => start(i).foreach(v => m.addHint(v, hint.issue(i))))
     val solver = new CpSolver()

@@ -38,7 +38,9 @@ object RefineNode {
    * A multiply on a shared unit of `units`, at most one per unit and residue: `operands` in the order of its
    * unit's ports ([[MulShape.widths]]), which it may swap when `swappable` (each fits the other's port). Its
    * value is captured `latency` cycles after its issue, unless `forwardable` and its one reader, an [[Own]]
-   * operation, takes it off the unit's output the cycle before.
+   * operation, takes it off the unit's output the cycle before. A `chained` one (a product of an
+   * [[Accumulation]], whose tree's sums are [[Fixed]]) leaves its unit in a residue of its own among its
+   * chain's, all within an interval, and is ready by its root's cycle.
    */
   final case class Shared(
       operands: IndexedSeq[Int],
@@ -46,11 +48,20 @@ object RefineNode {
       width: Int,
       units: Range,
       swappable: Boolean,
-      forwardable: Boolean
+      forwardable: Boolean,
+      chained: Option[Chained] = None
   ) extends RefineNode {
     require(operands.size == 2, s"RefineNode.Shared: ${operands.size} operands, a multiply has 2")
   }
 }
+
+/**
+ * A multiply of chain `chain` (an accumulated tree's products: one accumulator takes them off their units, so
+ * each in a residue of its own, all within an interval) that must be ready by cycle `by` (its tree's root's).
+ * The accumulator's input selects among the chain's units: `width` bits per unit beyond the first, counted as
+ * multiplexer input bits.
+ */
+final case class Chained(chain: Int, by: Int, width: Int)
 
 /**
  * A solution of a [[RefinementProblem]]: each node's issue cycle (fixed nodes and literals: -1), each shared
@@ -157,10 +168,29 @@ final case class RefinementProblem(
       nodes(i) match {
         case s: Shared =>
           require(s.units.contains(r.unit(i)), s"RefinementProblem: node $i on unit ${r.unit(i)}")
+          s.chained.foreach(c =>
+            require(
+              r.issue(i) + s.latency <= c.by,
+              s"RefinementProblem: node $i of chain ${c.chain} ready after its root's ${c.by}"
+            )
+          )
         case _ =>
       }
     }
     val shared = nodes.indices.filter(nodes(_).isInstanceOf[Shared])
+    shared.groupBy(nodes(_).asInstanceOf[Shared].chained.map(_.chain)).foreach {
+      case (Some(c), members) =>
+        val ready = members.map(i => r.issue(i) + nodes(i).asInstanceOf[Shared].latency)
+        require(
+          ready.map(Math.floorMod(_, interval)).distinct.size == members.size,
+          s"RefinementProblem: chain $c has two products ready in one residue"
+        )
+        require(
+          ready.max - ready.min < interval,
+          s"RefinementProblem: chain $c ready over more than an interval"
+        )
+      case _ =>
+    }
     shared.groupBy(i => (r.unit(i), Math.floorMod(r.issue(i), interval))).foreach { case ((u, res), on) =>
       require(on.size == 1, s"RefinementProblem: nodes ${on.mkString(", ")} share unit $u in residue $res")
     }
@@ -186,7 +216,16 @@ final case class RefinementProblem(
         case _ =>
       }
     }
-    val mux = sources.map { case ((u, k), set) => (set.size - 1).toLong * portWidths(u)(k) }.sum
+    // each chain's accumulator: its width per unit beyond the first
+    val accumulatorInputs = nodes.indices
+      .flatMap(i => nodes(i) match { case s: Shared => s.chained.map(c => c -> r.unit(i)); case _ => None })
+      .groupMap(_._1.chain)(identity)
+      .values
+      .map(members => (members.map(_._2).distinct.size - 1).toLong * members.head._1.width)
+      .sum
+    val mux = sources.map { case ((u, k), set) =>
+      (set.size - 1).toLong * portWidths(u)(k)
+    }.sum + accumulatorInputs
     val held = nodes.indices.map(i => heldBits(i, issue, forwarded(i, issue)))
     (mux, held.map(_._1).sum, held.map(_._2).sum)
   }
@@ -259,6 +298,31 @@ final case class RefinementProblem(
     private val canForward = nodes.indices.map(forwardable).toArray
     private val canTake = nodes.indices.map(takesForwarded).toArray
     private val swappable = nodes.map { case s: Shared => s.swappable; case _ => false }.toArray
+    // each chained multiply's chain (its members, itself included); unchained: empty
+    private val chain: Array[Array[Int]] = {
+      val of = nodes.map { case s: Shared => s.chained.map(_.chain); case _ => None }
+      val members = nodes.indices.filter(of(_).isDefined).groupBy(of(_).get)
+      of.map(_.fold(Array.empty[Int])(members(_).toArray)).toArray
+    }
+    private def chained(i: Int) = chain(i).nonEmpty
+    private val chainedBy = nodes.map { case s: Shared => s.chained.fold(0)(_.by); case _ => 0 }.toArray
+    private val chainWidth = nodes.map { case s: Shared => s.chained.fold(0)(_.width); case _ => 0 }.toArray
+
+    /** Input bits of the accumulator of node `i`'s chain beyond its first unit's (none unchained). */
+    private def accumulatorBits(i: Int): Long =
+      if (!chained(i)) 0L
+      else {
+        val members = chain(i)
+        var distinct = 0
+        var k = 0
+        while (k < members.length) {
+          var m = 0
+          while (m < k && unit(members(m)) != unit(members(k))) m += 1
+          if (m == k) distinct += 1
+          k += 1
+        }
+        (distinct - 1).toLong * chainWidth(i)
+      }
     private val classUnits = nodes.map {
       case s: Shared => s.units.toArray; case _ => Array.empty[Int]
     }.toArray
@@ -373,7 +437,7 @@ final case class RefinementProblem(
         if (k == 0 || os(k) != os(0)) h += held(os(k))
         k += 1
       }
-      muxWeight * mux + h
+      muxWeight * (mux + accumulatorBits(i)) + h
     }
 
     (0 until n).foreach(i => if (kind(i) == 3) { occupant(unit(i))(residue(issue(i))) = i; enter(i, 1) })
@@ -397,9 +461,14 @@ final case class RefinementProblem(
           val to = us(rng.nextInt(us.length))
           val from = unit(i)
           if (to != from) {
-            val before = muxBits(from) + muxBits(to)
+            // the operation there, if any, trades places with this one
+            val other = occupant(to)(residue(issue(i)))
+            def bits =
+              muxBits(from) + muxBits(to) + accumulatorBits(i) + (if (other >= 0) accumulatorBits(other)
+                                                                  else 0L)
+            val before = bits
             rebind(i, to)
-            if (!accept(muxWeight * (muxBits(from) + muxBits(to) - before))) rebind(i, from)
+            if (!accept(muxWeight * (bits - before))) rebind(i, from)
           }
         } else if (move == 1) {
           if (swappable(i)) {
@@ -420,9 +489,26 @@ final case class RefinementProblem(
             hi = math.min(hi, issue(us(k)) - (availableTo(i, us(k)) - issue(i))); k += 1
           }
           if (isOutput(i)) hi = math.min(hi, outputsBy - latency(i))
+          // a chained multiply: ready by its root, within an interval of the rest of its chain
+          if (chained(i)) {
+            hi = math.min(hi, chainedBy(i) - latency(i))
+            val members = chain(i)
+            k = 0
+            while (k < members.length) {
+              if (members(k) != i) {
+                lo = math.max(lo, ready(members(k)) - latency(i) - interval + 1)
+                hi = math.min(hi, ready(members(k)) - latency(i) + interval - 1)
+              }
+              k += 1
+            }
+          }
           if (hi > lo) {
             val t = lo + rng.nextInt(hi - lo + 1)
-            if (t != issue(i)) {
+            // and in a residue of its own among its chain's
+            if (
+              t != issue(i) && !(chained(i) && chain(i)
+                .exists(m => m != i && residue(ready(m)) == residue(t + latency(i))))
+            ) {
               val to =
                 if (kind(i) != 3) -1
                 else if (occupant(unit(i))(residue(t)) < 0 || residue(t) == residue(issue(i))) unit(i)

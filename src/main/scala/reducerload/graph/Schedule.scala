@@ -70,6 +70,11 @@ object Scheduler {
  *   registered routes (`datapath.registered-routes`): a product read by one addition only is taken off its
  *   unit's output a cycle early, with no register of its own, when its slack on the dependences is at most
  *   this many clocks (0: on a longest path); None: none (direct routes forward every such product)
+ * @param accumulateSlack
+ *   registers storage at 2 clocks per sample or more: a tree of additions of products read once
+ *   ([[Accumulation]]) is summed by an accumulator that takes each product off its unit in turn, when the
+ *   clocks that costs over a tree of adders ([[Accumulation.latencyCost]]) are within the dependences' slack
+ *   of its root plus this many; None: none
  */
 final case class ScheduleRequest(
     clocksPerSample: Option[Int] = None,
@@ -84,7 +89,8 @@ final case class ScheduleRequest(
     scheduler: Scheduler = Scheduler.ListOnly,
     shareRegisters: Boolean = false,
     readerCopies: Boolean = false,
-    forwardSlack: Option[Int] = None
+    forwardSlack: Option[Int] = None,
+    accumulateSlack: Option[Int] = None
 ) {
   require(
     listOrder.isEmpty || stored == Storage.Memory || listOrder.contains(ListOrder.ByHeight),
@@ -108,6 +114,10 @@ final case class ScheduleRequest(
   require(
     forwardSlack.forall(s => s >= 0 && s <= 4096),
     s"schedule.forward-slack must be none or in 0..4096 clocks, got ${forwardSlack.get}"
+  )
+  require(
+    accumulateSlack.forall(s => s >= 0 && s <= 4096),
+    s"schedule.accumulate-slack must be none or in 0..4096 clocks, got ${accumulateSlack.get}"
   )
   require(
     refinement >= 0 && refinement <= 1000000,
@@ -186,7 +196,8 @@ private final case class ScheduleState(
     slots: Vector[Option[Slot]],
     taken: Set[(Boolean, Int, Int)],
     angleSlots: Map[AngleSum, Slot],
-    forwarded: Set[NodeId]
+    forwarded: Set[NodeId],
+    chains: Set[Accumulation] = Set.empty
 )
 
 /**
@@ -210,7 +221,11 @@ private final case class ScheduleState(
  *     multiplier latency (+ 1), and [[Schedule.routeStages]] more on a unit with registered routes;
  *   - multiply by a constant as shift-and-add logic (`shiftAdded`): its own registered adder tree, one level
  *     per clock ([[ShiftAddMultiplier.latency]]), then the capture register as above;
- *   - sin/cos of an angle sum: the sum registered, then the CORDIC unit, then (shared) a capture register.
+ *   - sin/cos of an angle sum: the sum registered, then the CORDIC unit, then (shared) a capture register;
+ *   - a tree of additions of products accumulated (`schedule.accumulate-slack`, [[Accumulation]]): its
+ *     products leave their units in residues of their own within an interval, each into the accumulator in
+ *     the cycle before its own register would hold it; the root's register is written with the last, so it is
+ *     ready when the last product would be, and the products and the sums below the root have none.
  * Every value is held in a chain of registers written once per sample (see `stages`).
  *
  * @param requestedCordic
@@ -522,6 +537,123 @@ final class Schedule(
     ids.map(id => end - ready(id.index).getOrElse(0) - (height(id.index) - ownLatency(id)))
   }
 
+  /**
+   * The trees of additions to sum by accumulators (`schedule.accumulate-slack`; registers storage at 2 clocks
+   * per sample or more): their products of one class of units, at most II of them, the clocks their
+   * accumulation costs ([[Accumulation.latencyCost]]) within their root's slack plus the setting. Their
+   * products are never forwarded.
+   */
+  private lazy val accumulationCandidates: IndexedSeq[Accumulation] = request.accumulateSlack match {
+    case Some(allowed) if !dedicated && request.stored == Storage.Registers =>
+      Accumulation.find(graph, muls.toSet).filter { a =>
+        a.terms.size <= ii && a.products.map(classOf).distinct.size == 1 &&
+        Accumulation.latencyCost(a.terms.size) <= slack(a.root.index) + allowed
+      }
+    case _ => IndexedSeq.empty
+  }
+  private lazy val candidateOf: Map[NodeId, Accumulation] =
+    accumulationCandidates.flatMap(a => (a.sums ++ a.products).map(_ -> a)).toMap
+
+  /** The product of each candidate tree the list scheduler reaches last: it places the tree's products. */
+  private lazy val placedWith: Map[Accumulation, NodeId] = {
+    val position = placementOrder.zipWithIndex.map { case (id, k) => id -> k }.toMap
+    accumulationCandidates.map(a => a -> a.products.maxBy(position)).toMap
+  }
+
+  /** A multiply at the first cycle from its operands' ready cycle with a unit of its class free. */
+  private def placeMul(s: ScheduleState, id: NodeId): ScheduleState = {
+    val earliest = graph(id).operands.map(x => s.ready(x.index).getOrElse(0)).max
+    val slot = place(s.taken, isMul = true, classUnits(classOf(id)), earliest)
+    s.copy(
+      ready = s.ready.updated(id.index, Some(slot.issue + mulLatency(id))),
+      slots = s.slots.updated(id.index, Some(slot)),
+      taken = s.taken + ((true, slot.unit.get, slot.issue % ii))
+    )
+  }
+
+  /**
+   * An addition, subtraction or negation in the cycle its operands are ready. A shared unit's product is on
+   * its output for one cycle, then captured. A product with this adder as its only reader is taken straight
+   * from the unit in that cycle when the other operand is ready by then: the adder's register holds it, no
+   * capture register, one cycle less.
+   */
+  private def placeSum(s: ScheduleState, id: NodeId): ScheduleState = {
+    def at(x: NodeId) = s.ready(x.index).getOrElse(0)
+    val operands = graph(id).operands
+    val r = operands.map(x => earliestRead(x, at(x))).max
+    val direct = operands.filter(x => forwardable(x) && earliestRead(x, at(x)) == r)
+    s.copy(
+      ready = s.ready.updated(id.index, Some(r + 1)),
+      slots = s.slots.updated(id.index, Some(Slot(None, r))),
+      forwarded = s.forwarded ++ direct
+    )
+  }
+
+  /**
+   * Slots for a candidate tree's products, which may issue from `earliest` on (one class of units, so one
+   * latency): each at or after its own, all within II - 1 clocks of the first, so that each leaves its unit
+   * in a residue of its own and one accumulator takes them all; in each cycle a unit free then, one the tree
+   * already uses first (its product is then no new input of the accumulator). The slots whose last product
+   * issues first, then those on the fewest units, then the earliest first cycle. None when the class has no
+   * such slots.
+   */
+  private def chainSlots(
+      taken: Set[(Boolean, Int, Int)],
+      units: Range,
+      earliest: IndexedSeq[Int]
+  ): Option[IndexedSeq[Slot]] = {
+    // earliest first: with release times, the order that ends first
+    val order = earliest.indices.sortBy(earliest)
+    def from(first: Int): Option[IndexedSeq[Slot]] = {
+      val slots = Array.fill(earliest.size)(Slot(None, 0))
+      val placed = (first until first + ii).foldLeft(0) { (j, t) =>
+        if (j == order.size || t < earliest(order(j))) j
+        else {
+          val used = order.take(j).flatMap(slots(_).unit)
+          val free = units.filterNot(u => taken((true, u, t % ii)))
+          free.sortBy(u => !used.contains(u)).headOption.fold(j) { u =>
+            slots(order(j)) = Slot(Some(u), t)
+            j + 1
+          }
+        }
+      }
+      Option.when(placed == order.size)(slots.toIndexedSeq)
+    }
+    // an interval past the latest earliest cycle the free residues repeat
+    (earliest.min to earliest.max + ii).iterator
+      .flatMap(from)
+      .minByOption(slots => (slots.map(_.issue).max, slots.flatMap(_.unit).distinct.size))
+  }
+
+  /**
+   * A candidate tree's products in [[chainSlots]], the tree then accumulated: its sums ready as the last
+   * product leaves its unit (the accumulator's adder writes the root's register then). Where the class has no
+   * such slots, each product placed as any multiply and the sums as adders.
+   */
+  private def placeTree(s: ScheduleState, a: Accumulation): ScheduleState = {
+    val earliest = a.products.map(p => graph(p).operands.map(x => s.ready(x.index).getOrElse(0)).max)
+    // in graph order: operands first
+    val sums = a.sums.sortBy(_.index)
+    chainSlots(s.taken, classUnits(classOf(a.products.head)), earliest.toIndexedSeq) match {
+      case None => sums.foldLeft(a.products.foldLeft(s)(placeMul))(placeSum)
+      case Some(slots) =>
+        val placed = a.products.zip(slots).foldLeft(s.copy(chains = s.chains + a)) { case (st, (p, slot)) =>
+          st.copy(
+            ready = st.ready.updated(p.index, Some(slot.issue + mulLatency(p))),
+            slots = st.slots.updated(p.index, Some(slot)),
+            taken = st.taken + ((true, slot.unit.get, slot.issue % ii))
+          )
+        }
+        val last = a.products.zip(slots).map { case (p, slot) => slot.issue + mulLatency(p) }.max
+        sums.foldLeft(placed)((st, x) =>
+          st.copy(
+            ready = st.ready.updated(x.index, Some(last)),
+            slots = st.slots.updated(x.index, Some(Slot(None, last - 1)))
+          )
+        )
+    }
+  }
+
   private val state: ScheduleState = {
     val none = Vector.fill(ids.size)(Option.empty[Int])
     placementOrder.foldLeft(ScheduleState(none, none.map(_ => None), Set.empty, Map.empty, Set.empty)) {
@@ -547,24 +679,24 @@ final class Schedule(
           case Mul(a, b) if shiftAdded(id) =>
             val issue = math.max(at(a), at(b)) // its own adder tree: no unit to wait for
             plain(Some(issue + mulLatency(id)), Some(Slot(None, issue)))
-          case Mul(a, b) =>
-            val earliest = math.max(at(a), at(b))
-            val slot = place(s.taken, isMul = true, classUnits(classOf(id)), earliest)
-            s.copy(
-              ready = s.ready.updated(id.index, Some(slot.issue + mulLatency(id))),
-              slots = s.slots.updated(id.index, Some(slot)),
-              taken = s.taken + ((true, slot.unit.get, slot.issue % ii))
-            )
-          case op =>
-            // A shared unit's product is on its output for one cycle, then captured. A product with this
-            // adder as its only reader is taken straight from the unit in that cycle when the other
-            // operand is ready by then: the adder's register holds it, no capture register, one cycle less.
-            val r = op.operands.map(x => earliestRead(x, at(x))).max
-            val direct = op.operands.filter(x => forwardable(x) && earliestRead(x, at(x)) == r)
-            plain(Some(r + 1), Some(Slot(None, r))).copy(forwarded = s.forwarded ++ direct)
+          case Mul(_, _) if candidateOf.contains(id) =>
+            val a = candidateOf(id)
+            if (placedWith(a) == id) placeTree(s, a) else s // with the tree's last product
+          case Mul(_, _) => placeMul(s, id)
+          // placed with the tree's products (a deep tree's sum may come before its last product)
+          case _ if candidateOf.contains(id) => s
+          case _                             => placeSum(s, id)
         }
     }
   }
+
+  /** The trees of additions summed by accumulators: the candidates the list scheduler placed so. */
+  lazy val accumulations: IndexedSeq[Accumulation] = accumulationCandidates.filter(state.chains)
+  private lazy val accumulationOf: Map[NodeId, Accumulation] =
+    accumulations.flatMap(a => (a.sums ++ a.products).map(_ -> a)).toMap
+
+  /** The accumulated tree `id` is a product or a sum of: its cycles and unit stay the list scheduler's. */
+  def accumulation(id: NodeId): Option[Accumulation] = accumulationOf.get(id)
 
   /**
    * A multiply whose only reader is an addition (no other use, not an output): its reader may take the
@@ -574,7 +706,7 @@ final class Schedule(
    * it, and forwarding every one made the README's UR5 route far slower (docs/timing-closure.md).
    */
   private def forwardable(x: NodeId) =
-    !dedicated && graph(x).isInstanceOf[Mul] && graph.readers(x.index) == 1 &&
+    !dedicated && graph(x).isInstanceOf[Mul] && graph.readers(x.index) == 1 && !candidateOf.contains(x) &&
       (!routed || request.forwardSlack.exists(slack(x.index) <= _))
 
   /**
@@ -605,6 +737,10 @@ final class Schedule(
         graph(id) match {
           case Const(_)              => RefineNode.Literal(f.width)
           case Input(_) | Trig(_, _) => RefineNode.Fixed(state.ready(id.index).get, f.width)
+          // an accumulated tree's sums: read by nothing in the problem (its products neither), its root
+          // ready when its last product leaves the unit
+          case _: Add | _: Sub if accumulationOf.contains(id) =>
+            RefineNode.Fixed(state.ready(id.index).get, f.width)
           case Mul(_, _) if !shiftAdded(id) =>
             val units = classUnits(classOf(id))
             val widths = byWidth(id).map(analysis(_).format.width)
@@ -614,7 +750,16 @@ final class Schedule(
               f.width,
               units,
               swappable = widths.forall(_ <= unitShapes(units.head).narrow),
-              forwardable = forwardableToReader(id)
+              forwardable = forwardableToReader(id),
+              chained = accumulationOf
+                .get(id)
+                .map(a =>
+                  Chained(
+                    accumulations.indexOf(a),
+                    state.ready(a.root.index).get,
+                    analysis(a.root).format.width
+                  )
+                )
             )
           case op =>
             val latency = state.ready(id.index).get - state.slots(id.index).get.issue
@@ -683,19 +828,31 @@ final class Schedule(
     }
 
   /** The cycle an operation reads its operands (its unit may still be rebound: see `slot`). */
-  private def issue(id: NodeId): Int = refined.fold(state.slots(id.index).get.issue)(_.issue(id.index))
+  private def issue(id: NodeId): Int =
+    if (isAccumulatedSum(id)) ready(id.index).get - 1
+    else refined.fold(state.slots(id.index).get.issue)(_.issue(id.index))
+
+  /**
+   * A sum of an accumulated tree: its register (the root's) is written as the last product leaves the unit.
+   */
+  private def isAccumulatedSum(id: NodeId) = accumulationOf.get(id).exists(_.sums.contains(id))
 
   /** Cycle from which each node's value of the current sample is in its register (None: a constant). */
   lazy val ready: IndexedSeq[Option[Int]] = refined match {
     case None => state.ready
     case Some(r) =>
-      ids.map { id =>
+      val moved = ids.map { id =>
         graph(id) match {
-          case Const(_)              => None
-          case Input(_) | Trig(_, _) => state.ready(id.index)
+          case Const(_)                  => None
+          case Input(_) | Trig(_, _)     => state.ready(id.index)
+          case _ if isAccumulatedSum(id) => None // from its products, below
           case _ => Some(r.issue(id.index) + state.ready(id.index).get - state.slots(id.index).get.issue)
         }
       }
+      ids.map(id =>
+        if (isAccumulatedSum(id)) Some(accumulationOf(id).products.map(p => moved(p.index).get).max)
+        else moved(id.index)
+      )
   }
   def apply(id: NodeId): Option[Int] = ready(id.index)
 
@@ -753,7 +910,7 @@ final class Schedule(
     else
       SharedRegister.allocate(
         ii,
-        muls.filterNot(forwarded).flatMap { id =>
+        muls.filterNot(id => forwarded(id) || accumulationOf.contains(id)).flatMap { id =>
           val rule = analysis.productRounding(id)
           val t = ready(id.index).get
           reads(id.index).maxOption

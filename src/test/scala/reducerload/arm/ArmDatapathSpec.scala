@@ -74,6 +74,10 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       schedule.forwardSlack.isEmpty || p.graph.ids.exists(p.schedule.forwarded),
       s"$robot: schedule.forward-slack asked, no product forwarded"
     )
+    assert(
+      schedule.accumulateSlack.isEmpty || p.schedule.accumulations.nonEmpty,
+      s"$robot: schedule.accumulate-slack asked, no tree accumulated"
+    )
     val rng = new Random(Seeds(s"arm-$robot", seed))
     val random = IndexedSeq.fill(SimBackend.scale(1000)) {
       val (q, qd, qdd) = RandomChains.sample(rng, p.maxVelocity.map(_ * 1.1), p.maxAcceleration.map(_ * 1.1))
@@ -88,7 +92,9 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       (if (p.schedule.sharedRegisters.isEmpty) ""
        else s" ${p.schedule.sharedRegisters.size} shared registers") +
       (if (p.schedule.readerCopies.isEmpty) ""
-       else s" ${p.schedule.readerCopyCount} copies")
+       else s" ${p.schedule.readerCopyCount} copies") +
+      (if (p.schedule.accumulations.isEmpty) ""
+       else s" ${p.schedule.accumulations.size} trees accumulated")
     ArmChecks.run(
       this,
       label,
@@ -150,11 +156,14 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
   }
 
   it should "share multipliers and CORDIC units on planar3 (2, 3, 4 and 40 clocks per " +
-    "sample; at 3 and 40 also with registered routes, at 4 values reaching units through readers' copies, at " +
-    "40 products sharing registers), bit-exact under " +
-    "back-pressure" in {
+    "sample; at 3 and 40 also with registered routes, at 4 readers' copies, at 40 shared product " +
+    "registers, at 3 and 40 products accumulated), bit-exact under back-pressure" in {
       runRobot("planar3", 44L, ScheduleRequest(clocksPerSample = Some(2)))
-      runRobot("planar3", 45L, ScheduleRequest(clocksPerSample = Some(3), cordicUnits = Some(1)))
+      runRobot(
+        "planar3",
+        45L,
+        ScheduleRequest(clocksPerSample = Some(3), cordicUnits = Some(1), accumulateSlack = Some(2))
+      )
       runRobot("planar3", 46L, ScheduleRequest(clocksPerSample = Some(40)))
       runRobot(
         "planar3",
@@ -171,7 +180,7 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       runRobot(
         "planar3",
         60L,
-        ScheduleRequest(clocksPerSample = Some(40), shareRegisters = true),
+        ScheduleRequest(clocksPerSample = Some(40), shareRegisters = true, accumulateSlack = Some(8)),
         routed = true
       )
     }
@@ -255,9 +264,9 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       )
     }
 
-  it should "cross the UR5's parallel axes (joints 2-4) in one rotation each, the latency recipe of issue 33 " +
-    "(18 clocks per sample, 66 blocks, registered routes, the solver's schedule, sums and products " +
-    "reassociated, a 1e-3 N·m target), bit-exact under back-pressure" in {
+  it should "cross the UR5's parallel axes (joints 2-4), the latency recipe of issue 33 (18 clocks per " +
+    "sample, 66 blocks, registered routes, the solver's schedule, sums and products reassociated, products " +
+    "accumulated, 1e-3 N·m), bit-exact under back-pressure" in {
       runRobot(
         "ur5",
         69L,
@@ -266,7 +275,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
           maxMultipliers = Some(66),
           listOrder = Some(ListOrder.ByHeight),
           refinement = reducerload.app.ArmSweep.fastRefinement,
-          scheduler = Scheduler.CpSat
+          scheduler = Scheduler.CpSat,
+          accumulateSlack = Some(9)
         ),
         targetError = Seq(1e-3),
         reassociate = Reassociation.SumsAndProducts,

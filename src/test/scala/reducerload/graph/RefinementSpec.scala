@@ -134,6 +134,41 @@ class RefinementSpec extends AnyFlatSpec {
     assert(p.cost(best) == weighted(p, bits(p, best)))
   }
 
+  it should "keep an accumulated tree's products in residues of their own within an interval, ready by " +
+    "their root, and gather them on one unit when its accumulator's input costs more than the operands'" in {
+      // II 4, latency 2: x*a and y*b accumulate into a root ready in cycle 9 (40-bit accumulator input per unit
+      // beyond the first), z*c on its own; started on two units. Gathered on one, they add 10 + 8 operand
+      // multiplexer bits and save 40.
+      val chain = Some(Chained(0, 9, 40))
+      def product(x: Int, y: Int, chained: Option[Chained]) =
+        Shared(IndexedSeq(x, y), 2, 12, 0 until 2, swappable = false, forwardable = false, chained = chained)
+      val nodes = IndexedSeq(
+        Fixed(0, 10), // 0 x
+        Fixed(0, 10), // 1 y
+        Fixed(0, 10), // 2 z
+        Literal(8), // 3 a
+        Literal(8), // 4 b
+        Literal(8), // 5 c
+        product(0, 3, chain), // 6 x*a
+        product(1, 4, chain), // 7 y*b
+        product(2, 5, None), // 8 z*c
+        Fixed(9, 14) // 9 the root
+      )
+      val p = RefinementProblem(4, nodes, Seq(8, 9), 9, _ => IndexedSeq(10, 8), 1.0, 1.0)
+      val start = Refined(
+        IndexedSeq(-1, -1, -1, -1, -1, -1, 2, 3, 2, -1),
+        IndexedSeq(-1, -1, -1, -1, -1, -1, 0, 1, 1, -1),
+        IndexedSeq.fill(nodes.size)(false)
+      )
+      checkValid(p, start)
+      val best = p.anneal(start, 20000, 1L)
+      checkValid(p, best)
+      val ready = Seq(6, 7).map(best.issue(_) + 2)
+      assert(ready.map(_ % 4).distinct.size == 2 && (ready.max - ready.min) < 4, s"issues ${best.issue}")
+      assert(ready.max <= 9, s"issues ${best.issue}")
+      assert(best.unit(6) == best.unit(7), s"units ${best.unit}")
+    }
+
   it should "issue a sum late enough that its reader takes it from its first register" in {
     // II 2. v = x + y issued in cycle 0 is read by v*e in cycle 5, three registers in; x*y reads x and y in
     // cycle 6. Issued in cycle 3 or later (or its reader earlier), v is read from its first register.

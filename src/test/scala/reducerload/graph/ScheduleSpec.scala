@@ -21,6 +21,10 @@ class ScheduleSpec extends AnyFlatSpec {
 
   private def scheduled(p: ArmParams, request: ScheduleRequest): ArmParams = p.copy(scheduleRequest = request)
 
+  /** The UR5 with registered routes, scheduled as `request` asks. */
+  private def routed(request: ScheduleRequest): ArmParams =
+    scheduled(ur5.copy(datapath = ur5.datapath.copy(registeredRoutes = Some(true))), request)
+
   /** Checks a schedule against the rules it must obey; returns it for figures. */
   private def check(p: ArmParams): Schedule = {
     val s = p.schedule
@@ -56,7 +60,9 @@ class ScheduleSpec extends AnyFlatSpec {
         case Op.Const(_) => assert(s(id).isEmpty)
         case _ =>
           val issue = s.slot(id).get.issue
-          op.operands.foreach { x =>
+          // an accumulated tree's sums read no operand: the accumulator takes its products (checked below)
+          val accumulated = s.accumulation(id).exists(_.sums.contains(id))
+          op.operands.filterNot(_ => accumulated).foreach { x =>
             // A forwarded product is read off its unit's output, the cycle before its register would hold it.
             val readable = s(x).map(r => if (s.forwarded(x)) r - 1 else r)
             readable.foreach(ready =>
@@ -93,6 +99,27 @@ class ScheduleSpec extends AnyFlatSpec {
             s"node ${id.index} ($op): ready ${s(id).get}, issued $issue + latency ${latency(id)}"
           )
       }
+    }
+    // An accumulated tree: its products, each read by the tree alone, leave their units (the cycle before a
+    // register of their own would hold them) in residues of their own within an interval, so that one
+    // accumulator takes them all; the root is in its register as the last leaves, the tree's sums with it.
+    s.accumulations.foreach { a =>
+      val out = a.products.map(q => s(q).get - 1)
+      assert(out.map(_ % ii).distinct.size == out.size, s"tree ${a.root.index}: two products in one residue")
+      assert(out.max - out.min < ii, s"tree ${a.root.index}: products over more than an interval")
+      a.sums.foreach(x =>
+        assert(s(x).get == out.max + 1, s"tree ${a.root.index}: sum ${x.index} not ready then")
+      )
+      a.products.foreach { q =>
+        assert(
+          !s.forwarded(q) && g.readers(q.index) == 1,
+          s"tree ${a.root.index}: product ${q.index} read elsewhere"
+        )
+        assert(p.heldTaps(q).isEmpty, s"tree ${a.root.index}: product ${q.index} has a register")
+      }
+      a.inner.foreach(x =>
+        assert(p.heldTaps(x).isEmpty, s"tree ${a.root.index}: sum ${x.index} has a register")
+      )
     }
     // One operation per unit and residue; every multiply and every angle on a unit.
     val mulSlots = g.ids.filter(g(_).isInstanceOf[Op.Mul]).map(id => s.slot(id).get)
@@ -287,11 +314,53 @@ class ScheduleSpec extends AnyFlatSpec {
       assert(!check(ur5.copy(datapath = ur5.datapath.copy(registeredRoutes = Some(true)))).routed)
     }
 
+  it should "accumulate trees of products when schedule.accumulate-slack asks, each root the signed sum of " +
+    "its products as the bit-accurate model computes them, and no tree without it" in {
+      def at(slack: Option[Int]) = {
+        val p = routed(ScheduleRequest(clocksPerSample = Some(18), accumulateSlack = slack))
+        figures(s"ur5 II=18 routed accumulate-slack ${slack.fold("none")(_.toString)}", p)
+        (p, check(p))
+      }
+      val (_, none) = at(None)
+      val (_, critical) = at(Some(0))
+      val (p, loose) = at(Some(9))
+      println(
+        s"[schedule] trees accumulated: none ${none.accumulations.size}, slack 0 ${critical.accumulations.size}, " +
+          s"slack 9 ${loose.accumulations.size}"
+      )
+      assert(none.accumulations.isEmpty && critical.accumulations.nonEmpty)
+      assert(loose.accumulations.size >= critical.accumulations.size)
+      // Each root against its products in the model's values of seeded random samples: the sum the
+      // accumulator computes (each product aligned to the root's fraction bits, subtracted where negated).
+      val model = new GraphModel(p.analysis)
+      val rng = new scala.util.Random(reducerload.testutil.Seeds("accumulated-roots", 70L))
+      def code(limit: BigInt) = BigInt(limit.bitLength + 1, rng.self) mod (2 * limit + 1) - limit
+      (1 to 20).foreach { _ =>
+        val values = model.nodeValues(
+          SampleCodes(
+            IndexedSeq.fill(p.chain.size)(BigInt(p.numerics.angleBits, rng.self)),
+            p.numerics.velocityLimitRaw.map(code).toIndexedSeq,
+            p.numerics.accelerationLimitRaw.map(code).toIndexedSeq
+          )
+        )
+        loose.accumulations.foreach { a =>
+          val root = p.analysis(a.root).format.fracBits
+          val sum = a.terms.map { t =>
+            val v = values(t.product.index) << (root - p.analysis(t.product).format.fracBits)
+            if (t.negated) -v else v
+          }.sum
+          assert(
+            sum == values(a.root.index),
+            s"tree ${a.root.index}: products sum to $sum, the root is ${values(a.root.index)}"
+          )
+        }
+      }
+    }
+
   it should "forward past registered routes only the products schedule.forward-slack names, the longest " +
     "paths' first, for a shorter latency" in {
-      val routes = ur5.copy(datapath = ur5.datapath.copy(registeredRoutes = Some(true)))
       def at(slack: Option[Int]) = {
-        val p = scheduled(routes, ScheduleRequest(clocksPerSample = Some(17), forwardSlack = slack))
+        val p = routed(ScheduleRequest(clocksPerSample = Some(17), forwardSlack = slack))
         figures(s"ur5 II=17 routed forward-slack ${slack.fold("none")(_.toString)}", p)
         val s = check(p)
         (s, p.graph.ids.count(s.forwarded))

@@ -5,10 +5,10 @@ import reducerload.app.Cli
 /**
  * How much of a design's logic sits in sums of products: a benchmark, not a test. A product read once, by an
  * addition, needs a capture register (its unit moves on) and that addition an adder; the products of one tree
- * of such additions accumulated on one unit would need neither, only the unit's accumulator and the tree's
- * root. Prints the trees by their leaves, the bits they hold, and which trees could be accumulated within a
- * latency allowed over the dependences' bound (each tree judged alone: trees on one chain share their slack,
- * so the last table is an upper bound):
+ * of such additions accumulated (`schedule.accumulate-slack`, [[Accumulation]]) need neither, only the tree's
+ * accumulator and root. Prints the trees by their leaves, the bits they hold, and which trees could be
+ * accumulated within a latency allowed over the dependences' bound (each tree judged alone: trees on one
+ * chain share their slack, so the last table is an upper bound):
  *
  * {{{
  * ./sbt "Test/runMain reducerload.graph.SumTreeCensus --robot golden/robots/ur5_robot.urdf --tip tool0
