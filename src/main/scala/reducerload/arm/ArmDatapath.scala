@@ -458,29 +458,37 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     }.toMap
 
     /**
-     * The root's register of an accumulated tree ([[reducerload.graph.Accumulation]]): each product, rounded
-     * as its own register would hold it and aligned to the root's fraction bits, goes from its unit's output
-     * into one adder with the partial sum (none with the first product, subtracted where the tree subtracts
-     * it); the accumulator takes every sum, the root's register the last. Products of one unit rounded alike
-     * are one input of the adder.
+     * Each unit's registers of rounded products for the accumulators ([[reducerload.graph.Accumulation]]):
+     * one per rounding its accumulated products take, as wide as the widest of them (a narrower one's value
+     * fits, so its bits are the same), loaded every clock. A product is in it in the cycle its own register
+     * would hold it.
+     */
+    val roundedForAccumulators: Map[(Int, ProductRounding), SInt] =
+      schedule.accumulations
+        .flatMap(_.products)
+        .groupBy(id => (schedule.slot(id).get.unit.get, analysis.productRounding(id)))
+        .map { case (key @ (unit, _), ids) =>
+          val width = ids.map(analysis(_).format.width).max
+          key -> RegNext(rounded(products(unit), ids.head, width))
+        }
+
+    /**
+     * The root's register of an accumulated tree ([[reducerload.graph.Accumulation]]): each product, from its
+     * unit's register of rounded products and aligned to the root's fraction bits, goes into one adder with
+     * the partial sum (none with the first product, subtracted where the tree subtracts it); the accumulator
+     * takes every sum, the root's register the last. Products of one unit rounded alike are one input of the
+     * adder.
      */
     def accumulate(a: Accumulation): SInt = {
       val f = analysis(a.root).format
-      // each product on its unit's output in the cycle before it would be in a register of its own
-      def out(t: Accumulation.Term) = schedule(t.product).get - 1
+      // each product in its unit's register of rounded products in the cycle it would be in one of its own
+      def out(t: Accumulation.Term) = schedule(t.product).get
       val terms = a.terms.sortBy(out)
       def alike(t: Accumulation.Term) =
-        (
-          schedule.slot(t.product).get.unit.get,
-          analysis.productRounding(t.product),
-          analysis(t.product).format.fracBits
-        )
-      val inputs = terms.map(alike).distinct.map { case key @ (unit, _, fracBits) =>
-        val members = terms.filter(alike(_) == key)
-        val width = members.map(t => analysis(t.product).format.width).max
-        // at the widest member's width: a narrower one's value fits, so its bits are the same
-        val own = rounded(products(unit), members.head.product, width)
-        key -> (own << (f.fracBits - fracBits)).asSInt.pad(f.width)
+        (schedule.slot(t.product).get.unit.get, analysis.productRounding(t.product))
+      val inputs = terms.map(alike).distinct.map { key =>
+        val fracBits = analysis(terms.find(alike(_) == key).get.product).format.fracBits
+        key -> (roundedForAccumulators(key) << (f.fracBits - fracBits)).asSInt.pad(f.width)
       }
       val term = inputs.tail.foldLeft(inputs.head._2) { case (other, (key, v)) =>
         Mux(enableIn(terms.filter(alike(_) == key).map(out)), v, other)

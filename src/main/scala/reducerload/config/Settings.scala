@@ -670,8 +670,8 @@ object Settings {
     "schedule.accumulate-slack",
     "clocks",
     "storage registers, clocks-per-sample >= 2: a tree of additions whose leaves are products read once is " +
-      "summed by an accumulator that takes each product off its unit in turn (no register per product, no " +
-      "adder per sum: fewer logic elements), when the clocks that costs over adders (k products: k - 1 - " +
+      "summed by an accumulator that takes each product from its unit in turn (no register per product, no " +
+      "adder per sum: fewer logic elements), when the clocks that costs over adders (k products: k - " +
       "ceil(log2 k)) are within the dependences' slack of its root plus this many (none: no tree)",
     Nil,
     "none",

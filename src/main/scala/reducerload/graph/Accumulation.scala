@@ -2,13 +2,14 @@ package reducerload.graph
 
 /**
  * A tree of additions summed by an accumulator (`schedule.accumulate-slack`): its products leave their
- * multiplier units in residues of their own within an interval, and the accumulator adds each to the partial
- * sum as it leaves its unit. The products get no register of their own, the sums below the root no adder; the
- * root's register is loaded from the accumulator's adder with the last product. Sums in the graph are exact
- * (every operand aligned up to the sum's fraction bits, the sum's format proven to hold it), so the root's
- * value is the signed sum of the products aligned to its fraction bits, and an accumulator as wide as the
- * root gives it even where a partial sum would not fit (two's complement wraps back): the bit-accurate model
- * does not change.
+ * multiplier units in residues of their own within an interval, each into a register its unit keeps for the
+ * rounded products of the accumulators, and the accumulator adds each to the partial sum from there. The
+ * products get no register of their own, the sums below the root no adder; the root's register is loaded from
+ * the accumulator's adder with the last product, [[Accumulation.rootDelay]] clock after that product would
+ * have been in its own register. Sums in the graph are exact (every operand aligned up to the sum's fraction
+ * bits, the sum's format proven to hold it), so the root's value is the signed sum of the products aligned to
+ * its fraction bits, and an accumulator as wide as the root gives it even where a partial sum would not fit
+ * (two's complement wraps back): the bit-accurate model does not change.
  *
  * @param root
  *   the sum whose value the tree computes, read by the rest of the graph
@@ -31,11 +32,19 @@ object Accumulation {
   final case class Term(product: NodeId, negated: Boolean)
 
   /**
-   * Clocks an accumulated tree of `k` products ready in the same cycle takes over the same tree on adders: on
-   * one unit they leave one per clock, the root k - 1 clocks after the first, where a tree of adders takes
-   * ceil(log2 k) levels from the products, the first level a clock after them.
+   * Clocks from the cycle an accumulated tree's last product would be in its own register to the cycle its
+   * root is: the accumulator's adder takes the product from its unit's register of rounded products, since
+   * the rounding's carry chain, the selection among units and the accumulator's carry chain in one clock were
+   * the longest paths of the design.
    */
-  def latencyCost(k: Int): Int = k - 1 - (32 - Integer.numberOfLeadingZeros(k - 1))
+  val rootDelay: Int = 1
+
+  /**
+   * Clocks an accumulated tree of `k` products ready in the same cycle takes over the same tree on adders: in
+   * residues of their own they are ready one per clock, the root [[rootDelay]] after the last, where a tree
+   * of adders takes ceil(log2 k) levels from the products, the first level a clock after them.
+   */
+  def latencyCost(k: Int): Int = k - 1 + rootDelay - (32 - Integer.numberOfLeadingZeros(k - 1))
 
   /**
    * The largest trees of additions (and subtractions) in `graph` whose leaves are all products `onUnit` read

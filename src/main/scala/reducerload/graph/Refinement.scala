@@ -40,7 +40,7 @@ object RefineNode {
    * value is captured `latency` cycles after its issue, unless `forwardable` and its one reader, an [[Own]]
    * operation, takes it off the unit's output the cycle before. A `chained` one (a product of an
    * [[Accumulation]], whose tree's sums are [[Fixed]]) leaves its unit in a residue of its own among its
-   * chain's, all within an interval, and is ready by its root's cycle.
+   * chain's, all within an interval, and is ready by the cycle its root needs it.
    */
   final case class Shared(
       operands: IndexedSeq[Int],
@@ -57,9 +57,9 @@ object RefineNode {
 
 /**
  * A multiply of chain `chain` (an accumulated tree's products: one accumulator takes them off their units, so
- * each in a residue of its own, all within an interval) that must be ready by cycle `by` (its tree's root's).
- * The accumulator's input selects among the chain's units: `width` bits per unit beyond the first, counted as
- * multiplexer input bits.
+ * each in a residue of its own, all within an interval) that must be ready by cycle `by` (for its tree's
+ * root). The accumulator's input selects among the chain's units: `width` bits per unit beyond the first,
+ * counted as multiplexer input bits.
  */
 final case class Chained(chain: Int, by: Int, width: Int)
 

@@ -223,9 +223,10 @@ private final case class ScheduleState(
  *     per clock ([[ShiftAddMultiplier.latency]]), then the capture register as above;
  *   - sin/cos of an angle sum: the sum registered, then the CORDIC unit, then (shared) a capture register;
  *   - a tree of additions of products accumulated (`schedule.accumulate-slack`, [[Accumulation]]): its
- *     products leave their units in residues of their own within an interval, each into the accumulator in
- *     the cycle before its own register would hold it; the root's register is written with the last, so it is
- *     ready when the last product would be, and the products and the sums below the root have none.
+ *     products leave their units in residues of their own within an interval, each into its unit's register
+ *     of rounded products in the cycle before its own register would hold it and into the accumulator from
+ *     there; the root's register is written with the last, so it is ready [[Accumulation.rootDelay]] after
+ *     the last product would be, and the products and the sums below the root have none.
  * Every value is held in a chain of registers written once per sample (see `stages`).
  *
  * @param requestedCordic
@@ -626,9 +627,10 @@ final class Schedule(
   }
 
   /**
-   * A candidate tree's products in [[chainSlots]], the tree then accumulated: its sums ready as the last
-   * product leaves its unit (the accumulator's adder writes the root's register then). Where the class has no
-   * such slots, each product placed as any multiply and the sums as adders.
+   * A candidate tree's products in [[chainSlots]], the tree then accumulated: its sums ready
+   * [[Accumulation.rootDelay]] after the last product would be in its own register (the accumulator's adder
+   * writes the root's register then). Where the class has no such slots, each product placed as any multiply
+   * and the sums as adders.
    */
   private def placeTree(s: ScheduleState, a: Accumulation): ScheduleState = {
     val earliest = a.products.map(p => graph(p).operands.map(x => s.ready(x.index).getOrElse(0)).max)
@@ -644,11 +646,12 @@ final class Schedule(
             taken = st.taken + ((true, slot.unit.get, slot.issue % ii))
           )
         }
-        val last = a.products.zip(slots).map { case (p, slot) => slot.issue + mulLatency(p) }.max
+        val root = a.products.zip(slots).map { case (p, slot) => slot.issue + mulLatency(p) }.max +
+          Accumulation.rootDelay
         sums.foldLeft(placed)((st, x) =>
           st.copy(
-            ready = st.ready.updated(x.index, Some(last)),
-            slots = st.slots.updated(x.index, Some(Slot(None, last - 1)))
+            ready = st.ready.updated(x.index, Some(root)),
+            slots = st.slots.updated(x.index, Some(Slot(None, root - 1)))
           )
         )
     }
@@ -756,7 +759,7 @@ final class Schedule(
                 .map(a =>
                   Chained(
                     accumulations.indexOf(a),
-                    state.ready(a.root.index).get,
+                    state.ready(a.root.index).get - Accumulation.rootDelay,
                     analysis(a.root).format.width
                   )
                 )
@@ -833,7 +836,8 @@ final class Schedule(
     else refined.fold(state.slots(id.index).get.issue)(_.issue(id.index))
 
   /**
-   * A sum of an accumulated tree: its register (the root's) is written as the last product leaves the unit.
+   * A sum of an accumulated tree: its register (the root's) is written as the accumulator takes the last
+   * product.
    */
   private def isAccumulatedSum(id: NodeId) = accumulationOf.get(id).exists(_.sums.contains(id))
 
@@ -850,7 +854,8 @@ final class Schedule(
         }
       }
       ids.map(id =>
-        if (isAccumulatedSum(id)) Some(accumulationOf(id).products.map(p => moved(p.index).get).max)
+        if (isAccumulatedSum(id))
+          Some(accumulationOf(id).products.map(p => moved(p.index).get).max + Accumulation.rootDelay)
         else moved(id.index)
       )
   }

@@ -100,11 +100,12 @@ class ScheduleSpec extends AnyFlatSpec {
           )
       }
     }
-    // An accumulated tree: its products, each read by the tree alone, leave their units (the cycle before a
-    // register of their own would hold them) in residues of their own within an interval, so that one
-    // accumulator takes them all; the root is in its register as the last leaves, the tree's sums with it.
+    // An accumulated tree: its products, each read by the tree alone, are in their units' registers of
+    // rounded products (in the cycle their own register would hold them) in residues of their own within an
+    // interval, so that one accumulator takes them all; the accumulator's adder writes the root's register
+    // from there, a clock after the last, the tree's sums with it.
     s.accumulations.foreach { a =>
-      val out = a.products.map(q => s(q).get - 1)
+      val out = a.products.map(q => s(q).get)
       assert(out.map(_ % ii).distinct.size == out.size, s"tree ${a.root.index}: two products in one residue")
       assert(out.max - out.min < ii, s"tree ${a.root.index}: products over more than an interval")
       a.sums.foreach(x =>
