@@ -3,7 +3,7 @@ package reducerload.arm
 import chisel3._
 import chisel3.util._
 import reducerload.cordic.CordicSinCos
-import reducerload.fixedpoint.{Clamped, FixedHw, Rounding}
+import reducerload.fixedpoint.{Clamped, FixedFormat, FixedHw, Rounding}
 import reducerload.graph._
 import reducerload.pipeline.{
   DelayPointer,
@@ -457,6 +457,10 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       )
     }.toMap
 
+    /** `v`, with `fracBits` fraction bits, raised to `f`'s (exactly) and sign-extended to `f`'s width. */
+    def alignedTo(v: SInt, fracBits: Int, f: FixedFormat): SInt =
+      (v << (f.fracBits - fracBits)).asSInt.pad(f.width)
+
     /**
      * Each unit's registers of rounded products for the accumulators ([[reducerload.graph.Accumulation]]):
      * one per rounding its accumulated products take, as wide as the widest of them (a narrower one's value
@@ -488,7 +492,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
         (schedule.slot(t.product).get.unit.get, analysis.productRounding(t.product))
       val inputs = terms.map(alike).distinct.map { key =>
         val fracBits = analysis(terms.find(alike(_) == key).get.product).format.fracBits
-        key -> (roundedForAccumulators(key) << (f.fracBits - fracBits)).asSInt.pad(f.width)
+        key -> alignedTo(roundedForAccumulators(key), fracBits, f)
       }
       val term = inputs.tail.foldLeft(inputs.head._2) { case (other, (key, v)) =>
         Mux(enableIn(terms.filter(alike(_) == key).map(out)), v, other)
@@ -514,8 +518,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       }
 
       /** Operand `x` in cycle `t`, its fraction bits raised to `f`'s, sign-extended to `f`'s width. */
-      def aligned(x: NodeId, t: Int): SInt =
-        (tap(x, t) << (f.fracBits - analysis(x).format.fracBits)).asSInt.pad(f.width)
+      def aligned(x: NodeId, t: Int): SInt = alignedTo(tap(x, t), analysis(x).format.fracBits, f)
       def fit(v: SInt): SInt = FixedHw.fitWidth(v, f.width)
       val ready = schedule(id)
       def issue = schedule.slot(id).get.issue

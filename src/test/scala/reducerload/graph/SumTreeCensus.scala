@@ -52,11 +52,9 @@ object SumTreeCensus {
       .sortBy(_._1)
       .foreach { case ((n, p), ts) => println(s"| $n | $p | ${ts.size} |") }
     println()
-    // k products on one unit are ready k - 1 clocks after the first, plus the accumulator's clock, where the
-    // tree sums them in ceil(log2 k) levels: the tree can be accumulated at no latency when its root's slack by
-    // the dependences alone ([[Schedule.slack]]) covers the difference.
+    // A tree can be accumulated at no latency when its root's slack by the dependences alone
+    // ([[Schedule.slack]]) covers what accumulating it costs ([[Accumulation.latencyCost]]).
     val schedule = arm.schedule
-    def extra(k: Int) = k - (32 - Integer.numberOfLeadingZeros(k - 1))
     println(
       s"trees with two or more such products: ${kept.size}; their products ${products.size} (${products.map(width).sum} " +
         s"capture bits), the sums inside them ${kept.map(_.sums.size).sum} (${kept.flatMap(_.sums).map(width).sum} adder " +
@@ -70,7 +68,9 @@ object SumTreeCensus {
     )
     println("| --- | --- | --- | --- | --- | --- |")
     Seq(0, 4, 9, 16).foreach { more =>
-      val free = kept.filter(t => schedule.slack(t.root.index) + more >= extra(t.leaves.count(accumulable)))
+      val free = kept.filter(t =>
+        schedule.slack(t.root.index) + more >= Accumulation.latencyCost(t.leaves.count(accumulable))
+      )
       val freeProducts = free.flatMap(_.leaves.filter(accumulable))
       println(
         s"| +$more | ${free.size} | ${freeProducts.size} | ${freeProducts.map(width).sum} | " +
