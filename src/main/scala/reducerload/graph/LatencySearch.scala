@@ -6,12 +6,15 @@ import com.google.ortools.sat._
 /**
  * The timing part of a CP-SAT model of a [[RefinementProblem]]: an issue cycle in 0..`horizon` for each
  * operation that moves, and its dependences (an operand read when ready, a forwardable one a cycle early by a
- * reader that takes it off its operator); each shared multiply's residue modulo the interval.
- * [[LatencySearch]] and the refinement's comparison (graph/SchedulerComparison, a test) build on it.
+ * reader that takes it off its operator); each shared multiply's residue modulo the interval; each
+ * accumulated root [[Accumulation.rootDelay]] after the last product of its chain, the chain's products ready
+ * in residues of their own within an interval. [[LatencySearch]] and the refinement's comparison
+ * (graph/SchedulerComparison, a test) build on it.
  */
 final class CpTiming(m: CpModel, problem: RefinementProblem, horizon: Int) {
   import RefineNode._
   private val nodes = problem.nodes
+  private val ii = problem.interval
   val start: IndexedSeq[Option[IntVar]] = nodes.indices.map { i =>
     nodes(i) match {
       case _: Own | _: Shared => Some(m.newIntVar(0, horizon, s"t$i"))
@@ -19,11 +22,36 @@ final class CpTiming(m: CpModel, problem: RefinementProblem, horizon: Int) {
     }
   }
 
+  private def issuedReady(i: Int, latency: Int): LinearExpr =
+    LinearExpr.newBuilder().add(start(i).get).add(latency).build()
+
+  /** Each accumulated root's chain: the cycle its last product is ready (the root's is rootDelay later). */
+  val lastOfChain: Map[Int, IntVar] =
+    nodes.indices
+      .collect(i => nodes(i) match { case s @ Shared(_, _, _, _, _, _, Some(c)) => (c.root, i, s.latency) })
+      .groupBy(_._1)
+      .map { case (root, members) =>
+        val readies = members.map { case (_, i, l) => issuedReady(i, l) }
+        val last = m.newIntVar(0, horizon + members.map(_._3).max, s"last$root")
+        val first = m.newIntVar(0, horizon + members.map(_._3).max, s"first$root")
+        m.addMaxEquality(last, readies.toArray[LinearArgument])
+        m.addMinEquality(first, readies.toArray[LinearArgument])
+        m.addLessOrEqual(LinearExpr.newBuilder().add(last).addTerm(first, -1).build(), ii - 1)
+        m.addAllDifferent(readies.map { r =>
+          val v = m.newIntVar(0, ii - 1, s"q$root")
+          m.addModuloEquality(v, r, ii)
+          v: LinearArgument
+        }.toArray)
+        root -> last
+      }
+
   /** The cycle node `x`'s value is in its register. */
   def ready(x: Int): LinearExpr = nodes(x) match {
+    case _: Fixed if lastOfChain.contains(x) =>
+      LinearExpr.newBuilder().add(lastOfChain(x)).add(Accumulation.rootDelay).build()
     case Fixed(t, _)        => LinearExpr.constant(t)
-    case Own(_, l, _, _, _) => LinearExpr.newBuilder().add(start(x).get).add(l).build()
-    case s: Shared          => LinearExpr.newBuilder().add(start(x).get).add(s.latency).build()
+    case Own(_, l, _, _, _) => issuedReady(x, l)
+    case s: Shared          => issuedReady(x, s.latency)
     case Literal(_)         => LinearExpr.constant(0)
   }
 
@@ -58,10 +86,18 @@ final class CpTiming(m: CpModel, problem: RefinementProblem, horizon: Int) {
 }
 
 /**
- * A shorter schedule found by [[LatencySearch]]: every output ready by `outputsBy`, `provedBound` the least
+ * A shorter schedule found by [[LatencySearch]]: a solution of `problem` (the searched one with every output
+ * ready by `outputsBy` and each accumulated root where the solver moved its chain), `provedBound` the least
  * any schedule of the problem can give (equal when `optimal`), each multiply on a unit of its class.
  */
-final case class ShorterSchedule(outputsBy: Int, provedBound: Int, optimal: Boolean, solution: Refined)
+final case class ShorterSchedule(
+    problem: RefinementProblem,
+    provedBound: Int,
+    optimal: Boolean,
+    solution: Refined
+) {
+  def outputsBy: Int = problem.outputsBy
+}
 
 /**
  * The registers-storage modulo schedule with the shortest latency, on a maintained solver (OR-Tools CP-SAT):
@@ -88,7 +124,7 @@ object LatencySearch {
     val nodes = problem.nodes
     val ii = problem.interval
     val timing = new CpTiming(m, problem, problem.outputsBy)
-    import timing.{ready, residue, shared, start}
+    import timing.{lastOfChain, ready, residue, shared, start}
     val makespan = m.newIntVar(0, problem.outputsBy, "makespan")
     problem.outputs
       .filterNot(nodes(_).isInstanceOf[Literal])
@@ -97,10 +133,6 @@ object LatencySearch {
       val c = m.addCumulative(units.size.toLong)
       ops.foreach(i => c.addDemand(m.newFixedSizeIntervalVar(residue(i), 1, s"slot$i"), 1L))
     }
-    // a chained multiply keeps the hint's cycle: its chain's rules are the refinement's
-    shared
-      .filter(nodes(_).asInstanceOf[Shared].chained.isDefined)
-      .foreach(i => m.addEquality(start(i).get, hint.issue(i)))
     m.minimize(makespan)
     nodes.indices.foreach(i => start(i).foreach(v => m.addHint(v, hint.issue(i))))
     val solver = new CpSolver()
@@ -116,12 +148,17 @@ object LatencySearch {
           case ((units, _), ops) => ops.zip(units).foreach { case (i, u) => unit(i) = u }
         }
         ShorterSchedule(
-          solver.value(makespan).toInt,
+          problem.withRoots(
+            lastOfChain.map { case (root, last) =>
+              root -> (solver.value(last).toInt + Accumulation.rootDelay)
+            },
+            solver.value(makespan).toInt
+          ),
           math.ceil(solver.bestObjectiveBound - 1e-9).toInt,
           status == CpSolverStatus.OPTIMAL,
           Refined(issue, unit.toIndexedSeq, nodes.map(_ => false))
         )
       }
-      .map { s => problem.copy(outputsBy = s.outputsBy).check(s.solution); s }
+      .map { s => s.problem.check(s.solution); s }
   }
 }

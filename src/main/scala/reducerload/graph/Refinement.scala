@@ -40,7 +40,7 @@ object RefineNode {
    * value is captured `latency` cycles after its issue, unless `forwardable` and its one reader, an [[Own]]
    * operation, takes it off the unit's output the cycle before. A `chained` one (a product of an
    * [[Accumulation]], whose tree's sums are [[Fixed]]) leaves its unit in a residue of its own among its
-   * chain's, all within an interval, and is ready by the cycle its root needs it.
+   * chain's, all within an interval, and is ready [[Accumulation.rootDelay]] before its root.
    */
   final case class Shared(
       operands: IndexedSeq[Int],
@@ -56,12 +56,12 @@ object RefineNode {
 }
 
 /**
- * A multiply of chain `chain` (an accumulated tree's products: one accumulator takes them off their units, so
- * each in a residue of its own, all within an interval) that must be ready by cycle `by` (for its tree's
- * root). The accumulator's input selects among the chain's units: `width` bits per unit beyond the first,
- * counted as multiplexer input bits.
+ * A multiply of the chain summed into node `root` (an accumulated tree's products: one accumulator takes them
+ * off their units, so each in a residue of its own, all within an interval), a [[RefineNode.Fixed]] node
+ * whose cycle is [[Accumulation.rootDelay]] after the chain's last product is ready. The accumulator's input
+ * selects among the chain's units: `width` bits per unit beyond the first, counted as multiplexer input bits.
  */
-final case class Chained(chain: Int, by: Int, width: Int)
+final case class Chained(root: Int, width: Int)
 
 /**
  * A solution of a [[RefinementProblem]]: each node's issue cycle (fixed nodes and literals: -1), each shared
@@ -105,7 +105,30 @@ final case class RefinementProblem(
   require(interval >= 2, s"RefinementProblem: interval $interval; at 1 every operation has its own operator")
   nodes.zipWithIndex.foreach { case (n, i) =>
     require(n.operands.forall(_ < i), s"RefinementProblem: node $i reads a later node")
+    n match {
+      case Shared(_, _, _, _, _, _, Some(c)) =>
+        require(
+          nodes.lift(c.root).exists(_.isInstanceOf[Fixed]),
+          s"RefinementProblem: node $i chained to node ${c.root}, not a fixed node"
+        )
+      case _ =>
+    }
   }
+
+  /** The cycle a chained multiply must be ready by: its root's, less [[Accumulation.rootDelay]]. */
+  private def readyBy(c: Chained): Int = nodes(c.root).asInstanceOf[Fixed].ready - Accumulation.rootDelay
+
+  /**
+   * The problem with the accumulated roots ready in the cycles `rootReady` gives (the others as they are) and
+   * every output by `by`: where the solver moved a chain's products.
+   */
+  def withRoots(rootReady: Map[Int, Int], by: Int): RefinementProblem =
+    copy(
+      nodes = nodes.indices.map(i =>
+        rootReady.get(i).fold(nodes(i))(r => nodes(i).asInstanceOf[Fixed].copy(ready = r))
+      ),
+      outputsBy = by
+    )
 
   private val n = nodes.size
   private val users: Array[Array[Int]] = {
@@ -170,24 +193,25 @@ final case class RefinementProblem(
           require(s.units.contains(r.unit(i)), s"RefinementProblem: node $i on unit ${r.unit(i)}")
           s.chained.foreach(c =>
             require(
-              r.issue(i) + s.latency <= c.by,
-              s"RefinementProblem: node $i of chain ${c.chain} ready after its root's ${c.by}"
+              r.issue(i) + s.latency <= readyBy(c),
+              s"RefinementProblem: node $i of chain ${c.root} ready after ${readyBy(c)}, its root's less " +
+                Accumulation.rootDelay
             )
           )
         case _ =>
       }
     }
     val shared = nodes.indices.filter(nodes(_).isInstanceOf[Shared])
-    shared.groupBy(nodes(_).asInstanceOf[Shared].chained.map(_.chain)).foreach {
+    shared.groupBy(nodes(_).asInstanceOf[Shared].chained.map(_.root)).foreach {
       case (Some(c), members) =>
         val ready = members.map(i => r.issue(i) + nodes(i).asInstanceOf[Shared].latency)
         require(
           ready.map(Math.floorMod(_, interval)).distinct.size == members.size,
-          s"RefinementProblem: chain $c has two products ready in one residue"
+          s"RefinementProblem: the chain into node $c has two products ready in one residue"
         )
         require(
           ready.max - ready.min < interval,
-          s"RefinementProblem: chain $c ready over more than an interval"
+          s"RefinementProblem: the chain into node $c is ready over more than an interval"
         )
       case _ =>
     }
@@ -219,7 +243,7 @@ final case class RefinementProblem(
     // each chain's accumulator: its width per unit beyond the first
     val accumulatorInputs = nodes.indices
       .flatMap(i => nodes(i) match { case s: Shared => s.chained.map(c => c -> r.unit(i)); case _ => None })
-      .groupMap(_._1.chain)(identity)
+      .groupMap(_._1.root)(identity)
       .values
       .map(members => (members.map(_._2).distinct.size - 1).toLong * members.head._1.width)
       .sum
@@ -300,12 +324,12 @@ final case class RefinementProblem(
     private val swappable = nodes.map { case s: Shared => s.swappable; case _ => false }.toArray
     // each chained multiply's chain (its members, itself included); unchained: empty
     private val chain: Array[Array[Int]] = {
-      val of = nodes.map { case s: Shared => s.chained.map(_.chain); case _ => None }
+      val of = nodes.map { case s: Shared => s.chained.map(_.root); case _ => None }
       val members = nodes.indices.filter(of(_).isDefined).groupBy(of(_).get)
       of.map(_.fold(Array.empty[Int])(members(_).toArray)).toArray
     }
     private def chained(i: Int) = chain(i).nonEmpty
-    private val chainedBy = nodes.map { case s: Shared => s.chained.fold(0)(_.by); case _ => 0 }.toArray
+    private val chainedBy = nodes.map { case s: Shared => s.chained.fold(0)(readyBy); case _ => 0 }.toArray
     private val chainWidth = nodes.map { case s: Shared => s.chained.fold(0)(_.width); case _ => 0 }.toArray
 
     /** Input bits of the accumulator of node `i`'s chain beyond its first unit's (none unchained). */

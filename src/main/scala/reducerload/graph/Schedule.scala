@@ -503,16 +503,22 @@ final class Schedule(
 
   /**
    * The latency the dependences alone allow: every operation at its operands' ready cycle (a forwardable
-   * product read off its unit a cycle early), a unit free whenever asked, angles read from cycle 1; plus the
-   * output stage. The report prints it beside the achieved latency: the distance the list schedule adds.
+   * product read off its unit a cycle early), a unit free whenever asked, angles read from cycle 1, each
+   * accumulated tree's products in cycles of their own as early as they can be (its sums then need not wait
+   * for the graph's order of additions: an accumulator reassociates its tree); plus the output stage. The
+   * report prints it beside the achieved latency: the distance the list schedule adds.
    */
-  lazy val dependenceBound: Int = lastOutput(unitsUnbounded(earliestRead)) + outputStages
+  lazy val dependenceBound: Int = lastOutput(unitsUnbounded(earliestRead, accumulationOf)) + outputStages
 
   /**
    * Each node's ready cycle with a unit free whenever asked and angles read from cycle 1 (a literal: none);
-   * an addition reads operand `x`, ready in `r`, in `read(x, r)`.
+   * an addition reads operand `x`, ready in `r`, in `read(x, r)`; the root of a tree in `accumulated` is
+   * ready [[Accumulation.rootDelay]] after its products, each in a cycle of its own, the earliest first.
    */
-  private def unitsUnbounded(read: (NodeId, Int) => Int): Vector[Option[Int]] =
+  private def unitsUnbounded(
+      read: (NodeId, Int) => Int,
+      accumulated: Map[NodeId, Accumulation] = Map.empty
+  ): Vector[Option[Int]] =
     ids.foldLeft(Vector.empty[Option[Int]]) { (r, id) =>
       def at(x: NodeId) = r(x.index).getOrElse(0)
       r :+ (graph(id) match {
@@ -520,7 +526,10 @@ final class Schedule(
         case Input(_)       => Some(inputCycle)
         case Trig(_, angle) => Some(angleEarliest(angle) + ownLatency(id))
         case op @ Mul(_, _) => Some(op.operands.map(at).max + ownLatency(id))
-        case op             => Some(op.operands.map(x => read(x, at(x))).max + ownLatency(id))
+        case _: Add | _: Sub if accumulated.get(id).exists(_.root == id) =>
+          val last = accumulated(id).products.map(at).sorted.reduceLeft((prev, p) => math.max(p, prev + 1))
+          Some(last + Accumulation.rootDelay)
+        case op => Some(op.operands.map(x => read(x, at(x))).max + ownLatency(id))
       })
     }
 
@@ -698,7 +707,7 @@ final class Schedule(
   private lazy val accumulationOf: Map[NodeId, Accumulation] =
     accumulations.flatMap(a => (a.sums ++ a.products).map(_ -> a)).toMap
 
-  /** The accumulated tree `id` is a product or a sum of: its cycles and unit stay the list scheduler's. */
+  /** The accumulated tree `id` is a product or a sum of. */
   def accumulation(id: NodeId): Option[Accumulation] = accumulationOf.get(id)
 
   /**
@@ -756,13 +765,7 @@ final class Schedule(
               forwardable = forwardableToReader(id),
               chained = accumulationOf
                 .get(id)
-                .map(a =>
-                  Chained(
-                    accumulations.indexOf(a),
-                    state.ready(a.root.index).get - Accumulation.rootDelay,
-                    analysis(a.root).format.width
-                  )
-                )
+                .map(a => Chained(a.root.index, analysis(a.root).format.width))
             )
           case op =>
             val latency = state.ready(id.index).get - state.slots(id.index).get.issue
@@ -820,7 +823,7 @@ final class Schedule(
   private lazy val refined: Option[Refined] =
     refinementProblem.flatMap { case (listProblem, list) =>
       val (problem, start) =
-        shorter.fold((listProblem, list))(s => (listProblem.copy(outputsBy = s.outputsBy), s.solution))
+        shorter.fold((listProblem, list))(s => (s.problem, s.solution))
       val movable = problem.nodes.count {
         case _: RefineNode.Own | _: RefineNode.Shared => true
         case _                                        => false
@@ -831,9 +834,11 @@ final class Schedule(
     }
 
   /** The cycle an operation reads its operands (its unit may still be rebound: see `slot`). */
-  private def issue(id: NodeId): Int =
-    if (isAccumulatedSum(id)) ready(id.index).get - 1
-    else refined.fold(state.slots(id.index).get.issue)(_.issue(id.index))
+  private def issue(id: NodeId): Int = graph(id) match {
+    case _ if isAccumulatedSum(id) => ready(id.index).get - 1
+    case Input(_) | Trig(_, _)     => state.slots(id.index).get.issue // fixed in the refinement's problem
+    case _                         => refined.fold(state.slots(id.index).get.issue)(_.issue(id.index))
+  }
 
   /**
    * A sum of an accumulated tree: its register (the root's) is written as the accumulator takes the last

@@ -136,10 +136,10 @@ class RefinementSpec extends AnyFlatSpec {
 
   it should "keep an accumulated tree's products in residues of their own within an interval, ready by " +
     "their root, and gather them on one unit when its accumulator's input costs more than the operands'" in {
-      // II 4, latency 2: x*a and y*b accumulate into a root ready in cycle 9 (40-bit accumulator input per unit
-      // beyond the first), z*c on its own; started on two units. Gathered on one, they add 10 + 8 operand
-      // multiplexer bits and save 40.
-      val chain = Some(Chained(0, 9, 40))
+      // II 4, latency 2: x*a and y*b accumulate into a root ready in cycle 10, so by 9 (40-bit accumulator
+      // input per unit beyond the first), z*c on its own; started on two units. Gathered on one, they add
+      // 10 + 8 operand multiplexer bits and save 40.
+      val chain = Some(Chained(9, 40))
       def product(x: Int, y: Int, chained: Option[Chained]) =
         Shared(IndexedSeq(x, y), 2, 12, 0 until 2, swappable = false, forwardable = false, chained = chained)
       val nodes = IndexedSeq(
@@ -152,9 +152,9 @@ class RefinementSpec extends AnyFlatSpec {
         product(0, 3, chain), // 6 x*a
         product(1, 4, chain), // 7 y*b
         product(2, 5, None), // 8 z*c
-        Fixed(9, 14) // 9 the root
+        Fixed(10, 14) // 9 the root
       )
-      val p = RefinementProblem(4, nodes, Seq(8, 9), 9, _ => IndexedSeq(10, 8), 1.0, 1.0)
+      val p = RefinementProblem(4, nodes, Seq(8, 9), 10, _ => IndexedSeq(10, 8), 1.0, 1.0)
       val start = Refined(
         IndexedSeq(-1, -1, -1, -1, -1, -1, 2, 3, 2, -1),
         IndexedSeq(-1, -1, -1, -1, -1, -1, 0, 1, 1, -1),

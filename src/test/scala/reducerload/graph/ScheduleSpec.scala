@@ -317,20 +317,27 @@ class ScheduleSpec extends AnyFlatSpec {
 
   it should "accumulate trees of products when schedule.accumulate-slack asks, each root the signed sum of " +
     "its products as the bit-accurate model computes them, and no tree without it" in {
-      def at(slack: Option[Int]) = {
-        val p = routed(ScheduleRequest(clocksPerSample = Some(18), accumulateSlack = slack))
-        figures(s"ur5 II=18 routed accumulate-slack ${slack.fold("none")(_.toString)}", p)
+      def at(slack: Option[Int], scheduler: Scheduler = Scheduler.ListOnly) = {
+        val request =
+          ScheduleRequest(clocksPerSample = Some(18), accumulateSlack = slack, scheduler = scheduler)
+        val p = routed(if (scheduler == Scheduler.CpSat) request.copy(refinement = 0) else request)
+        figures(s"ur5 II=18 routed accumulate-slack ${slack.fold("none")(_.toString)} $scheduler", p)
         (p, check(p))
       }
       val (_, none) = at(None)
       val (_, critical) = at(Some(0))
       val (p, loose) = at(Some(9))
+      // The solver moves the chained products and their roots with them (check: within every rule, the
+      // dependence bound of the accumulated trees no higher).
+      val (_, solved) = at(Some(9), Scheduler.CpSat)
       println(
         s"[schedule] trees accumulated: none ${none.accumulations.size}, slack 0 ${critical.accumulations.size}, " +
-          s"slack 9 ${loose.accumulations.size}"
+          s"slack 9 ${loose.accumulations.size} (latency ${loose.latency}, with the solver ${solved.latency}, " +
+          s"bound ${solved.dependenceBound})"
       )
       assert(none.accumulations.isEmpty && critical.accumulations.nonEmpty)
       assert(loose.accumulations.size >= critical.accumulations.size)
+      assert(solved.accumulations.nonEmpty && solved.latency < loose.latency)
       // Each root against its products in the model's values of seeded random samples: the sum the
       // accumulator computes (each product aligned to the root's fraction bits, subtracted where negated).
       val model = new GraphModel(p.analysis)
