@@ -478,10 +478,10 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
 
     /**
      * The root's register of an accumulated tree ([[reducerload.graph.Accumulation]]): each product, from its
-     * unit's register of rounded products and aligned to the root's fraction bits, goes into one adder with
-     * the partial sum (none with the first product, subtracted where the tree subtracts it); the accumulator
-     * takes every sum, the root's register the last. Products of one unit rounded alike are one input of the
-     * adder.
+     * unit's register of rounded products, aligned to the root's fraction bits and complemented where the
+     * tree subtracts it, into the accumulator's term register, and from there into one adder with the partial
+     * sum (none with the first product; a subtracted one's carry in); the accumulator takes every sum, the
+     * root's register the last. Products of one unit rounded alike are one input of the term's selection.
      */
     def accumulate(a: Accumulation): SInt = {
       val f = analysis(a.root).format
@@ -500,13 +500,17 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       val negated = terms.filter(_.negated).map(out)
       val subtract =
         if (negated.isEmpty) false.B else if (negated.size == terms.size) true.B else enableIn(negated)
+      // a subtraction as the complement and a carry in, so that one adder does both; the term's register
+      // keeps the selection and the complement out of the adder's clock, which the UR5's clock needed
+      // (docs/timing-closure.md), so each product is added the clock after it is in its unit's register
+      val complemented = RegNext(term.asUInt ^ Fill(f.width, subtract))
+      val carryIn = RegNext(subtract)
+      def added(t: Accumulation.Term) = out(t) + 1
       val accumulator = Reg(SInt(f.width.W)) // no reset: the first product replaces it
-      val base = Mux(enable(out(terms.head)), 0.S(f.width.W), accumulator)
-      // a subtraction as the complement and a carry in, so that one adder does both
-      val sum =
-        (base.asUInt + (term.asUInt ^ Fill(f.width, subtract)) + subtract.asUInt)(f.width - 1, 0).asSInt
-      when(enableIn(terms.init.map(out)))(accumulator := sum)
-      RegEnable(sum, enable(out(terms.last)))
+      val base = Mux(enable(added(terms.head)), 0.S(f.width.W), accumulator)
+      val sum = (base.asUInt + complemented + carryIn.asUInt)(f.width - 1, 0).asSInt
+      when(enableIn(terms.init.map(added)))(accumulator := sum)
+      RegEnable(sum, enable(added(terms.last)))
     }
 
     // The graph, node by node: each value's register and the taps its readers use.

@@ -671,7 +671,7 @@ object Settings {
     "clocks",
     "storage registers, clocks-per-sample >= 2: a tree of additions whose leaves are products read once is " +
       "summed by an accumulator that takes each product from its unit in turn (no register per product, no " +
-      "adder per sum: fewer logic elements), when the clocks that costs over adders (k products: k - " +
+      "adder per sum: fewer logic elements), when the clocks that costs over adders (k products: k + 1 - " +
       "ceil(log2 k)) are within the dependences' slack of its root plus this many (none: no tree)",
     Nil,
     "none",

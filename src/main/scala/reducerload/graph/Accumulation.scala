@@ -3,13 +3,14 @@ package reducerload.graph
 /**
  * A tree of additions summed by an accumulator (`schedule.accumulate-slack`): its products leave their
  * multiplier units in residues of their own within an interval, each into a register its unit keeps for the
- * rounded products of the accumulators, and the accumulator adds each to the partial sum from there. The
- * products get no register of their own, the sums below the root no adder; the root's register is loaded from
- * the accumulator's adder with the last product, [[Accumulation.rootDelay]] clock after that product would
- * have been in its own register. Sums in the graph are exact (every operand aligned up to the sum's fraction
- * bits, the sum's format proven to hold it), so the root's value is the signed sum of the products aligned to
- * its fraction bits, and an accumulator as wide as the root gives it even where a partial sum would not fit
- * (two's complement wraps back): the bit-accurate model does not change.
+ * rounded products of the accumulators, from there into the accumulator's term register, and the accumulator
+ * adds each to the partial sum. The products get no register of their own, the sums below the root no adder;
+ * the root's register is loaded from the accumulator's adder with the last product,
+ * [[Accumulation.rootDelay]] clocks after that product would have been in its own register. Sums in the graph
+ * are exact (every operand aligned up to the sum's fraction bits, the sum's format proven to hold it), so the
+ * root's value is the signed sum of the products aligned to its fraction bits, and an accumulator as wide as
+ * the root gives it even where a partial sum would not fit (two's complement wraps back): the bit-accurate
+ * model does not change.
  *
  * @param root
  *   the sum whose value the tree computes, read by the rest of the graph
@@ -33,11 +34,12 @@ object Accumulation {
 
   /**
    * Clocks from the cycle an accumulated tree's last product would be in its own register to the cycle its
-   * root is: the accumulator's adder takes the product from its unit's register of rounded products, since
-   * the rounding's carry chain, the selection among units and the accumulator's carry chain in one clock were
-   * the longest paths of the design.
+   * root is: the product goes from its unit's register of rounded products into the accumulator's term
+   * register (selected among units, complemented where subtracted), and from there through the accumulator's
+   * adder into the root's register. The rounding's carry chain, the selection and the accumulator's carry
+   * chain in one clock, then the selection and the carry chain, were the longest paths of the UR5's design.
    */
-  val rootDelay: Int = 1
+  val rootDelay: Int = 2
 
   /**
    * Clocks an accumulated tree of `k` products ready in the same cycle takes over the same tree on adders: in

@@ -224,9 +224,10 @@ private final case class ScheduleState(
  *   - sin/cos of an angle sum: the sum registered, then the CORDIC unit, then (shared) a capture register;
  *   - a tree of additions of products accumulated (`schedule.accumulate-slack`, [[Accumulation]]): its
  *     products leave their units in residues of their own within an interval, each into its unit's register
- *     of rounded products in the cycle before its own register would hold it and into the accumulator from
- *     there; the root's register is written with the last, so it is ready [[Accumulation.rootDelay]] after
- *     the last product would be, and the products and the sums below the root have none.
+ *     of rounded products in the cycle before its own register would hold it, through the accumulator's term
+ *     register into its adder; the root's register is written with the last, so it is ready
+ *     [[Accumulation.rootDelay]] after the last product would be, and the products and the sums below the
+ *     root have none.
  * Every value is held in a chain of registers written once per sample (see `stages`).
  *
  * @param requestedCordic

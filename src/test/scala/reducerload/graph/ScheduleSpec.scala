@@ -102,14 +102,15 @@ class ScheduleSpec extends AnyFlatSpec {
     }
     // An accumulated tree: its products, each read by the tree alone, are in their units' registers of
     // rounded products (in the cycle their own register would hold them) in residues of their own within an
-    // interval, so that one accumulator takes them all; the accumulator's adder writes the root's register
-    // from there, a clock after the last, the tree's sums with it.
+    // interval, so that one accumulator takes them all: each into its term register the clock after, and
+    // the accumulator's adder writes the root's register from there, two clocks after the last product, the
+    // tree's sums with it.
     s.accumulations.foreach { a =>
       val out = a.products.map(q => s(q).get)
       assert(out.map(_ % ii).distinct.size == out.size, s"tree ${a.root.index}: two products in one residue")
       assert(out.max - out.min < ii, s"tree ${a.root.index}: products over more than an interval")
       a.sums.foreach(x =>
-        assert(s(x).get == out.max + 1, s"tree ${a.root.index}: sum ${x.index} not ready then")
+        assert(s(x).get == out.max + 2, s"tree ${a.root.index}: sum ${x.index} not ready then")
       )
       a.products.foreach { q =>
         assert(
