@@ -44,9 +44,10 @@ class LatencySearchSpec extends AnyFlatSpec {
   }
 
   it should "move an accumulated chain's products, and its root with them, within the chain's rules" in {
-    // II 4, two units, latency 2: p = x*a and q = y*b accumulate into r (ready a clock after the later of
-    // them), s = r + z. The hint issues them in 5 and 6: r in 9, s ready in 10. By hand: p in 0, q in 1 (its
-    // product ready in a residue of its own, though the other unit is free in 0), r in 4, s ready in 5.
+    // II 4, two units, latency 2: p = x*a and q = y*b accumulate into r (ready two clocks after the later
+    // of them: the term register, then the adder), s = r + z. The hint issues them in 5 and 6: r in 10, s
+    // ready in 11. By hand: p in 0, q in 1 (its product ready in a residue of its own, though the other unit
+    // is free in 0), r in 5, s ready in 6.
     val chain = Some(Chained(6, 14))
     def product(x: Int, y: Int) =
       Shared(IndexedSeq(x, y), 2, 12, 0 until 2, swappable = false, forwardable = false, chained = chain)
@@ -57,22 +58,22 @@ class LatencySearchSpec extends AnyFlatSpec {
       Literal(8), // 3 b
       product(0, 2), // 4 p
       product(1, 3), // 5 q
-      Fixed(9, 14), // 6 r, its cycle the hint's
+      Fixed(10, 14), // 6 r, its cycle the hint's
       Fixed(0, 14), // 7 z
       Own(IndexedSeq(6, 7), 1, 15) // 8 s
     )
-    val p = RefinementProblem(4, chained, Seq(8), 10, _ => IndexedSeq(10, 8), 1.0, 1.0)
+    val p = RefinementProblem(4, chained, Seq(8), 11, _ => IndexedSeq(10, 8), 1.0, 1.0)
     val hint = Refined(
-      IndexedSeq(-1, -1, -1, -1, 5, 6, -1, -1, 9),
+      IndexedSeq(-1, -1, -1, -1, 5, 6, -1, -1, 10),
       IndexedSeq(-1, -1, -1, -1, 0, 0, -1, -1, -1),
       IndexedSeq.fill(chained.size)(false)
     )
     p.check(hint)
     val found = LatencySearch(p, hint).getOrElse(fail("no shorter schedule"))
-    assert(found.outputsBy == 5 && found.optimal, s"$found")
-    assert(found.problem.nodes(6) == Fixed(4, 14), s"the root: ${found.problem.nodes(6)}")
+    assert(found.outputsBy == 6 && found.optimal, s"$found")
+    assert(found.problem.nodes(6) == Fixed(5, 14), s"the root: ${found.problem.nodes(6)}")
     val r = found.solution
-    assert(Set(r.issue(4), r.issue(5)) == Set(0, 1) && r.issue(8) == 4, s"issues ${r.issue}")
+    assert(Set(r.issue(4), r.issue(5)) == Set(0, 1) && r.issue(8) == 5, s"issues ${r.issue}")
   }
 
   it should "shorten the UR5's list schedule at 17 clocks with registered routes, within every rule" in {
