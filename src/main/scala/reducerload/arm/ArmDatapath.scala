@@ -503,9 +503,9 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       // a subtraction as the complement and a carry in, so that one adder does both; the term's register
       // keeps the selection and the complement out of the adder's clock, which the UR5's clock needed
       // (docs/timing-closure.md), so each product is added the clock after it is in its unit's register
-      val complemented = RegNext(term.asUInt ^ Fill(f.width, subtract))
-      val carryIn = RegNext(subtract)
-      def added(t: Accumulation.Term) = out(t) + 1
+      val complemented = ShiftRegister(term.asUInt ^ Fill(f.width, subtract), Accumulation.termRegisters)
+      val carryIn = ShiftRegister(subtract, Accumulation.termRegisters)
+      def added(t: Accumulation.Term) = out(t) + Accumulation.termRegisters
       val accumulator = Reg(SInt(f.width.W)) // no reset: the first product replaces it
       val base = Mux(enable(added(terms.head)), 0.S(f.width.W), accumulator)
       val sum = (base.asUInt + complemented + carryIn.asUInt)(f.width - 1, 0).asSInt

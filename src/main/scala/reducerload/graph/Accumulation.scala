@@ -33,13 +33,18 @@ object Accumulation {
   final case class Term(product: NodeId, negated: Boolean)
 
   /**
-   * Clocks from the cycle an accumulated tree's last product would be in its own register to the cycle its
-   * root is: the product goes from its unit's register of rounded products into the accumulator's term
-   * register (selected among units, complemented where subtracted), and from there through the accumulator's
-   * adder into the root's register. The rounding's carry chain, the selection and the accumulator's carry
-   * chain in one clock, then the selection and the carry chain, were the longest paths of the UR5's design.
+   * Registers between a product in its unit's register of rounded products and the accumulator's adder: the
+   * term register (selected among units, complemented where subtracted). The rounding's carry chain, the
+   * selection and the accumulator's carry chain in one clock, then the selection and the carry chain, were
+   * the longest paths of the UR5's design.
    */
-  val rootDelay: Int = 2
+  val termRegisters: Int = 1
+
+  /**
+   * Clocks from the cycle an accumulated tree's last product would be in its own register to the cycle its
+   * root is: through the [[termRegisters]], then the accumulator's adder into the root's register.
+   */
+  val rootDelay: Int = termRegisters + 1
 
   /**
    * Clocks an accumulated tree of `k` products ready in the same cycle takes over the same tree on adders: in

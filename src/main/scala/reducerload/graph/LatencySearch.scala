@@ -26,24 +26,26 @@ final class CpTiming(m: CpModel, problem: RefinementProblem, horizon: Int) {
     LinearExpr.newBuilder().add(start(i).get).add(latency).build()
 
   /** Each accumulated root's chain: the cycle its last product is ready (the root's is rootDelay later). */
-  val lastOfChain: Map[Int, IntVar] =
-    nodes.indices
-      .collect(i => nodes(i) match { case s @ Shared(_, _, _, _, _, _, Some(c)) => (c.root, i, s.latency) })
-      .groupBy(_._1)
-      .map { case (root, members) =>
-        val readies = members.map { case (_, i, l) => issuedReady(i, l) }
-        val last = m.newIntVar(0, horizon + members.map(_._3).max, s"last$root")
-        val first = m.newIntVar(0, horizon + members.map(_._3).max, s"first$root")
-        m.addMaxEquality(last, readies.toArray[LinearArgument])
-        m.addMinEquality(first, readies.toArray[LinearArgument])
-        m.addLessOrEqual(LinearExpr.newBuilder().add(last).addTerm(first, -1).build(), ii - 1)
-        m.addAllDifferent(readies.map { r =>
-          val v = m.newIntVar(0, ii - 1, s"q$root")
+  val lastOfChain: Map[Int, IntVar] = problem.chains.map { case (root, members) =>
+    val readies = members.map(i => issuedReady(i, nodes(i).asInstanceOf[Shared].latency))
+    val latest = horizon + members.map(nodes(_).asInstanceOf[Shared].latency).max
+    val last = m.newIntVar(0, latest, s"last$root")
+    val first = m.newIntVar(0, latest, s"first$root")
+    m.addMaxEquality(last, readies.toArray[LinearArgument])
+    m.addMinEquality(first, readies.toArray[LinearArgument])
+    m.addLessOrEqual(LinearExpr.newBuilder().add(last).addTerm(first, -1).build(), ii - 1)
+    m.addAllDifferent(
+      members
+        .zip(readies)
+        .map { case (i, r) =>
+          val v = m.newIntVar(0, ii - 1, s"q$i")
           m.addModuloEquality(v, r, ii)
           v: LinearArgument
-        }.toArray)
-        root -> last
-      }
+        }
+        .toArray
+    )
+    root -> last
+  }
 
   /** The cycle node `x`'s value is in its register. */
   def ready(x: Int): LinearExpr = nodes(x) match {

@@ -58,8 +58,9 @@ object RefineNode {
 /**
  * A multiply of the chain summed into node `root` (an accumulated tree's products: one accumulator takes them
  * off their units, so each in a residue of its own, all within an interval), a [[RefineNode.Fixed]] node
- * whose cycle is [[Accumulation.rootDelay]] after the chain's last product is ready. The accumulator's input
- * selects among the chain's units: `width` bits per unit beyond the first, counted as multiplexer input bits.
+ * whose cycle is at least [[Accumulation.rootDelay]] after the chain's last product is ready. The
+ * accumulator's input selects among the chain's units: `width` bits per unit beyond the first, counted as
+ * multiplexer input bits.
  */
 final case class Chained(root: Int, width: Int)
 
@@ -114,6 +115,12 @@ final case class RefinementProblem(
       case _ =>
     }
   }
+
+  /** Each accumulated root's chain: the chained multiplies summed into it, by the root's node. */
+  val chains: Map[Int, IndexedSeq[Int]] =
+    nodes.indices
+      .flatMap(i => nodes(i) match { case s: Shared => s.chained.map(c => c.root -> i); case _ => None })
+      .groupMap(_._1)(_._2)
 
   /** The cycle a chained multiply must be ready by: its root's, less [[Accumulation.rootDelay]]. */
   private def readyBy(c: Chained): Int = nodes(c.root).asInstanceOf[Fixed].ready - Accumulation.rootDelay
@@ -201,20 +208,18 @@ final case class RefinementProblem(
         case _ =>
       }
     }
-    val shared = nodes.indices.filter(nodes(_).isInstanceOf[Shared])
-    shared.groupBy(nodes(_).asInstanceOf[Shared].chained.map(_.root)).foreach {
-      case (Some(c), members) =>
-        val ready = members.map(i => r.issue(i) + nodes(i).asInstanceOf[Shared].latency)
-        require(
-          ready.map(Math.floorMod(_, interval)).distinct.size == members.size,
-          s"RefinementProblem: the chain into node $c has two products ready in one residue"
-        )
-        require(
-          ready.max - ready.min < interval,
-          s"RefinementProblem: the chain into node $c is ready over more than an interval"
-        )
-      case _ =>
+    chains.foreach { case (c, members) =>
+      val ready = members.map(i => r.issue(i) + nodes(i).asInstanceOf[Shared].latency)
+      require(
+        ready.map(Math.floorMod(_, interval)).distinct.size == members.size,
+        s"RefinementProblem: the chain into node $c has two products ready in one residue"
+      )
+      require(
+        ready.max - ready.min < interval,
+        s"RefinementProblem: the chain into node $c is ready over more than an interval"
+      )
     }
+    val shared = nodes.indices.filter(nodes(_).isInstanceOf[Shared])
     shared.groupBy(i => (r.unit(i), Math.floorMod(r.issue(i), interval))).foreach { case ((u, res), on) =>
       require(on.size == 1, s"RefinementProblem: nodes ${on.mkString(", ")} share unit $u in residue $res")
     }
@@ -241,12 +246,10 @@ final case class RefinementProblem(
       }
     }
     // each chain's accumulator: its width per unit beyond the first
-    val accumulatorInputs = nodes.indices
-      .flatMap(i => nodes(i) match { case s: Shared => s.chained.map(c => c -> r.unit(i)); case _ => None })
-      .groupMap(_._1.root)(identity)
-      .values
-      .map(members => (members.map(_._2).distinct.size - 1).toLong * members.head._1.width)
-      .sum
+    val accumulatorInputs = chains.values.map { members =>
+      val width = nodes(members.head).asInstanceOf[Shared].chained.get.width
+      (members.map(r.unit).distinct.size - 1).toLong * width
+    }.sum
     val mux = sources.map { case ((u, k), set) =>
       (set.size - 1).toLong * portWidths(u)(k)
     }.sum + accumulatorInputs
@@ -323,11 +326,10 @@ final case class RefinementProblem(
     private val canTake = nodes.indices.map(takesForwarded).toArray
     private val swappable = nodes.map { case s: Shared => s.swappable; case _ => false }.toArray
     // each chained multiply's chain (its members, itself included); unchained: empty
-    private val chain: Array[Array[Int]] = {
-      val of = nodes.map { case s: Shared => s.chained.map(_.root); case _ => None }
-      val members = nodes.indices.filter(of(_).isDefined).groupBy(of(_).get)
-      of.map(_.fold(Array.empty[Int])(members(_).toArray)).toArray
-    }
+    private val chain: Array[Array[Int]] = nodes.map {
+      case s: Shared => s.chained.fold(Array.empty[Int])(c => chains(c.root).toArray)
+      case _         => Array.empty[Int]
+    }.toArray
     private def chained(i: Int) = chain(i).nonEmpty
     private val chainedBy = nodes.map { case s: Shared => s.chained.fold(0)(readyBy); case _ => 0 }.toArray
     private val chainWidth = nodes.map { case s: Shared => s.chained.fold(0)(_.width); case _ => 0 }.toArray
