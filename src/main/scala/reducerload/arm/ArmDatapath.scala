@@ -506,10 +506,14 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       val complemented = ShiftRegister(term.asUInt ^ Fill(f.width, subtract), Accumulation.termRegisters)
       val carryIn = ShiftRegister(subtract, Accumulation.termRegisters)
       def added(t: Accumulation.Term) = out(t) + Accumulation.termRegisters
+      // The accumulator's enable before the accumulator: firtool 1.62 lowers registers in the module's order
+      // and caches each `if` by its condition's value, so an enable register declared after the register it
+      // enables leaves a stale condition that another register's enable can take (docs/design.md).
+      val load = enableIn(terms.init.map(added))
       val accumulator = Reg(SInt(f.width.W)) // no reset: the first product replaces it
       val base = Mux(enable(added(terms.head)), 0.S(f.width.W), accumulator)
       val sum = (base.asUInt + complemented + carryIn.asUInt)(f.width - 1, 0).asSInt
-      when(enableIn(terms.init.map(added)))(accumulator := sum)
+      when(load)(accumulator := sum)
       RegEnable(sum, enable(added(terms.last)))
     }
 

@@ -1,0 +1,52 @@
+package reducerload.arm
+
+import circt.stage.ChiselStage
+import org.scalatest.flatspec.AnyFlatSpec
+import reducerload.api.ReducerLoad
+import reducerload.testutil.EnableOrder
+
+/**
+ * No register loads under a `when` on a register declared after it ([[EnableOrder]]: firtool 1.62 then gives
+ * some registers another register's enable, differently from run to run). Elaboration only, no simulation:
+ * the designs whose hardware has such enables (accumulators, registered routes, the bus wrapper, the
+ * monitor).
+ */
+class EnableOrderSpec extends AnyFlatSpec {
+  behavior of "The emitted designs"
+
+  private def check(args: String*): Unit = {
+    val core = ReducerLoad.fromArgs(args: _*)
+    val found = EnableOrder.violations(ChiselStage.emitCHIRRTL(core.top.generator()))
+    if (found.nonEmpty) fail(s"${args.mkString(" ")}: ${found.take(5).mkString("; ")} (${found.size} in all)")
+  }
+
+  it should "declare each enable register before the registers it loads" in {
+    check(
+      "--robot",
+      "planar3",
+      "--clocks-per-sample",
+      "3",
+      "--schedule.cordic-units",
+      "1",
+      "--schedule.accumulate-slack",
+      "2",
+      "--bus",
+      "none"
+    )
+    check(
+      "--robot",
+      "planar3",
+      "--clocks-per-sample",
+      "40",
+      "--schedule.share-registers",
+      "true",
+      "--schedule.accumulate-slack",
+      "8",
+      "--datapath.registered-routes",
+      "true",
+      "--bus",
+      "none"
+    )
+    check("--robot", "planar3")
+  }
+}
