@@ -25,8 +25,9 @@ class SimulatePayloadSpec extends AnyFlatSpec {
   private val golden = Paths.get("golden/arms/payload/ur5_pick_and_place.csv")
   private val ur5 =
     Seq("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15")
-  private val payload = Seq("--payload.enabled", "true", "--payload.max-mass", "5") ++
-    Seq("--clocks-per-sample", "88", "--schedule.storage", "memory")
+  // an explicit schedule: without one every design here would be the device fit's search (~100 s each)
+  private val schedule = Seq("--clocks-per-sample", "88", "--schedule.storage", "memory")
+  private val payload = Seq("--payload.enabled", "true", "--payload.max-mass", "5") ++ schedule
   private val n = 6
   private lazy val compiled =
     Cli.parse("simulate", ur5 ++ payload, Simulate.options, Simulate.flags).compiled
@@ -126,11 +127,11 @@ class SimulatePayloadSpec extends AnyFlatSpec {
 
   it should "refuse payload input the design cannot take, with one line naming the column, row or option" in {
     // A payload file for the UR5 without payload.enabled.
-    refused(golden, ur5, golden.toString, "'payload_mass'", "no run-time payload")
+    refused(golden, ur5 ++ schedule, golden.toString, "'payload_mass'", "no run-time payload")
     val joints = ArmTrajectory.columns(n)
     refused(
       csv(joints, 0 until 3),
-      ur5 :+ "--payload" :+ "1,0,0,0,0,0,0,0,0,0",
+      ur5 ++ schedule :+ "--payload" :+ "1,0,0,0,0,0,0,0,0,0",
       "--payload needs",
       "payload.enabled"
     )
