@@ -38,11 +38,13 @@ lazy val root = (project in file("."))
       "-Xfatal-warnings",
       "-Ymacro-annotations"
     ),
-    // Each test suite elaborates and compiles its own simulators; run suites one at a time
-    // so two Verilator builds do not fight over 2 cores and memory.
-    Test / parallelExecution := false,
+    // Suites run side by side in the one forked JVM, as many as there are cores: most of a suite's time
+    // is one thread (a schedule's refinement, an elaboration, a simulation), so on CI's two cores two
+    // suites take about the wall time of one. Harness builds of one design are safe side by side
+    // (VerilatorHarness renames a finished build into place).
     Test / fork := true,
-    Test / javaOptions ++= Seq("-Xss8m", "-Xmx4g"),
+    Test / testForkedParallel := true,
+    Test / javaOptions ++= Seq("-Xss8m", "-Xmx6g"),
     // Verilator's makefiles build the evaluation code at -Os, which takes minutes for a 6-axis arm's
     // datapath; the tests run a few thousand cycles, and -O1 builds it about ten times faster.
     Test / envVars += "MAKEFLAGS" -> "OPT_FAST=-O1",
