@@ -48,5 +48,23 @@ class EnableOrderSpec extends AnyFlatSpec {
       "none"
     )
     check("--robot", "planar3")
+    check(
+      Seq("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15") ++
+        Seq("--clocks-per-sample", "88", "--schedule.storage", "memory", "--bus", "axi") ++
+        Seq("--payload.enabled", "true", "--payload.max-mass", "5"): _*
+    )
+    check("--robot", "planar3", "--clocks-per-sample", "32", "--schedule.storage", "memory")
+    check(
+      "--robot",
+      "planar3",
+      "--clocks-per-sample",
+      "4",
+      "--datapath.registered-routes",
+      "true",
+      "--schedule.reader-copies",
+      "true",
+      "--bus",
+      "none"
+    )
   }
 }
