@@ -8,8 +8,8 @@ import reducerload.testutil.EnableOrder
 /**
  * No register loads under a `when` on a register declared after it ([[EnableOrder]]: firtool 1.62 then gives
  * some registers another register's enable, differently from run to run). Elaboration only, no simulation:
- * the designs whose hardware has such enables (accumulators, registered routes, the bus wrapper, the
- * monitor).
+ * the designs whose hardware has such enables (accumulators, registered routes, readers' copies, block-RAM
+ * storage, the bus wrappers, the payload, the monitor).
  */
 class EnableOrderSpec extends AnyFlatSpec {
   behavior of "The emitted designs"
