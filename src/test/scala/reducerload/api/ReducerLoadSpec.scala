@@ -53,11 +53,10 @@ class ReducerLoadSpec extends AnyFlatSpec {
   }
 
   it should "build a robot shipped in the jar from its resources, not the repository's golden/" in {
-    // an explicit schedule: the device fit's search would take most of this suite's time
     val core = ReducerLoad(
       Robot.Ur5,
       Seq("--tip", "tool0", "--max-acceleration", "15", "--bus", "none") ++
-        Seq("--clocks-per-sample", "88", "--schedule.storage", "memory"): _*
+        reducerload.testutil.PayloadDesigns.scheduleArgs: _*
     )
     assert(core.compiled.arm.chain.size == 6)
     assert(core.moduleName.startsWith("ArmDatapath_ur5_6dof"), core.moduleName)

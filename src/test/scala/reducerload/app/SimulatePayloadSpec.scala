@@ -25,8 +25,7 @@ class SimulatePayloadSpec extends AnyFlatSpec {
   private val golden = Paths.get("golden/arms/payload/ur5_pick_and_place.csv")
   private val ur5 =
     Seq("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15")
-  // an explicit schedule: without one every design here would be the device fit's search (~100 s each)
-  private val schedule = Seq("--clocks-per-sample", "88", "--schedule.storage", "memory")
+  private val schedule = reducerload.testutil.PayloadDesigns.scheduleArgs
   private val payload = Seq("--payload.enabled", "true", "--payload.max-mass", "5") ++ schedule
   private val n = 6
   private lazy val compiled =

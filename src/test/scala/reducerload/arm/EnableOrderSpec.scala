@@ -3,7 +3,7 @@ package reducerload.arm
 import circt.stage.ChiselStage
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.api.ReducerLoad
-import reducerload.testutil.EnableOrder
+import reducerload.testutil.{EnableOrder, PayloadDesigns}
 
 /**
  * No register loads under a `when` on a register declared after it ([[EnableOrder]]: firtool 1.62 then gives
@@ -18,6 +18,33 @@ class EnableOrderSpec extends AnyFlatSpec {
     val core = ReducerLoad.fromArgs(args: _*)
     val found = EnableOrder.violations(ChiselStage.emitCHIRRTL(core.top.generator()))
     if (found.nonEmpty) fail(s"${args.mkString(" ")}: ${found.take(5).mkString("; ")} (${found.size} in all)")
+  }
+
+  "EnableOrder" should "find a register loaded under a later register's value, and only that" in {
+    val chirrtl =
+      """circuit Top :
+        |  module A :
+        |    input clock : Clock
+        |    reg early : UInt<8>, clock
+        |    reg en : UInt<1>, clock
+        |    reg late : UInt<8>, clock
+        |    when en :
+        |      connect late, early
+        |    else :
+        |      connect early.x, late
+        |    connect early, late
+        |  module B :
+        |    input clock : Clock
+        |    input c : UInt<1>
+        |    reg en : UInt<1>, clock
+        |    reg r : UInt<8>, clock
+        |    when c :
+        |      connect r, en
+        |    when en :
+        |      connect r, r
+        |""".stripMargin
+    // in A: `early` under `en` (in the else too), not `late`, nor `early` after the `when`; B: none
+    assert(EnableOrder.violations(chirrtl) == Seq(EnableOrder.Violation("A", "early", "en")))
   }
 
   it should "declare each enable register before the registers it loads" in {
@@ -50,7 +77,7 @@ class EnableOrderSpec extends AnyFlatSpec {
     check("--robot", "planar3")
     check(
       Seq("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15") ++
-        Seq("--clocks-per-sample", "88", "--schedule.storage", "memory", "--bus", "axi") ++
+        PayloadDesigns.scheduleArgs ++ Seq("--bus", "axi") ++
         Seq("--payload.enabled", "true", "--payload.max-mass", "5"): _*
     )
     check("--robot", "planar3", "--clocks-per-sample", "32", "--schedule.storage", "memory")

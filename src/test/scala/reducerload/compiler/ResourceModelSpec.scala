@@ -17,7 +17,7 @@ import scala.jdk.CollectionConverters._
  * memory blocks counted from the structures, the logic cells from the calibrated count. Prints the table
  * docs/device.md quotes: `REDUCERLOAD_ALL_POINTS=1 ./sbt "testOnly reducerload.compiler.ResourceModelSpec"`.
  * Without `REDUCERLOAD_ALL_POINTS=1` (so in `./sbt test`) the Panda's points refined with the sweep's fast
- * refinement are left out: about 70 s each to schedule, half of the suite's time on two cores.
+ * refinement are left out: about 70 s each to schedule, a third of the suite's time on two cores.
  */
 class ResourceModelSpec extends AnyFlatSpec with Matchers {
   import ResourceModelSpec._

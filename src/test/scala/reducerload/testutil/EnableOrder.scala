@@ -1,13 +1,13 @@
 package reducerload.testutil
 
 /**
- * Registers a `when` on another register's value loads although they are declared before that register, in a
- * circuit's CHIRRTL. firtool 1.62 lowers registers in the order they are declared and keeps the `if` it
+ * In a circuit's CHIRRTL, the registers loaded under a `when` on another register's value although declared
+ * before that register. firtool 1.62 lowers registers in the order they are declared and keeps the `if` it
  * builds for each condition by the condition's value: the condition register of such a pair is lowered after
  * the `if` was made for it, and its old value's place can then be taken by another register's condition,
  * which finds the stale `if` and loads under the wrong enable. Which pair goes wrong changes from run to run
- * (the UR5 with accumulators: a root register loaded with its accumulator's enable in most runs of the same
- * FIRRTL), so the order is checked here, where it does not depend on the run.
+ * (the UR5 with accumulators: a root register loaded with its accumulator's enable in 3 of 6 runs of one
+ * FIRRTL file), so the order is checked here, where it does not depend on the run.
  */
 object EnableOrder {
 
@@ -17,31 +17,31 @@ object EnableOrder {
   private val Module = """\s*module (\S+) :.*""".r
   private val Register = """\s*reg(?:reset)? (\S+) :.*""".r
   private val When = """(\s*)when (\S+) :.*""".r
-  private val Else = """(\s*)else :.*""".r
   private val Connect = """\s*connect ([^,\s]+),.*""".r
+
+  /** An open `when`: its indentation, and its condition when that is a register's value. */
+  private final case class Open(indent: Int, register: Option[String])
 
   def violations(chirrtl: String): Seq[Violation] = {
     var module = ""
     var declared = Map.empty[String, Int]
-    // the enclosing `when`s on a register: indentation, condition
-    var open = List.empty[(Int, String)]
+    var open = List.empty[Open] // innermost first
     val found = Seq.newBuilder[Violation]
     chirrtl.linesIterator.foreach { line =>
       val indent = line.takeWhile(_ == ' ').length
+      // a line at a `when`'s indentation closes it, unless it is that `when`'s `else`
       val isElse = line.trim.startsWith("else")
-      open = open.dropWhile { case (at, _) => indent < at || (indent == at && !isElse) }
+      open = open.dropWhile(w => indent < w.indent || (indent == w.indent && !isElse))
       line match {
-        case Module(name)   => module = name; declared = Map.empty; open = Nil
-        case Register(name) => declared += name -> declared.size
-        case When(spaces, cond) =>
-          if (declared.contains(cond)) open = (spaces.length, cond) :: open
-          else open = (spaces.length, "") :: open
-        case Else(_) =>
+        case Module(name)       => module = name; declared = Map.empty; open = Nil
+        case Register(name)     => declared += name -> declared.size
+        case When(spaces, cond) => open = Open(spaces.length, Some(cond).filter(declared.contains)) :: open
         case Connect(target) =>
           val register = target.takeWhile(c => c != '.' && c != '[')
           declared.get(register).foreach { at =>
             open
-              .collect { case (_, cond) if cond.nonEmpty && declared(cond) > at => cond }
+              .flatMap(_.register)
+              .filter(declared(_) > at)
               .foreach(cond => found += Violation(module, register, cond))
           }
         case _ =>

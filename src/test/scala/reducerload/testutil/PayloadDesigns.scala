@@ -20,4 +20,10 @@ object PayloadDesigns {
       gravity = GravitySettings(runtime = true),
       schedule = ScheduleRequest(clocksPerSample = Some(88), storage = Some(Storage.Memory))
     )
+
+  /**
+   * `ur5`'s schedule as command-line settings: a UR5 built in a few seconds, where a test's design needs no
+   * schedule of its own (without one, the device fit's search takes about 100 s).
+   */
+  val scheduleArgs: Seq[String] = Seq("--clocks-per-sample", "88", "--schedule.storage", "memory")
 }
