@@ -1,7 +1,7 @@
 package reducerload.app
 
 import reducerload.arm.{ArmParams, ArmSample, PayloadColumns}
-import reducerload.compiler.Compiled
+import reducerload.compiler.{Compiled, Compiler}
 import reducerload.monitor.{MonitorConfig, MonitorParams, MonitorSummary, RatedReducer}
 import reducerload.sim.replay._
 import reducerload.sim.rtl.{CompiledHarness, VerilatorHarness}
@@ -94,18 +94,38 @@ object Simulate {
   def design(c: Compiled): ReplayDesign[_, _] =
     if (c.config.model.closedForm) new LoadReplay(c.config, c.arm) else new ArmReplay(c.arm, c.monitor)
 
-  /** Every check of the command line and the input file, before anything runs. */
-  def prepare(cli: Cli, compiled: Compiled): SimulateRequest[_, _] = {
+  /**
+   * The checks of a `run simulate` command line that need no compiled design, for a design with `columns`:
+   * the options, the output file, the trajectory's header and numbers, where its payload comes from.
+   */
+  def read(cli: Cli, columns: ReplayColumns): SimulateInput = {
     val input = required(cli, "input")
     val output = required(cli, "output")
     val engineChoice = engine(cli)
     val jobCount = jobs(cli)
     OutputFile.check(output)
+    val table = TraceCsv.read(input, columns.required)
+    TraceCsv.checkJointColumns(table, columns.required)
+    val payload = ReplayPayload.resolve(table, columns.payloadColumns, cli.get(ReplayPayload.option.name))
+    if (engineChoice == ReplayEngine.Rtl && !VerilatorHarness.available)
+      throw new InputError(
+        "simulate needs Verilator on the PATH (Debian: apt-get install verilator), or --engine model"
+      )
+    SimulateInput(columns, table, payload, output, engineChoice, jobCount, cli.has("saturate"))
+  }
+
+  /** Every check of the command line and the input file, before anything runs. */
+  def prepare(cli: Cli, compiled: Compiled): SimulateRequest[_, _] =
+    prepare(compiled, read(cli, ReplayColumns.of(compiled.config)))
+
+  /** The input's rows in the compiled design's columns, every value checked against its declared range. */
+  def prepare(compiled: Compiled, in: SimulateInput): SimulateRequest[_, _] = {
     val d = design(compiled)
-    val fileColumns = d.columns.filterNot(d.payloadColumns.contains)
-    val table = TraceCsv.read(input, fileColumns)
-    TraceCsv.checkJointColumns(table, fileColumns)
-    val payload = ReplayPayload.resolve(table, d.payloadColumns, cli.get(ReplayPayload.option.name))
+    require(
+      d.layout == in.columns,
+      s"simulate: the input was read for ${in.columns}, the design has ${d.layout}"
+    )
+    val (table, payload, input) = (in.table, in.payload, in.table.source)
     // The values as they are when the header is exactly the columns (the usual case): no copy.
     // Otherwise the design's columns picked out (a constant payload filled in), still flat.
     val width = d.columns.size
@@ -133,7 +153,7 @@ object Simulate {
         picked
       }
     val rows = new SampleRows(width, values)
-    if (!cli.has("saturate")) {
+    if (!in.saturate) {
       val (columns, limits) = (d.limits.map(_._1).toArray, d.limits.map(_._2).toArray)
       def beyond(r: Int, k: Int): Boolean = math.abs(values(r * width + columns(k))) > limits(k)
       var first = -1 // the first value beyond its range, as row * limits + limit
@@ -157,11 +177,7 @@ object Simulate {
         )
       }
     }
-    if (engineChoice == ReplayEngine.Rtl && !VerilatorHarness.available)
-      throw new InputError(
-        "simulate needs Verilator on the PATH (Debian: apt-get install verilator), or --engine model"
-      )
-    SimulateRequest(compiled, d, rows, output, engineChoice, jobCount)
+    SimulateRequest(compiled, d, rows, in.output, in.engine, in.jobs)
   }
 
   /**
@@ -184,17 +200,21 @@ object Simulate {
   }
 
   def run(cli: Cli): Unit = {
-    // Elaborate while the trajectory is read and checked (seconds each, on different cores); only
-    // in memory: the harness is built after every check. A bad command line fails here the same way.
+    // The input is read and checked before the design is compiled (a device fit takes a minute or two for
+    // a 6-axis arm): its columns follow from the settings alone.
+    val readStart = System.nanoTime()
+    val input = read(cli, Compiler.refusedAs(cli.source)(ReplayColumns.of(cli.params)))
+    val readSeconds = (System.nanoTime() - readStart) / 1e9
+    // Elaborate while the values are range-checked; only in memory: the harness is built after every check.
     val compiled = cli.compiled
     val elaborated =
-      if (cli.get("engine").forall(_ == ReplayEngine.Rtl.name))
+      if (input.engine == ReplayEngine.Rtl)
         Some(Future(Emit.emit(Emit.bare(compiled), Top.Load, emitCommand))(ExecutionContext.global))
       else None
-    val readStart = System.nanoTime()
-    val request = prepare(cli, compiled)
+    val checkStart = System.nanoTime()
+    val request = prepare(compiled, input)
     println(
-      f"input: ${request.rows.size} rows read and checked in ${(System.nanoTime() - readStart) / 1e9}%.1f s"
+      f"input: ${request.rows.size} rows read in $readSeconds%.1f s, checked in ${(System.nanoTime() - checkStart) / 1e9}%.1f s"
     )
     val monitor = cli.path("summary").map { path =>
       if (request.params.model.closedForm)

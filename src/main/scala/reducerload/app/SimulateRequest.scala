@@ -2,7 +2,8 @@ package reducerload.app
 
 import reducerload.compiler.Compiled
 import reducerload.config.LoadParams
-import reducerload.sim.replay.{ReplayDesign, ReplayEngine, SampleRows}
+import reducerload.sim.replay.{ReplayColumns, ReplayDesign, ReplayEngine, SampleRows}
+import reducerload.trace.TraceTable
 
 import java.nio.file.Path
 
@@ -20,3 +21,18 @@ final case class SimulateRequest[In, Out](
 ) {
   def params: LoadParams = compiled.config
 }
+
+/**
+ * A `run simulate` command line's checks done before the design is compiled: the trajectory (`table`, with
+ * every column of `columns` a file must give) and where its payload comes from, the output file, the engine,
+ * the job count and whether values beyond their ranges are clamped (`--saturate`).
+ */
+final case class SimulateInput(
+    columns: ReplayColumns,
+    table: TraceTable,
+    payload: ReplayPayload,
+    output: Path,
+    engine: ReplayEngine,
+    jobs: Int,
+    saturate: Boolean
+)

@@ -41,7 +41,7 @@ object Compiler {
    * becomes.
    */
   def compile(p: LoadParams, source: String): Compiled =
-    try {
+    refusedAs(source) {
       val fit = DeviceFit(p, arm(p))
       val a = fit.design.arm
       a.schedule
@@ -50,7 +50,12 @@ object Compiler {
       val rated =
         if (p.monitor.enabled) MonitorConfig.rated(a, p.monitor) else IndexedSeq.fill(a.chain.size)(None)
       Compiled(p, a, monitor, rated, fit)
-    } catch {
+    }
+
+  /** `body`, a refusal of the configuration (a failed `require`) one line naming `source`. */
+  def refusedAs[A](source: String)(body: => A): A =
+    try body
+    catch {
       case e: IllegalArgumentException =>
         throw new InputError(s"$source: ${e.getMessage.stripPrefix("requirement failed: ")}")
     }

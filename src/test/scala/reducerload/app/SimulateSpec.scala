@@ -1,6 +1,8 @@
 package reducerload.app
 
-import reducerload.testutil.CompiledParams
+import reducerload.arm.PayloadColumns
+import reducerload.sim.replay.ReplayColumns
+import reducerload.testutil.{CompiledParams, PayloadDesigns}
 import reducerload.testutil.Scratch
 import org.scalatest.flatspec.AnyFlatSpec
 import reducerload.testutil.Seeds
@@ -75,6 +77,32 @@ class SimulateSpec extends AnyFlatSpec {
       Main.run(Seq("simulate", "--input", ok.toString, "--output", "/nonexistent-dir/x/loads.csv"))
     )
     assert(e.getMessage.contains("does not exist") && !e.getMessage.contains("\n"), e.getMessage)
+  }
+
+  it should "read and check the trajectory before it compiles the design" in {
+    // planar3 at one clock per sample in one multiplier block: a design the compiler refuses.
+    val design = Seq("--robot", "planar3", "--max-multipliers", "1", "--clocks-per-sample", "1")
+    refusedWith(text(s"$header\n$good\n"), design, "missing column(s) 'q1'")
+    val arm = text("q1,q2,q3,qd1,qd2,qd3,qdd1,qdd2,qdd3\n" + Seq.fill(9)("0").mkString(",") + "\n")
+    refusedWith(arm, design, "schedule.max-multipliers = 1")
+  }
+
+  it should "know a design's trajectory columns from its settings alone, as the compiled design has them" in {
+    val arm = Seq("q1", "q2", "q3", "qd1", "qd2", "qd3", "qdd1", "qdd2", "qdd3")
+    Seq(
+      Seq("--model", "paper") -> header.split(",").toSeq,
+      Seq("--robot", "planar3") -> arm,
+      (Seq("--robot", "golden/robots/ur5_robot.urdf", "--tip", "tool0", "--max-acceleration", "15") ++
+        Seq("--payload.enabled", "true", "--payload.max-mass", "5") ++ PayloadDesigns.scheduleArgs) ->
+        ((1 to 6).map(j => s"q$j") ++ (1 to 6).map(j => s"qd$j") ++ (1 to 6).map(j => s"qdd$j") ++
+          PayloadColumns.names)
+    ).foreach { case (args, expected) =>
+      val cli = Cli.parse("simulate", args, Simulate.options, Simulate.flags)
+      val early = ReplayColumns.of(cli.params)
+      assert(early.columns == expected, args)
+      assert(early.payloadColumns == expected.filter(_.startsWith("payload_")), args)
+      assert(Simulate.design(cli.compiled).layout == early, args)
+    }
   }
 
   it should "refuse a trajectory with joint columns the robot does not have (q4 for planar3's 3 joints)" in {

@@ -1,19 +1,9 @@
 package reducerload.sim.replay
 
-import reducerload.arm.{
-  ArmIO,
-  ArmModel,
-  ArmOutputCodes,
-  ArmParams,
-  ArmSample,
-  ArmTrajectory,
-  LoadReference,
-  PayloadColumns
-}
+import reducerload.arm.{ArmIO, ArmModel, ArmOutputCodes, ArmParams, ArmSample, LoadReference, PayloadColumns}
 import reducerload.config.LoadParams
 import reducerload.dynamics.Rnea
 import reducerload.graph.{SampleCodes, Signal}
-import reducerload.load.Joint3Columns
 import reducerload.monitor.{MonitorParams, MonitoredArmIO}
 import reducerload.robot.RigidBody
 import reducerload.sim.model.{FastArmModel, FastFixed, ReferenceTape}
@@ -35,8 +25,7 @@ class ArmReplay(val p: ArmParams, monitor: Option[MonitorParams] = None)
   protected val joints: Int = p.chain.size
   private val angleFormat = FastFixed.angleFormat(p.numerics.angleBits)
 
-  def columns: Seq[String] = ArmTrajectory.columns(joints) ++ payloadColumns
-  override def payloadColumns: Seq[String] = if (p.payload.isDefined) PayloadColumns.names else Nil
+  def layout: ReplayColumns = ReplayColumns.arm(joints, p.payload.isDefined)
   val limits: Seq[(Int, Double)] =
     (0 until joints).map(j => (joints + j, p.numerics.velocityLimits(j))) ++
       (0 until joints).map(j => (2 * joints + j, p.numerics.accelerationLimits(j)))
@@ -191,7 +180,7 @@ class ArmReplay(val p: ArmParams, monitor: Option[MonitorParams] = None)
 final class LoadReplay(settings: LoadParams, arm: ArmParams) extends ArmReplay(arm) {
   require(settings.model.closedForm, s"LoadReplay: model ${settings.model.name} is not a joint-3 closed form")
 
-  override def columns: Seq[String] = Joint3Columns.names
+  override def layout: ReplayColumns = ReplayColumns.joint3
 
   override def outputHeader: String = "idx,load_hw,load_ref,error,out_of_range"
 

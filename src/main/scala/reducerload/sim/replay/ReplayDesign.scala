@@ -1,5 +1,8 @@
 package reducerload.sim.replay
 
+import reducerload.arm.{ArmTrajectory, PayloadColumns}
+import reducerload.config.LoadParams
+import reducerload.load.Joint3Columns
 import reducerload.sim.rtl.HarnessPorts
 import reducerload.sim.text.{DoubleText, FixedDecimal}
 
@@ -13,14 +16,17 @@ import scala.collection.immutable.ArraySeq
  */
 trait ReplayDesign[In, Out] {
 
+  /** The trajectory's columns (the same as [[ReplayColumns.of]] the design's settings). */
+  def layout: ReplayColumns
+
   /** Required trajectory columns, in the order a row is given. */
-  def columns: Seq[String]
+  final def columns: Seq[String] = layout.columns
 
   /**
    * The columns of `columns` that give the run-time payload (all or none from the file; `--payload` gives
    * them for a whole replay); none for a design without a payload.
    */
-  def payloadColumns: Seq[String] = Nil
+  final def payloadColumns: Seq[String] = layout.payloadColumns
 
   /** (index into `columns`, declared max |value|) of every range-checked column. */
   def limits: Seq[(Int, Double)]
@@ -101,6 +107,36 @@ object ArrayReplay {
         errors: Array[Double]
     ): Boolean
   }
+}
+
+/**
+ * The trajectory columns of a design as its settings give them, known before it is compiled (so `run
+ * simulate` reads and checks its input before the device fit): `columns` in the order a row is given,
+ * `payloadColumns` those of them that give the run-time payload. A [[ReplayDesign]] takes its own from here.
+ */
+final case class ReplayColumns(columns: Seq[String], payloadColumns: Seq[String]) {
+  require(payloadColumns.forall(columns.contains), s"ReplayColumns: $payloadColumns not all in $columns")
+
+  /** The columns a file must have (a payload may come from `--payload` instead). */
+  def required: Seq[String] = columns.filterNot(payloadColumns.contains)
+}
+
+object ReplayColumns {
+
+  /**
+   * Every joint of an arm: q1..qN,qd1..qdN,qdd1..qddN, then the ten payload columns with a run-time payload.
+   */
+  def arm(joints: Int, payload: Boolean): ReplayColumns = {
+    val extra = if (payload) PayloadColumns.names else Nil
+    ReplayColumns(ArmTrajectory.columns(joints) ++ extra, extra)
+  }
+
+  /** The joint-3 closed forms' trace columns. */
+  val joint3: ReplayColumns = ReplayColumns(Joint3Columns.names, Nil)
+
+  /** The columns of the design `p` describes (reads its robot's chain, nothing more). */
+  def of(p: LoadParams): ReplayColumns =
+    if (p.model.closedForm) joint3 else arm(p.robot.chain.size, p.payload.enabled)
 }
 
 /**
