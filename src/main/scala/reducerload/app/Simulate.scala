@@ -203,8 +203,17 @@ object Simulate {
     // The input is read and checked before the design is compiled (a device fit takes a minute or two for
     // a 6-axis arm): its columns follow from the settings alone.
     val readStart = System.nanoTime()
-    val input = read(cli, Compiler.refusedAs(cli.source)(ReplayColumns.of(cli.params)))
+    val params = cli.params
+    val input = read(cli, Compiler.refusedAs(cli.source)(ReplayColumns.of(params)))
     val readSeconds = (System.nanoTime() - readStart) / 1e9
+    val summary = cli.path("summary").map { path =>
+      if (params.model.closedForm)
+        throw new InputError(
+          "command line: --summary needs model rnea (the monitor watches every joint of an arm; use --robot)"
+        )
+      OutputFile.check(path)
+      path
+    }
     // Elaborate while the values are range-checked; only in memory: the harness is built after every check.
     val compiled = cli.compiled
     val elaborated =
@@ -216,12 +225,7 @@ object Simulate {
     println(
       f"input: ${request.rows.size} rows read in $readSeconds%.1f s, checked in ${(System.nanoTime() - checkStart) / 1e9}%.1f s"
     )
-    val monitor = cli.path("summary").map { path =>
-      if (request.params.model.closedForm)
-        throw new InputError(
-          "command line: --summary needs model rnea (the monitor watches every joint of an arm; use --robot)"
-        )
-      OutputFile.check(path)
+    val monitor = summary.map { path =>
       // The monitor's settings resolved against the arm before anything is written: a refusal (a planar arm
       // with no efforts for its limits, say) leaves no output file behind.
       val resolved =
