@@ -90,6 +90,15 @@ object ArmSweep {
     Reassociation.Sums
   )
 
+  /** Issue 33's latency point without forwarding (see [[schedules]]). */
+  private val parallel = fast.copy(
+    name = "parallel66-t1e-3",
+    request = fast.request.copy(scheduler = Scheduler.CpSat),
+    reassociate = Reassociation.SumsAndProducts,
+    routed = true,
+    composeParallelAxes = true
+  )
+
   /**
    * The schedule axis: intervals from one clock to hundreds, and the fewest clocks within an EP4CE30's 66
    * blocks; then two of them with the fraction bits fitted to 1e-3 N·m (`numeric.target-error`); then the
@@ -100,10 +109,11 @@ object ArmSweep {
    * forwarded and a CORDIC unit of two micro-rotations per stage from a 2^11 table (`datapath.reassociate =
    * sums-and-products`, `schedule.forward-slack = 0`: issue 33's first latency point), and on it with
    * products reassociated and runs of parallel axes crossed in one rotation, no product forwarded
-   * (`datapath.compose-parallel-axes`: issue 33's latency point without forwarding); then values in block-RAM
-   * banks (`schedule.storage = memory`) at 1e-3 N·m from 32 to 512 clocks (88: the UR5 design that meets
-   * issue 12's targets; 114: the Panda's, and at 114 with 5 adder units, which the Panda's latency target
-   * needs).
+   * (`datapath.compose-parallel-axes`: issue 33's latency point without forwarding), and that point with the
+   * sums of products that lengthen no path summed on accumulators (`schedule.accumulate-slack = 0`: fewer LEs
+   * at the same latency); then values in block-RAM banks (`schedule.storage = memory`) at 1e-3 N·m from 32 to
+   * 512 clocks (88: the UR5 design that meets issue 12's targets; 114: the Panda's, and at 114 with 5 adder
+   * units, which the Panda's latency target needs).
    */
   val schedules: Seq[Point] =
     Seq(1, 4, 16, 64, 256).map(c => Point(s"ii$c", ScheduleRequest(clocksPerSample = Some(c)))) ++ Seq(
@@ -124,12 +134,10 @@ object ArmSweep {
         routed = true,
         cordic = Some(ShortCordic(tableBits = 11, iterationsPerStage = 2))
       ),
-      fast.copy(
-        name = "parallel66-t1e-3",
-        request = fast.request.copy(scheduler = Scheduler.CpSat),
-        reassociate = Reassociation.SumsAndProducts,
-        routed = true,
-        composeParallelAxes = true
+      parallel,
+      parallel.copy(
+        name = "accumulate66-t1e-3",
+        request = parallel.request.copy(accumulateSlack = Some(0))
       )
     ) ++
       Seq(32, 64, 88, 114, 128, 512).map(c =>
