@@ -125,7 +125,7 @@ object Simulate {
       d.layout == in.columns,
       s"simulate: the input was read for ${in.columns}, the design has ${d.layout}"
     )
-    val (table, payload, input) = (in.table, in.payload, in.table.source)
+    val table = in.table
     // The values as they are when the header is exactly the columns (the usual case): no copy.
     // Otherwise the design's columns picked out (a constant payload filled in), still flat.
     val width = d.columns.size
@@ -135,7 +135,7 @@ object Simulate {
         val at = d.columns.map(table.header.indexOf).toArray
         // A column not in the file (at -1) is a constant payload's.
         val constant = new Array[Double](width)
-        payload match {
+        in.payload match {
           case ReplayPayload.Constant(v) =>
             d.payloadColumns.zip(v).foreach { case (c, x) => constant(d.columns.indexOf(c)) = x }
           case ReplayPayload.Columns | ReplayPayload.Absent =>
@@ -172,7 +172,7 @@ object Simulate {
         val (c, limit) = (columns(k), limits(k))
         val col = d.columns(c)
         throw new InputError(
-          s"$input:${table.lines(i)}: column '$col': ${values(i * width + c)} is beyond the declared range |$col| <= $limit " +
+          s"${table.source}:${table.lines(i)}: column '$col': ${values(i * width + c)} is beyond the declared range |$col| <= $limit " +
             s"($count value(s) in all; --saturate clamps and counts them, or widen the range)"
         )
       }
@@ -228,16 +228,12 @@ object Simulate {
     val monitor = summary.map { path =>
       // The monitor's settings resolved against the arm before anything is written: a refusal (a planar arm
       // with no efforts for its limits, say) leaves no output file behind.
-      val resolved =
-        try
-          (
-            compiled.monitor.getOrElse(MonitorConfig(compiled.arm, compiled.config.monitor)),
-            MonitorConfig.rated(compiled.arm, compiled.config.monitor)
-          )
-        catch {
-          case e: IllegalArgumentException =>
-            throw new InputError(s"${cli.source}: ${e.getMessage.stripPrefix("requirement failed: ")}")
-        }
+      val resolved = Compiler.refusedAs(cli.source)(
+        (
+          compiled.monitor.getOrElse(MonitorConfig(compiled.arm, compiled.config.monitor)),
+          MonitorConfig.rated(compiled.arm, compiled.config.monitor)
+        )
+      )
       (path, resolved)
     }
     execute(request, elaborated)

@@ -16,7 +16,7 @@ import scala.collection.immutable.ArraySeq
  */
 trait ReplayDesign[In, Out] {
 
-  /** The trajectory's columns (the same as [[ReplayColumns.of]] the design's settings). */
+  /** The trajectory's columns: what [[ReplayColumns.of]] gives for the design's settings. */
   def layout: ReplayColumns
 
   /** Required trajectory columns, in the order a row is given. */
