@@ -16,8 +16,10 @@ import scala.jdk.CollectionConverters._
  * The resource prediction against the committed open-tool estimates (docs/sweep/arms.csv, sweep.csv): the
  * memory blocks counted from the structures, the logic cells from the calibrated count. Prints the table
  * docs/device.md quotes: `REDUCERLOAD_ALL_POINTS=1 ./sbt "testOnly reducerload.compiler.ResourceModelSpec"`.
- * Without `REDUCERLOAD_ALL_POINTS=1` (so in `./sbt test`) the Panda's points refined with the sweep's fast
- * refinement are left out: about 70 s each to schedule, a third of the suite's time on two cores.
+ * Without `REDUCERLOAD_ALL_POINTS=1` (so in `./sbt test`) it checks a short form: planar3's points, the UR5's
+ * at the default refinement and its `parallel66-t1e-3` (the README's latency recipe), and two of the Panda's
+ * (one per storage). The others take 10-90 s each to schedule (the UR5's and Panda's refined with the sweep's
+ * fast refinement the most): with them this was `./sbt test`'s longest suite, about 8 minutes on two cores.
  */
 class ResourceModelSpec extends AnyFlatSpec with Matchers {
   import ResourceModelSpec._
@@ -111,11 +113,16 @@ object ResourceModelSpec {
   /** Every committed point (the fit, [[ResourceFit]]). */
   lazy val rows: Seq[Point] = armPoints((_, _) => true) ++ sweepPoints
 
-  /** The points the spec checks: all with `REDUCERLOAD_ALL_POINTS=1`, else all but the Panda's slowest. */
+  /** The points of the short form (above) beyond planar3's and the UR5's at the default refinement. */
+  private val shortForm: Set[(String, String)] =
+    Set(("ur5", "parallel66-t1e-3"), ("panda", "budget66"), ("panda", "mem-ii88-t1e-3"))
+
+  /** The points the spec checks: all with `REDUCERLOAD_ALL_POINTS=1`, else the short form (above). */
   lazy val tested: Seq[Point] =
     if (sys.env.get("REDUCERLOAD_ALL_POINTS").contains("1")) rows
     else
       armPoints((robot, point) =>
-        robot != "panda" || point.request.refinement < ArmSweep.fastRefinement
+        robot == "planar3" || (robot == "ur5" && point.request.refinement < ArmSweep.fastRefinement) ||
+          shortForm((robot, point.name))
       ) ++ sweepPoints
 }
