@@ -163,7 +163,17 @@ def effective_width(conn):
 KEEP_REGISTERS = "setattr -set keep 1 w:* a:keep %i %ci1 c:* %i"
 
 
-def cyclone_estimate(files, top, work):
+def is_ff(cell_type):
+    return bool(re.match(r"\$_S?DFF", cell_type)) or cell_type.startswith(("$_DFFE", "$_SDFF"))
+
+
+def register_class(name):
+    """A register's name with its indices folded (`values_100_5_2[3]` -> `values_#_#_#`), to group a design's
+    registers by what the generator made them for."""
+    return re.sub(r"\d+", "#", re.sub(r"\[\d+(:\d+)?\]", "", name))
+
+
+def cyclone_estimate(files, top, work, by_name=False):
     script = read_script(files, top) + "\n".join([
         "proc", KEEP_REGISTERS, "flatten", "opt -full", "wreduce", "peepopt", "opt_clean",
         # Multipliers become opaque before alumacc would fold them into $macc cells.
@@ -228,9 +238,10 @@ def cyclone_estimate(files, top, work):
             for port, conn in c["connections"].items():
                 if port in ("Y", "RD_DATA"):
                     block_out.update(bits_of(conn))
-    packable, in_blocks = 0, 0
+    packable, in_blocks, own = 0, 0, {}
+    names, driver = (net_names(mapped), drivers(cells)) if by_name else ({}, {})
     for name, c in cells.items():
-        if re.match(r"\$_S?DFF", c["type"]) or c["type"].startswith("$_DFFE") or c["type"].startswith("$_SDFF"):
+        if is_ff(c["type"]):
             ffs += 1
             d = bits_of(c["connections"]["D"])
             q = bits_of(c["connections"]["Q"])
@@ -241,13 +252,44 @@ def cyclone_estimate(files, top, work):
                 in_blocks += 1  # multiplier input register
             elif d and d[0] in lut_or_alu_out:
                 packable += 1
+            elif by_name:  # an LE of its own: by its name and what loads it
+                source = driver.get(d[0]) if d else None
+                loaded_from = "a register" if source and is_ff(source) else source or "a port or constant"
+                key = (register_class(names.get(q[0], "?") if q else "?"), loaded_from)
+                own[key] = own.get(key, 0) + 1
     logic_les = luts - absorbed
     arith_les = alu_bits + mult_adder_bits
     unpacked = ffs - in_blocks - min(packable, arith_les + logic_les)
     les = arith_les + logic_les + unpacked
-    return dict(les=les, les_arith=arith_les, les_logic=logic_les, registers=ffs, registers_in_blocks=in_blocks,
-                registers_unpacked=unpacked, mult18x18=mults, memory_bits=mem_bits, m9k_blocks=m9k,
-                yosys=yosys_label(yosys))
+    r = dict(les=les, les_arith=arith_les, les_logic=logic_les, registers=ffs, registers_in_blocks=in_blocks,
+             registers_unpacked=unpacked, mult18x18=mults, memory_bits=mem_bits, m9k_blocks=m9k,
+             yosys=yosys_label(yosys))
+    if by_name:
+        r["registers_own_le"] = [dict(name=k[0], loaded_from=k[1], bits=v)
+                                 for k, v in sorted(own.items(), key=lambda kv: (-kv[1], kv[0]))]
+    return r
+
+
+def net_names(module):
+    """The design's name of each net bit: a named wire's rather than one Yosys made or a port's, the shortest."""
+    best = {}
+    for n, w in module["netnames"].items():
+        rank = (n.startswith("$"), n in module["ports"], len(n), n)
+        for b in bits_of(w["bits"]):
+            if b not in best or rank < best[b][0]:
+                best[b] = (rank, n)
+    return {b: v[1] for b, v in best.items()}
+
+
+def drivers(cells):
+    """The cell type that drives each net bit."""
+    out = {}
+    for c in cells.values():
+        for port, conn in c["connections"].items():
+            if c.get("port_directions", {}).get(port) == "output" or port in ("Q", "Y"):
+                for b in bits_of(conn):
+                    out[b] = c["type"]
+    return out
 
 
 # Cyclone IV M9K shapes (width, depth) in simple dual-port mode: 9,216 bits with parity, 8,192 without.
@@ -444,6 +486,8 @@ def main():
     ap.add_argument("--no-route", action="store_true",
                     help="stop nextpnr after placement: its estimate then (no bound on the routed clock; to compare designs the router does not finish)")
     ap.add_argument("--keep", help="keep the work files in this directory (one subdirectory per seed with several)")
+    ap.add_argument("--registers", action="store_true",
+                    help="list the registers that take an LE of their own (fed by no LUT, adder or block), by name with indices folded")
     a = ap.parse_args()
     signal.signal(signal.SIGTERM, stop)
     for f in a.files:
@@ -461,7 +505,7 @@ def main():
         for f in a.files:
             shutil.copy(f, os.path.join(work, os.path.basename(f)))
         t0 = time.time()
-        r = cyclone_estimate(a.files, a.top, work)
+        r = cyclone_estimate(a.files, a.top, work, by_name=a.registers)
         r["seconds_cyclone"] = round(time.time() - t0, 1)
         r["fmax_ecp5_mhz"], r["critical_path"] = None, None
         runs = []
@@ -514,6 +558,12 @@ def main():
                 placed = f"{x['placed_mhz']:.1f} MHz" if x["placed_mhz"] is not None else "not placed"
                 print(f"| {x['seed']} | {placed} | {x['wirelength'] if x['wirelength'] is not None else '-'} | {routed} | "
                       f"{x['seconds'] / 60:.1f} | {x['critical_path'] or '-'} |")
+        if a.registers:
+            print()
+            print("| registers with an LE of their own (indices folded) | loaded from | bits |")
+            print("| --- | --- | --- |")
+            for x in r["registers_own_le"]:
+                print(f"| `{x['name']}` | {x['loaded_from']} | {x['bits']:,} |")
         if a.json:
             with open(a.json, "w") as f:
                 json.dump(r, f, indent=2, sort_keys=True)

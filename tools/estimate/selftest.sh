@@ -15,8 +15,9 @@ if bad:
     sys.exit(f"estimate selftest: got/expected {bad}")
 print("estimate selftest: adder and multiply ok")
 PY
-# Kept copies (`keep, preserve` on a reg) stay registers of their own: 3 x 4 bits.
-python3 "$here/estimate.py" --top est_keep --no-fmax --json "$out" "$here/testdata/est_keep.sv"
+# Kept copies (`keep, preserve` on a reg) stay registers of their own: 3 x 4 bits. --registers names them:
+# the copies (c0, c1) loaded from the register r, r from the input port.
+python3 "$here/estimate.py" --top est_keep --no-fmax --registers --json "$out" "$here/testdata/est_keep.sv" >/dev/null
 python3 - "$out" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
@@ -24,6 +25,9 @@ want = dict(registers=12, les=12)
 bad = {k: (r[k], v) for k, v in want.items() if r[k] != v}
 if bad:
     sys.exit(f"estimate selftest (kept copies): got/expected {bad}")
+own = [(x["name"], x["loaded_from"], x["bits"]) for x in r["registers_own_le"]]
+if own != [("c#", "a register", 8), ("r", "a port or constant", 4)]:
+    sys.exit(f"estimate selftest (--registers): got {own}")
 print("estimate selftest: kept copies ok")
 PY
 # A block-RAM delay whose word an adder reads: Yosys takes the word's register into the RAM and leaves
