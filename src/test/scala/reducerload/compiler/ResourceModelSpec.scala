@@ -116,6 +116,10 @@ object ResourceModelSpec {
   /** The points of the short form (above) beyond planar3's and the UR5's at the default refinement. */
   private val shortForm: Map[String, Set[String]] =
     Map("ur5" -> Set("parallel66-t1e-3"), "panda" -> Set("budget66", "mem-ii88-t1e-3"))
+  // a renamed sweep point would leave the short form without a word
+  shortForm.values.flatten.foreach(name =>
+    require(ArmSweep.schedules.exists(_.name == name), s"ResourceModelSpec: no sweep point '$name'")
+  )
 
   /** The points the spec checks: all with `REDUCERLOAD_ALL_POINTS=1`, else the short form (above). */
   lazy val tested: Seq[Point] =
