@@ -217,6 +217,10 @@ final case class ArmReport(
              s" (${schedule.readerCopyCount} readers' copies of ${schedule.readerCopies.size} " +
                "values)") +
           (if (heldDelays == 0) "" else s", $heldDelays block-RAM delays the longer stretches") +
+          (if (schedule.productMemories.isEmpty) ""
+           else
+             s"; ${schedule.productMemoryOf.size} products read from ${schedule.productMemories.size} block RAMs " +
+               "their units write (schedule.product-memories)") +
           (if (forwardedPastRoutes == 0) ""
            else
              s"; $forwardedPastRoutes products taken off their units by their one adder " +

@@ -457,6 +457,24 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       )
     }.toMap
 
+    /**
+     * Each unit's product memory ([[reducerload.graph.ProductMemory]]), its word as read: the unit's product
+     * bits written every clock at the slot of the cycle's residue (a counter of its own), the slot a read
+     * needs decoded from the phase flags into the block RAM's address [[ProductMemory.readDelay]] clocks
+     * before the read's cycle, the word in the block RAM's output register in that cycle.
+     */
+    val memoryWords: Map[ProductMemory, SInt] = schedule.productMemories.map { m =>
+      val memory = SyncReadMem(ii, UInt(m.width.W))
+      memory.write(residueCounter(0), products(m.unit)(m.high - 1, m.low))
+      // in residue r the slot of the member read in cycle r + readDelay (residues no read takes: slot 0)
+      val slots = (0 until ii).map(r =>
+        m.members
+          .find(_.reads.exists(c => (c - ProductMemory.readDelay) % ii == r))
+          .fold(0)(c => (c.ready - 1) % ii)
+      )
+      m -> FixedHw.delay(memory.read(decodedAhead(slots, 1).head), 1).asSInt
+    }.toMap
+
     /** `v`, with `fracBits` fraction bits, raised to `f`'s (exactly) and sign-extended to `f`'s width. */
     def alignedTo(v: SInt, fracBits: Int, f: FixedFormat): SInt =
       (v << (f.fracBits - fracBits)).asSInt.pad(f.width)
@@ -549,6 +567,12 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
         case Add(a, b) => kept(register(aligned(a, issue) + aligned(b, issue), issue))
         case Sub(a, b) => kept(register(aligned(a, issue) - aligned(b, issue), issue))
         case Neg(a)    => kept(register(-aligned(a, issue), issue))
+        case Mul(_, _) if schedule.productMemoryOf.contains(id) =>
+          // its bits of the word, as its own register would hold them, in each cycle it is read
+          val m = schedule.productMemoryOf(id)
+          val drop = m.members.find(_.id == id).get.drop - m.low
+          val v = FixedHw.fitWidth(FixedHw.shiftRound(memoryWords(m), drop, Rounding.Truncate), f.width)
+          schedule.reads(id.index).map(_ -> v).toMap
         case Mul(_, _) =>
           val rule = analysis.productRounding(id)
           val product =

@@ -196,13 +196,14 @@ final case class ArmParams(
 
   /**
    * How each value reaches its reads in a shared registers datapath ([[HeldTaps]]; None: a constant, a
-   * product forwarded to its one reader, a product or a sum below the root of an accumulated tree, or a
-   * design with one clock per sample or memory storage).
+   * product forwarded to its one reader, a product or a sum below the root of an accumulated tree, a product
+   * read from its unit's [[reducerload.graph.ProductMemory]], or a design with one clock per sample or memory
+   * storage).
    */
   def heldTaps(id: NodeId): Option[HeldTaps] =
     if (
       schedule.dedicated || banked.isDefined || schedule.forwarded(id) ||
-      schedule.accumulation(id).exists(_.root != id)
+      schedule.accumulation(id).exists(_.root != id) || schedule.productMemoryOf.contains(id)
     ) None
     else
       (schedule(id), schedule.reads(id.index)) match {

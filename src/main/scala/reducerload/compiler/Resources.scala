@@ -151,7 +151,8 @@ object ResourceModel {
             HeldTaps(s.clocksPerSample, 1, s.angleReads(j), p.memoryDelayMinCycles)
           )
         )
-        values ++ angles
+        val products = s.productMemories.map(m => MemoryArray("product memory", s.clocksPerSample, m.width))
+        values ++ angles ++ products
     }
     cordic ++ storage
   }

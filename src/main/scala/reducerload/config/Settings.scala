@@ -645,6 +645,17 @@ object Settings {
     _.schedule.shareRegisters
   )
 
+  val scheduleProductMemories = new Switch(
+    "schedule.product-memories",
+    "",
+    "storage registers, clocks-per-sample >= 2: each multiplier unit writes its product into a block RAM every " +
+      "clock; truncated products read 2 clocks or more after they are ready, within the interval, are read from " +
+      "it, one per cycle, instead of a register each (fewer logic elements, a memory block per unit; no more " +
+      "latency)",
+    Nil,
+    _.schedule.productMemories
+  )
+
   val scheduleReaderCopies = new Switch(
     "schedule.reader-copies",
     "",
@@ -887,6 +898,7 @@ object Settings {
     scheduleListOrder,
     scheduleScheduler,
     scheduleShareRegisters,
+    scheduleProductMemories,
     scheduleReaderCopies,
     scheduleForwardSlack,
     scheduleAccumulateSlack,
@@ -1052,7 +1064,8 @@ object Settings {
           v(scheduleShareRegisters),
           v(scheduleReaderCopies),
           v(scheduleForwardSlack),
-          v(scheduleAccumulateSlack)
+          v(scheduleAccumulateSlack),
+          v(scheduleProductMemories)
         ),
         monitor = MonitorSettings(
           enabled = v(monitorEnabled),

@@ -75,6 +75,10 @@ object Scheduler {
  *   ([[Accumulation]]) is summed by an accumulator that takes each product off its unit in turn, when the
  *   clocks that costs over a tree of adders ([[Accumulation.latencyCost]]) are within the dependences' slack
  *   of its root plus this many; None: none
+ * @param productMemories
+ *   registers storage at 2 clocks per sample or more: each multiplier unit writes its product into a block
+ *   RAM every clock, and truncated products read two clocks or more after they are ready, within the
+ *   interval, are read from it instead of a register of their own, one read per cycle ([[ProductMemory]])
  */
 final case class ScheduleRequest(
     clocksPerSample: Option[Int] = None,
@@ -90,7 +94,8 @@ final case class ScheduleRequest(
     shareRegisters: Boolean = false,
     readerCopies: Boolean = false,
     forwardSlack: Option[Int] = None,
-    accumulateSlack: Option[Int] = None
+    accumulateSlack: Option[Int] = None,
+    productMemories: Boolean = false
 ) {
   require(
     listOrder.isEmpty || stored == Storage.Memory || listOrder.contains(ListOrder.ByHeight),
@@ -941,6 +946,39 @@ final class Schedule(
       )
   lazy val sharedRegisterOf: Map[NodeId, SharedRegister] =
     sharedRegisters.flatMap(r => r.members.map(_ -> r)).toMap
+
+  /**
+   * Block RAMs units write their products into (`schedule.product-memories`; registers storage at 2 clocks
+   * per sample or more): truncated products, each with a register of its own otherwise (not forwarded,
+   * accumulated, shared or copied for readers), read from the memory when its read port allows.
+   */
+  lazy val productMemories: IndexedSeq[ProductMemory] =
+    if (!request.productMemories || dedicated || request.stored != Storage.Registers) IndexedSeq.empty
+    else
+      ProductMemory.allocate(
+        ii,
+        muls
+          .filterNot(id =>
+            forwarded(id) || accumulationOf.contains(id) || sharedRegisterOf.contains(id) ||
+              readerCopies.contains(id) ||
+              analysis.productRounding(id).rounding != Rounding.Truncate ||
+              reads(id.index).isEmpty
+          )
+          .map { id =>
+            val unit = slot(id).get.unit.get
+            ProductMemory.Candidate(
+              id,
+              unit,
+              analysis.productRounding(id).drop,
+              analysis(id).format.width,
+              unitShape(unit).wide + unitShape(unit).narrow,
+              ready(id.index).get,
+              reads(id.index)
+            )
+          }
+      )
+  lazy val productMemoryOf: Map[NodeId, ProductMemory] =
+    productMemories.flatMap(m => m.members.map(_.id -> m)).toMap
 
   /**
    * Each shared multiply's unit: the refinement's, or with registers storage the list scheduler's (the

@@ -67,6 +67,10 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       s"$robot: schedule.share-registers asked, no register shared"
     )
     assert(
+      !schedule.productMemories || p.schedule.productMemories.nonEmpty,
+      s"$robot: schedule.product-memories asked, no product memory"
+    )
+    assert(
       !schedule.readerCopies || p.schedule.readerCopies.nonEmpty,
       s"$robot: schedule.reader-copies asked, no reader's copy"
     )
@@ -94,7 +98,9 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       (if (p.schedule.readerCopies.isEmpty) ""
        else s" ${p.schedule.readerCopyCount} copies") +
       (if (p.schedule.accumulations.isEmpty) ""
-       else s" ${p.schedule.accumulations.size} trees accumulated")
+       else s" ${p.schedule.accumulations.size} trees accumulated") +
+      (if (p.schedule.productMemories.isEmpty) ""
+       else s" ${p.schedule.productMemoryOf.size} products in ${p.schedule.productMemories.size} memories")
     ArmChecks.run(
       this,
       label,
@@ -155,16 +161,16 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     runRobot("panda", 43L)
   }
 
-  it should "share multipliers and CORDIC units on planar3 (2, 3, 4 and 40 clocks per " +
-    "sample; at 3 and 40 also with registered routes, at 4 readers' copies, at 40 shared product " +
-    "registers, at 3 and 40 products accumulated), bit-exact under back-pressure" in {
+  it should "share units on planar3 at 2, 3, 4 and 40 clocks per sample (registered routes at 3 and 40, " +
+    "readers' copies at 4, shared registers or product memories at 40, accumulators at 3 and 40), " +
+    "bit-exact under back-pressure" in {
       runRobot("planar3", 44L, ScheduleRequest(clocksPerSample = Some(2)))
       runRobot(
         "planar3",
         45L,
         ScheduleRequest(clocksPerSample = Some(3), cordicUnits = Some(1), accumulateSlack = Some(2))
       )
-      runRobot("planar3", 46L, ScheduleRequest(clocksPerSample = Some(40)))
+      runRobot("planar3", 46L, ScheduleRequest(clocksPerSample = Some(40), productMemories = true))
       runRobot(
         "planar3",
         59L,
@@ -265,8 +271,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     }
 
   it should "cross the UR5's parallel axes (joints 2-4), the latency recipe of issue 33 (18 clocks per " +
-    "sample, 66 blocks, registered routes, the solver's schedule, sums and products reassociated, products " +
-    "accumulated, 1e-3 N·m), bit-exact under back-pressure" in {
+    "sample, 66 blocks, registered routes, the solver's schedule, sums and products reassociated, " +
+    "accumulators, product memories, 1e-3 N·m), bit-exact under back-pressure" in {
       runRobot(
         "ur5",
         69L,
@@ -276,7 +282,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
           listOrder = Some(ListOrder.ByHeight),
           refinement = reducerload.app.ArmSweep.fastRefinement,
           scheduler = Scheduler.CpSat,
-          accumulateSlack = Some(9)
+          accumulateSlack = Some(9),
+          productMemories = true
         ),
         targetError = Seq(1e-3),
         reassociate = Reassociation.SumsAndProducts,

@@ -1,0 +1,97 @@
+package reducerload.graph
+
+/**
+ * A block RAM a multiplier unit writes its product into every clock (`schedule.product-memories`, registers
+ * storage at 2 clocks per sample or more), at the residue of the cycle, so that products read two clocks or
+ * more after they are ready need no capture register of their own: a shared unit moves on to its next
+ * multiply the clock after, and each product waiting for its reader otherwise takes a register (a third of
+ * the UR5 latency recipe's logic elements: docs/timing-closure.md, "which registers take an LE of their
+ * own"). One read port: each cycle of the interval reads at most one member, into the memory's output
+ * register, which the reader takes in that cycle.
+ *
+ * A member is in the unit's product register in the cycle before it is ready, so it is written in the slot of
+ * that residue; a read in cycle `c` gives the slot's word in the memory's output register in `c` (the address
+ * two clocks earlier: [[ProductMemory.readDelay]]). Reads lie in `ready + readDelay .. ready + interval`: the
+ * slot is written before its first read and not again, by the next sample, before its last; no read meets a
+ * write of its own slot. The word is the product's bits `low` until `high` (exclusive): each member truncates
+ * the product (a slice, so a reader's slice of the word is the bits its own register would hold).
+ *
+ * @param members
+ *   the products stored, with the cycles each is read in
+ */
+final case class ProductMemory(unit: Int, members: IndexedSeq[ProductMemory.Candidate], low: Int, high: Int) {
+  require(members.nonEmpty, s"ProductMemory: unit $unit's memory has no member")
+  require(
+    low >= 0 && high - low >= 1 && high - low <= ProductMemory.maxWordBits,
+    s"ProductMemory: unit $unit's word of bits $low until $high is not 1 to ${ProductMemory.maxWordBits} bits"
+  )
+
+  /** Bits of a word. */
+  def width: Int = high - low
+}
+
+object ProductMemory {
+
+  /**
+   * Clocks from a read's address to its word in the memory's output register: the block RAM's address
+   * register and its output register (an M9K's own).
+   */
+  val readDelay: Int = 2
+
+  /**
+   * Widest word: an M9K's (256 x 36), so that each memory is one block at any interval up to 256 clocks.
+   */
+  val maxWordBits: Int = 36
+
+  /**
+   * A truncated product that may be stored: its unit, the product's bits it keeps (`drop` until `drop +
+   * width`, of the unit's `productBits`), the cycle from which its own register would hold it and the cycles
+   * it is read in.
+   */
+  final case class Candidate(
+      id: NodeId,
+      unit: Int,
+      drop: Int,
+      width: Int,
+      productBits: Int,
+      ready: Int,
+      reads: Seq[Int]
+  ) {
+    require(reads.nonEmpty, s"ProductMemory: $id is never read")
+
+    /** Highest product bit its value depends on, plus one (a wider value repeats the product's sign). */
+    def top: Int = (drop + width).min(productBits)
+
+    /** Whether every read lies where a memory can serve it at `interval` clocks per sample. */
+    def storable(interval: Int): Boolean = reads.forall(r => r >= ready + readDelay && r <= ready + interval)
+  }
+
+  /**
+   * The memories of `candidates` at `interval` clocks per sample: per unit, the widest product first (then by
+   * node), each taken when its reads' residues are free on the read port and the word stays within
+   * [[maxWordBits]]. A unit with fewer than two members gets none (a block RAM for one register). Candidates
+   * left out keep a register of their own.
+   */
+  def allocate(interval: Int, candidates: Seq[Candidate]): IndexedSeq[ProductMemory] =
+    candidates
+      .filter(_.storable(interval))
+      .groupBy(_.unit)
+      .toIndexedSeq
+      .sortBy(_._1)
+      .flatMap { case (unit, group) =>
+        val taken = group
+          .sortBy(c => (-c.width, c.id.index))
+          .foldLeft(Vector.empty[Candidate]) { (taken, c) =>
+            val used = taken.flatMap(_.reads.map(_ % interval)).toSet
+            val residues = c.reads.map(_ % interval)
+            val members = taken :+ c
+            val span = members.map(_.top).max - members.map(_.drop).min
+            if (residues.distinct.size == residues.size && !residues.exists(used) && span <= maxWordBits)
+              members
+            else taken
+          }
+        Option.when(taken.size >= 2)(
+          ProductMemory(unit, taken.sortBy(_.ready % interval), taken.map(_.drop).min, taken.map(_.top).max)
+        )
+      }
+}

@@ -1,0 +1,111 @@
+package reducerload.graph
+
+import org.scalatest.flatspec.AnyFlatSpec
+import reducerload.compiler.Compiler
+import reducerload.fixedpoint.Rounding
+import reducerload.testutil.ArmGolden
+
+/**
+ * Block RAMs units write their products into (`schedule.product-memories`): the allocation on cases known by
+ * hand, and on the UR5's latency recipe each member found in its slot whenever it is read, by replaying every
+ * clock's write over several samples (not by the residue rules the allocation works with).
+ */
+class ProductMemorySpec extends AnyFlatSpec {
+  behavior of "ProductMemory.allocate"
+
+  private def c(id: Int, ready: Int, reads: Seq[Int], unit: Int = 0, drop: Int = 5, width: Int = 20) =
+    ProductMemory.Candidate(NodeId(id), unit, drop, width, 40, ready, reads)
+
+  it should "take products read two clocks or more after they are ready, within the interval, one per read " +
+    "residue, the widest first" in {
+      // interval 4: 1 is read in residue 3, 2 in residues 0 and 1 (cycles 8, 9), 3 in residue 0 (meets 2, narrower)
+      val memories =
+        ProductMemory.allocate(4, Seq(c(1, 1, Seq(3)), c(2, 6, Seq(8, 9), width = 24), c(3, 2, Seq(4))))
+      // members in the order of their slots: 1 written in residue 0, 2 in residue 1
+      assert(memories.map(_.members.map(_.id.index)) == IndexedSeq(IndexedSeq(1, 2)))
+      assert(memories.head.low == 5 && memories.head.high == 29)
+    }
+
+  it should "leave out a read the clock after ready or after the interval, and a unit with one member" in {
+    assert(ProductMemory.allocate(4, Seq(c(1, 1, Seq(2)), c(2, 2, Seq(4)))).isEmpty)
+    assert(ProductMemory.allocate(4, Seq(c(1, 1, Seq(6)), c(2, 2, Seq(4)))).isEmpty)
+    assert(ProductMemory.allocate(4, Seq(c(1, 1, Seq(3)), c(2, 2, Seq(4), unit = 1))).isEmpty)
+  }
+
+  it should "keep a word within an M9K's 36 bits, from the lowest bit kept to the highest the product has" in {
+    // 2 keeps bits 20-37 of a 40-bit product: with 1 (bits 0-19) the word would be 38 bits
+    val memories = ProductMemory.allocate(
+      4,
+      Seq(c(1, 1, Seq(3), drop = 0), c(2, 2, Seq(4), drop = 20, width = 18), c(3, 3, Seq(5), drop = 2))
+    )
+    assert(memories.map(_.members.map(_.id.index)) == IndexedSeq(IndexedSeq(1, 3)))
+    assert(memories.head.high == 22)
+    val top =
+      ProductMemory.allocate(4, Seq(c(1, 1, Seq(3), drop = 16, width = 30), c(2, 2, Seq(4), drop = 17)))
+    assert(top.head.high == 40 && top.head.width == 24, "bits above the product's repeat its sign")
+  }
+
+  it should "refuse a memory without members and a word wider than a block's" in {
+    assert(
+      intercept[IllegalArgumentException](ProductMemory(0, IndexedSeq.empty, 0, 1)).getMessage
+        .contains("no member")
+    )
+    val e = intercept[IllegalArgumentException](ProductMemory(0, IndexedSeq(c(1, 1, Seq(3))), 0, 37))
+    assert(e.getMessage.contains("1 to 36 bits"))
+  }
+
+  private lazy val ur5 = ArmGolden.of("ur5").head.config
+
+  it should "find every member in its slot whenever it is read, on the UR5's latency recipe" in {
+    val p = Compiler.arm(
+      ur5.copy(
+        targetError = Seq(1e-3),
+        schedule = ScheduleRequest(
+          clocksPerSample = Some(18),
+          maxMultipliers = Some(66),
+          listOrder = Some(ListOrder.ByHeight),
+          productMemories = true
+        ),
+        datapath =
+          ur5.datapath.copy(reassociate = Reassociation.SumsAndProducts, registeredRoutes = Some(true))
+      )
+    )
+    val s = p.schedule
+    val ii = s.clocksPerSample
+    assert(s.productMemories.nonEmpty, "no product memory")
+    s.productMemories.foreach { m =>
+      val ids = m.members.map(_.id)
+      assert(ids.forall(x => s.slot(x).get.unit.contains(m.unit)), s"$m: a member on another unit")
+      assert(ids.forall(x => p.analysis.productRounding(x).rounding == Rounding.Truncate))
+      // sample n enters in cycle n * II; the unit's product register holds member x of sample n in cycle
+      // n * II + ready(x) - 1, and every clock writes the register into slot (cycle mod II); a read in cycle c
+      // addresses its member's slot in c - readDelay
+      val k = s.latency / ii + 2
+      def writer(t: Int): Option[(NodeId, Int)] = ids.collectFirst {
+        case x if Math.floorMod(t - (s(x).get - 1), ii) == 0 => (x, (t - (s(x).get - 1)) / ii)
+      }
+      m.members.foreach { member =>
+        val byResidue = m.members.flatMap(o => o.reads.map(r => (r - ProductMemory.readDelay) % ii -> o.id))
+        assert(byResidue.map(_._1).distinct.size == byResidue.size, s"$m: two reads in one residue")
+        member.reads.foreach { read =>
+          val issued = read + k * ii - ProductMemory.readDelay
+          val slot = (s(member.id).get - 1) % ii
+          // the last cycle before `issued` that wrote this slot, and none in `issued` itself
+          assert(Math.floorMod(issued, ii) != slot, s"$m: ${member.id}'s read meets a write of its slot")
+          val written = (issued - 1 to issued - ii by -1).find(t => Math.floorMod(t, ii) == slot).get
+          assert(
+            writer(written).contains((member.id, k)),
+            s"$m: ${member.id} read in cycle ${read + k * ii} finds ${writer(written)}"
+          )
+        }
+      }
+    }
+    val off = p.copy(scheduleRequest = p.scheduleRequest.copy(productMemories = false))
+    println(
+      s"UR5 18 clocks: ${s.productMemoryOf.size} products in ${s.productMemories.size} product memories; held " +
+        s"register bits ${off.heldRegisterBits} -> ${p.heldRegisterBits}"
+    )
+    assert(p.heldRegisterBits < off.heldRegisterBits)
+    assert(p.latency == off.latency, "product memories changed the schedule")
+  }
+}
