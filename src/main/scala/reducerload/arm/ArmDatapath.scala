@@ -461,7 +461,8 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
      * Each unit's product memory ([[reducerload.graph.ProductMemory]]), its word as read: the unit's product
      * bits written every clock at the slot of the cycle's residue (a counter of its own), the slot a read
      * needs decoded from the phase flags into the block RAM's address [[ProductMemory.readDelay]] clocks
-     * before the read's cycle, the word in the block RAM's output register in that cycle.
+     * before the read's cycle, the word through the block RAM's output register into a register in logic in
+     * that cycle.
      */
     val memoryWords: Map[ProductMemory, SInt] = schedule.productMemories.map { m =>
       val memory = SyncReadMem(ii, UInt(m.width.W))
@@ -472,7 +473,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
           .find(_.reads.exists(c => (c - ProductMemory.readDelay) % ii == r))
           .fold(0)(c => (c.ready - 1) % ii)
       )
-      m -> FixedHw.delay(memory.read(decodedAhead(slots, 1).head), 1).asSInt
+      m -> FixedHw.delay(memory.read(decodedAhead(slots, 1).head), ProductMemory.readDelay - 1).asSInt
     }.toMap
 
     /** `v`, with `fracBits` fraction bits, raised to `f`'s (exactly) and sign-extended to `f`'s width. */

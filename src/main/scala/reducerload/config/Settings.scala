@@ -649,7 +649,7 @@ object Settings {
     "schedule.product-memories",
     "",
     "storage registers, clocks-per-sample >= 2: each multiplier unit writes its product into a block RAM every " +
-      "clock; truncated products read 2 clocks or more after they are ready, within the interval, are read from " +
+      "clock; truncated products read 3 clocks or more after they are ready, within the interval, are read from " +
       "it, one per cycle, instead of a register each (fewer logic elements, a memory block per unit; no more " +
       "latency)",
     Nil,

@@ -2,19 +2,19 @@ package reducerload.graph
 
 /**
  * A block RAM a multiplier unit writes its product into every clock (`schedule.product-memories`, registers
- * storage at 2 clocks per sample or more), at the residue of the cycle, so that products read two clocks or
+ * storage at 2 clocks per sample or more), at the residue of the cycle, so that products read three clocks or
  * more after they are ready need no capture register of their own: a shared unit moves on to its next
  * multiply the clock after, and each product waiting for its reader otherwise takes a register (a third of
  * the UR5 latency recipe's logic elements: docs/timing-closure.md, "which registers take an LE of their
- * own"). One read port: each cycle of the interval reads at most one member, into the memory's output
- * register, which the reader takes in that cycle.
+ * own"). One read port: each cycle of the interval reads at most one member, through the memory's output
+ * register into a register in logic, which the reader takes in that cycle.
  *
  * A member is in the unit's product register in the cycle before it is ready, so it is written in the slot of
- * that residue; a read in cycle `c` gives the slot's word in the memory's output register in `c` (the address
- * two clocks earlier: [[ProductMemory.readDelay]]). Reads lie in `ready + readDelay .. ready + interval`: the
- * slot is written before its first read and not again, by the next sample, before its last; no read meets a
- * write of its own slot. The word is the product's bits `low` until `high` (exclusive): each member truncates
- * the product (a slice, so a reader's slice of the word is the bits its own register would hold).
+ * that residue; a read in cycle `c` gives the slot's word in the register after the memory's in `c` (the
+ * address [[ProductMemory.readDelay]] clocks earlier). Reads lie in `ready + readDelay .. ready + interval`:
+ * the slot is written before its first read and not again, by the next sample, before its last; no read meets
+ * a write of its own slot. The word is the product's bits `low` until `high` (exclusive): each member
+ * truncates the product (a slice, so a reader's slice of the word is the bits its own register would hold).
  *
  * @param members
  *   the products stored, with the cycles each is read in
@@ -33,10 +33,13 @@ final case class ProductMemory(unit: Int, members: IndexedSeq[ProductMemory.Cand
 object ProductMemory {
 
   /**
-   * Clocks from a read's address to its word in the memory's output register: the block RAM's address
-   * register and its output register (an M9K's own).
+   * Clocks from a read's address to its word at the readers: the block RAM's address register, its output
+   * register (an M9K's own) and a register in logic, which the placer puts toward the readers. The word
+   * straight from the block RAM's output register crossed the die to its readers in one clock: the UR5
+   * latency recipe routed at 124.0 / 134.6 MHz on seeds 1 / 2, with the register 151.9 on seed 2
+   * (docs/timing-closure.md, "products read from block RAM").
    */
-  val readDelay: Int = 2
+  val readDelay: Int = 3
 
   /**
    * Widest word: an M9K's (256 x 36), so that each memory is one block at any interval up to 256 clocks.

@@ -77,7 +77,7 @@ object Scheduler {
  *   of its root plus this many; None: none
  * @param productMemories
  *   registers storage at 2 clocks per sample or more: each multiplier unit writes its product into a block
- *   RAM every clock, and truncated products read two clocks or more after they are ready, within the
+ *   RAM every clock, and truncated products read three clocks or more after they are ready, within the
  *   interval, are read from it instead of a register of their own, one read per cycle ([[ProductMemory]])
  */
 final case class ScheduleRequest(

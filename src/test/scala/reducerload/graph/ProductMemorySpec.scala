@@ -16,32 +16,33 @@ class ProductMemorySpec extends AnyFlatSpec {
   private def c(id: Int, ready: Int, reads: Seq[Int], unit: Int = 0, drop: Int = 5, width: Int = 20) =
     ProductMemory.Candidate(NodeId(id), unit, drop, width, 40, ready, reads)
 
-  it should "take products read two clocks or more after they are ready, within the interval, one per read " +
-    "residue, the widest first" in {
-      // interval 4: 1 is read in residue 3, 2 in residues 0 and 1 (cycles 8, 9), 3 in residue 0 (meets 2, narrower)
+  it should "take products read three clocks or more after they are ready, within the interval, one per " +
+    "read residue, the widest first" in {
+      // interval 6: 1 is read in residue 5, 2 in residues 3 and 4 (cycles 9, 10), 3 in residue 4 (meets 2,
+      // narrower)
       val memories =
-        ProductMemory.allocate(4, Seq(c(1, 1, Seq(3)), c(2, 6, Seq(8, 9), width = 24), c(3, 2, Seq(4))))
-      // members in the order of their slots: 1 written in residue 0, 2 in residue 1
-      assert(memories.map(_.members.map(_.id.index)) == IndexedSeq(IndexedSeq(1, 2)))
+        ProductMemory.allocate(6, Seq(c(1, 1, Seq(5)), c(2, 6, Seq(9, 10), width = 24), c(3, 7, Seq(10))))
+      // members in the order of their slots: 2 written in residue 5 (ready in 0), 1 in residue 0
+      assert(memories.map(_.members.map(_.id.index)) == IndexedSeq(IndexedSeq(2, 1)))
       assert(memories.head.low == 5 && memories.head.high == 29)
     }
 
-  it should "leave out a read the clock after ready or after the interval, and a unit with one member" in {
-    assert(ProductMemory.allocate(4, Seq(c(1, 1, Seq(2)), c(2, 2, Seq(4)))).isEmpty)
-    assert(ProductMemory.allocate(4, Seq(c(1, 1, Seq(6)), c(2, 2, Seq(4)))).isEmpty)
-    assert(ProductMemory.allocate(4, Seq(c(1, 1, Seq(3)), c(2, 2, Seq(4), unit = 1))).isEmpty)
+  it should "leave out a read before readDelay or after the interval, and a unit with one member" in {
+    assert(ProductMemory.allocate(4, Seq(c(1, 1, Seq(3)), c(2, 2, Seq(5)))).isEmpty)
+    assert(ProductMemory.allocate(4, Seq(c(1, 1, Seq(6)), c(2, 2, Seq(5)))).isEmpty)
+    assert(ProductMemory.allocate(4, Seq(c(1, 1, Seq(4)), c(2, 2, Seq(5), unit = 1))).isEmpty)
   }
 
   it should "keep a word within an M9K's 36 bits, from the lowest bit kept to the highest the product has" in {
     // 2 keeps bits 20-37 of a 40-bit product: with 1 (bits 0-19) the word would be 38 bits
     val memories = ProductMemory.allocate(
       4,
-      Seq(c(1, 1, Seq(3), drop = 0), c(2, 2, Seq(4), drop = 20, width = 18), c(3, 3, Seq(5), drop = 2))
+      Seq(c(1, 1, Seq(4), drop = 0), c(2, 2, Seq(5), drop = 20, width = 18), c(3, 3, Seq(6), drop = 2))
     )
     assert(memories.map(_.members.map(_.id.index)) == IndexedSeq(IndexedSeq(1, 3)))
     assert(memories.head.high == 22)
     val top =
-      ProductMemory.allocate(4, Seq(c(1, 1, Seq(3), drop = 16, width = 30), c(2, 2, Seq(4), drop = 17)))
+      ProductMemory.allocate(4, Seq(c(1, 1, Seq(4), drop = 16, width = 30), c(2, 2, Seq(5), drop = 17)))
     assert(top.head.high == 40 && top.head.width == 24, "bits above the product's repeat its sign")
   }
 
@@ -50,7 +51,7 @@ class ProductMemorySpec extends AnyFlatSpec {
       intercept[IllegalArgumentException](ProductMemory(0, IndexedSeq.empty, 0, 1)).getMessage
         .contains("no member")
     )
-    val e = intercept[IllegalArgumentException](ProductMemory(0, IndexedSeq(c(1, 1, Seq(3))), 0, 37))
+    val e = intercept[IllegalArgumentException](ProductMemory(0, IndexedSeq(c(1, 1, Seq(4))), 0, 37))
     assert(e.getMessage.contains("1 to 36 bits"))
   }
 
