@@ -442,7 +442,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     // Multiplier units: products wired in after every operand exists.
     def shapeOfUnit(u: Int): MulShape = schedule.unitShape(u)
     val products =
-      schedule.mulBindings.indices.map(u => Wire(SInt((shapeOfUnit(u).wide + shapeOfUnit(u).narrow).W)))
+      schedule.mulBindings.indices.map(u => Wire(SInt(shapeOfUnit(u).productBits.W)))
     // A product of multiply `id` (the product rule) at `width` bits.
     def rounded(product: SInt, id: NodeId, width: Int): SInt = {
       val rule = analysis.productRounding(id)
@@ -471,7 +471,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       val slots = (0 until ii).map(r =>
         m.members
           .find(_.reads.exists(c => (c - ProductMemory.readDelay) % ii == r))
-          .fold(0)(c => (c.ready - 1) % ii)
+          .fold(0)(_.slot(ii))
       )
       m -> FixedHw.delay(memory.read(decodedAhead(slots, 1).head), ProductMemory.readDelay - 1).asSInt
     }.toMap
@@ -569,10 +569,10 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
         case Sub(a, b) => kept(register(aligned(a, issue) - aligned(b, issue), issue))
         case Neg(a)    => kept(register(-aligned(a, issue), issue))
         case Mul(_, _) if schedule.productMemoryOf.contains(id) =>
-          // its bits of the word, as its own register would hold them, in each cycle it is read
+          // the word back at its place in the product (the bits below it are ones the members' rounding
+          // drops), through the member's rule: its own register's bits, in each cycle it is read
           val m = schedule.productMemoryOf(id)
-          val drop = m.members.find(_.id == id).get.drop - m.low
-          val v = FixedHw.fitWidth(FixedHw.shiftRound(memoryWords(m), drop, Rounding.Truncate), f.width)
+          val v = rounded(memoryWords(m) << m.low, id, f.width)
           schedule.reads(id.index).map(_ -> v).toMap
         case Mul(_, _) =>
           val rule = analysis.productRounding(id)

@@ -216,22 +216,23 @@ final case class ArmParams(
    * Register bits holding values between their cycles in a shared registers datapath: each value's first
    * register and its chain, the stretches in block RAM left out ([[HeldTaps]]), and the registers products
    * take turns in ([[reducerload.graph.SharedRegister]]) once each, the readers' copies
-   * ([[reducerload.graph.Schedule.readerCopies]]) and the accumulators of accumulated trees (each as wide as
-   * its root).
+   * ([[reducerload.graph.Schedule.readerCopies]]), the accumulators of accumulated trees (each as wide as its
+   * root) and the registers in logic after each [[reducerload.graph.ProductMemory]].
    */
   def heldRegisterBits: Long =
     unsharedTaps.map { case (id, taps) => taps.registerBits(analysis(id).format.width) }.sum +
       schedule.sharedRegisters.map(_.width.toLong).sum +
       schedule.accumulations.map(a => analysis(a.root).format.width.toLong).sum +
-      schedule.readerCopies.map { case (id, units) => units.size.toLong * analysis(id).format.width }.sum
+      schedule.readerCopies.map { case (id, units) => units.size.toLong * analysis(id).format.width }.sum +
+      schedule.productMemories.map(_.width.toLong * ProductMemory.fabricRegisters).sum
 
   /**
    * Registers holding values in a shared registers datapath (each of a chain, a shared one once, a reader's
-   * copy, an accumulator).
+   * copy, an accumulator, a product memory's registers in logic).
    */
   def heldRegisters: Int =
     unsharedTaps.map(_._2.registers).sum + schedule.sharedRegisters.size + schedule.readerCopyCount +
-      schedule.accumulations.size
+      schedule.accumulations.size + schedule.productMemories.size * ProductMemory.fabricRegisters
 
   /** The held values with registers of their own, and their taps. */
   private def unsharedTaps: Seq[(NodeId, HeldTaps)] =

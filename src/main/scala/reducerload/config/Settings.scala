@@ -3,7 +3,15 @@ package reducerload.config
 import com.typesafe.config.{Config, ConfigException, ConfigValueType}
 import reducerload.cordic.{CordicArchitecture, CordicParams}
 import reducerload.fixedpoint.Rounding
-import reducerload.graph.{ConstantMultiplies, ListOrder, Reassociation, ScheduleRequest, Scheduler, Storage}
+import reducerload.graph.{
+  ConstantMultiplies,
+  ListOrder,
+  ProductMemory,
+  Reassociation,
+  ScheduleRequest,
+  Scheduler,
+  Storage
+}
 import reducerload.load.LoadModel
 import reducerload.robot.{Mounting, RobotParams}
 import reducerload.util.InputError
@@ -649,7 +657,8 @@ object Settings {
     "schedule.product-memories",
     "",
     "storage registers, clocks-per-sample >= 2: each multiplier unit writes its product into a block RAM every " +
-      "clock; truncated products read 3 clocks or more after they are ready, within the interval, are read from " +
+      s"clock; truncated products read ${ProductMemory.readDelay} clocks or more after they are " +
+      "ready, within the interval, are read from " +
       "it, one per cycle, instead of a register each (fewer logic elements, a memory block per unit; no more " +
       "latency)",
     Nil,

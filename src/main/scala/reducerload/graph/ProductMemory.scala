@@ -41,6 +41,9 @@ object ProductMemory {
    */
   val readDelay: Int = 3
 
+  /** Of [[readDelay]], the registers in logic: a word's bits in logic elements per memory. */
+  val fabricRegisters: Int = readDelay - 2
+
   /**
    * Widest word: an M9K's (256 x 36), so that each memory is one block at any interval up to 256 clocks.
    */
@@ -61,9 +64,16 @@ object ProductMemory {
       reads: Seq[Int]
   ) {
     require(reads.nonEmpty, s"ProductMemory: $id is never read")
+    require(ready >= 1 && drop >= 0, s"ProductMemory: $id is ready in $ready, drops $drop bits")
 
     /** Highest product bit its value depends on, plus one (a wider value repeats the product's sign). */
     def top: Int = (drop + width).min(productBits)
+
+    /**
+     * The slot it is written in at `interval` clocks per sample: the residue of the cycle before it is ready,
+     * when the unit's product register holds it.
+     */
+    def slot(interval: Int): Int = (ready - 1) % interval
 
     /** Whether every read lies where a memory can serve it at `interval` clocks per sample. */
     def storable(interval: Int): Boolean = reads.forall(r => r >= ready + readDelay && r <= ready + interval)

@@ -77,8 +77,9 @@ object Scheduler {
  *   of its root plus this many; None: none
  * @param productMemories
  *   registers storage at 2 clocks per sample or more: each multiplier unit writes its product into a block
- *   RAM every clock, and truncated products read three clocks or more after they are ready, within the
- *   interval, are read from it instead of a register of their own, one read per cycle ([[ProductMemory]])
+ *   RAM every clock, and truncated products read [[ProductMemory.readDelay]] clocks or more after they are
+ *   ready, within the interval, are read from it instead of a register of their own, one read per cycle
+ *   ([[ProductMemory]])
  */
 final case class ScheduleRequest(
     clocksPerSample: Option[Int] = None,
@@ -170,6 +171,9 @@ object ScheduleRequest {
 final case class MulShape(wide: Int, narrow: Int) {
   def blocks: Int = PipelinedMultiplier.blocks(wide, narrow)
   def max(o: MulShape): MulShape = MulShape(math.max(wide, o.wide), math.max(narrow, o.narrow))
+
+  /** Bits of a full product of the two ports. */
+  def productBits: Int = wide + narrow
 
   /** Each port's width, in the order of [[Schedule.ports]]: wide, narrow. */
   def widths: IndexedSeq[Int] = IndexedSeq(wide, narrow)
@@ -971,7 +975,7 @@ final class Schedule(
               unit,
               analysis.productRounding(id).drop,
               analysis(id).format.width,
-              unitShape(unit).wide + unitShape(unit).narrow,
+              unitShape(unit).productBits,
               ready(id.index).get,
               reads(id.index)
             )

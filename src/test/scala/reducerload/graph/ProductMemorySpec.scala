@@ -85,9 +85,9 @@ class ProductMemorySpec extends AnyFlatSpec {
       def writer(t: Int): Option[(NodeId, Int)] = ids.collectFirst {
         case x if Math.floorMod(t - (s(x).get - 1), ii) == 0 => (x, (t - (s(x).get - 1)) / ii)
       }
+      val addressed = m.members.flatMap(o => o.reads.map(r => (r - ProductMemory.readDelay) % ii))
+      assert(addressed.distinct.size == addressed.size, s"$m: two reads address it in one residue")
       m.members.foreach { member =>
-        val byResidue = m.members.flatMap(o => o.reads.map(r => (r - ProductMemory.readDelay) % ii -> o.id))
-        assert(byResidue.map(_._1).distinct.size == byResidue.size, s"$m: two reads in one residue")
         member.reads.foreach { read =>
           val issued = read + k * ii - ProductMemory.readDelay
           val slot = (s(member.id).get - 1) % ii
