@@ -922,31 +922,37 @@ final class Schedule(
 
   /**
    * Registers that products of one unit take turns in (`schedule.share-registers`; registers storage at 2
-   * clocks per sample or more): the products on the units, each with a register (not forwarded), read only
-   * within the interval after it is ready.
+   * clocks per sample or more): the products on the units, each with a register (not forwarded, accumulated,
+   * copied for readers or in a product memory), read only within the interval after it is ready. The product
+   * memories choose first: a member takes no register at all, where sharing saves part of one.
    */
   lazy val sharedRegisters: IndexedSeq[SharedRegister] =
     if (!request.shareRegisters || dedicated || request.stored != Storage.Registers) IndexedSeq.empty
     else
       SharedRegister.allocate(
         ii,
-        muls.filterNot(id => forwarded(id) || accumulationOf.contains(id)).flatMap { id =>
-          val rule = analysis.productRounding(id)
-          val t = ready(id.index).get
-          reads(id.index).maxOption
-            .filter(_ - t < ii)
-            .map(last =>
-              SharedRegister.Candidate(
-                id,
-                slot(id).get.unit.get,
-                rule.drop,
-                rule.rounding,
-                analysis(id).format.width,
-                t,
-                last
+        muls
+          .filterNot(id =>
+            forwarded(id) || accumulationOf.contains(id) || readerCopies.contains(id) || productMemoryOf
+              .contains(id)
+          )
+          .flatMap { id =>
+            val rule = analysis.productRounding(id)
+            val t = ready(id.index).get
+            reads(id.index).maxOption
+              .filter(_ - t < ii)
+              .map(last =>
+                SharedRegister.Candidate(
+                  id,
+                  slot(id).get.unit.get,
+                  rule.drop,
+                  rule.rounding,
+                  analysis(id).format.width,
+                  t,
+                  last
+                )
               )
-            )
-        }
+          }
       )
   lazy val sharedRegisterOf: Map[NodeId, SharedRegister] =
     sharedRegisters.flatMap(r => r.members.map(_ -> r)).toMap
@@ -954,7 +960,8 @@ final class Schedule(
   /**
    * Block RAMs units write their products into (`schedule.product-memories`; registers storage at 2 clocks
    * per sample or more): truncated products, each with a register of its own otherwise (not forwarded,
-   * accumulated, shared or copied for readers), read from the memory when its read port allows.
+   * accumulated or copied for readers), read from the memory when its read port allows; the shared registers
+   * take from those left.
    */
   lazy val productMemories: IndexedSeq[ProductMemory] =
     if (!request.productMemories || dedicated || request.stored != Storage.Registers) IndexedSeq.empty
@@ -963,8 +970,7 @@ final class Schedule(
         ii,
         muls
           .filterNot(id =>
-            forwarded(id) || accumulationOf.contains(id) || sharedRegisterOf.contains(id) ||
-              readerCopies.contains(id) ||
+            forwarded(id) || accumulationOf.contains(id) || readerCopies.contains(id) ||
               analysis.productRounding(id).rounding != Rounding.Truncate ||
               reads(id.index).isEmpty
           )
@@ -1044,7 +1050,8 @@ final class Schedule(
     angles.filter(_.joints.contains(j)).map(a => angleSlot(a).issue - angleSumStages(a)).distinct.sorted
 
   /**
-   * `schedule.reader-copies` (registered routes): for each value in a register of its own that several
+   * `schedule.reader-copies` (registered routes): for each value in a register of its own (not forwarded; a
+   * product so copied keeps its register: no product memory or shared register takes it) that several
    * multiplier units read within the interval after it is ready, the units that read it through a copy of
    * that register, loaded a clock after it (so the copy holds the value from ready + 1 to ready + II). Every
    * such unit gets one but the unit left on the register itself: one that reads the value when it is ready (a
@@ -1059,7 +1066,7 @@ final class Schedule(
         (bound, u) <- mulBindings.zipWithIndex
         (_, id) <- bound
         x <- ports(id)
-        if !isConst(x) && !forwarded(x) && !sharedRegisterOf.contains(x)
+        if !isConst(x) && !forwarded(x)
         if !graph(x).isInstanceOf[Trig] || capturesCordic
         offset = issue(id) - ready(x.index).get
         if offset < ii

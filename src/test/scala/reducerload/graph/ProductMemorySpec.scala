@@ -108,5 +108,20 @@ class ProductMemorySpec extends AnyFlatSpec {
     )
     assert(p.heldRegisterBits < off.heldRegisterBits)
     assert(p.latency == off.latency, "product memories changed the schedule")
+
+    // With shared registers too the memories choose first (a member needs no register at all) and the shared
+    // registers take from the products left.
+    val both = p.copy(scheduleRequest = p.scheduleRequest.copy(shareRegisters = true))
+    val sharedOnly = both.copy(scheduleRequest = both.scheduleRequest.copy(productMemories = false))
+    val b = both.schedule
+    assert(b.productMemories == s.productMemories, "shared registers changed the product memories")
+    assert(b.sharedRegisters.nonEmpty, "no shared register beside the memories")
+    assert(b.sharedRegisters.flatMap(_.members).forall(!b.productMemoryOf.contains(_)), "a product in both")
+    println(
+      s"UR5 18 clocks with shared registers: ${b.productMemoryOf.size} products in memories, " +
+        s"${b.sharedRegisterOf.size} in ${b.sharedRegisters.size} shared registers; held register bits " +
+        s"${sharedOnly.heldRegisterBits} (shared alone) -> ${both.heldRegisterBits}"
+    )
+    assert(both.heldRegisterBits < sharedOnly.heldRegisterBits)
   }
 }
