@@ -921,6 +921,13 @@ final class Schedule(
   }
 
   /**
+   * A product whose way out of its unit is settled before the product memories and then the shared registers
+   * choose theirs: forwarded, accumulated, or in a register of its own that readers' copies are loaded from.
+   */
+  private def settledEarlier(id: NodeId): Boolean =
+    forwarded(id) || accumulationOf.contains(id) || readerCopies.contains(id)
+
+  /**
    * Registers that products of one unit take turns in (`schedule.share-registers`; registers storage at 2
    * clocks per sample or more): the products on the units, each with a register (not forwarded, accumulated,
    * copied for readers or in a product memory), read only within the interval after it is ready. The product
@@ -932,10 +939,7 @@ final class Schedule(
       SharedRegister.allocate(
         ii,
         muls
-          .filterNot(id =>
-            forwarded(id) || accumulationOf.contains(id) || readerCopies.contains(id) || productMemoryOf
-              .contains(id)
-          )
+          .filterNot(id => settledEarlier(id) || productMemoryOf.contains(id))
           .flatMap { id =>
             val rule = analysis.productRounding(id)
             val t = ready(id.index).get
@@ -970,9 +974,9 @@ final class Schedule(
         ii,
         muls
           .filterNot(id =>
-            forwarded(id) || accumulationOf.contains(id) || readerCopies.contains(id) ||
-              analysis.productRounding(id).rounding != Rounding.Truncate ||
-              reads(id.index).isEmpty
+            settledEarlier(id) || analysis.productRounding(id).rounding != Rounding.Truncate || reads(
+              id.index
+            ).isEmpty
           )
           .map { id =>
             val unit = slot(id).get.unit.get
