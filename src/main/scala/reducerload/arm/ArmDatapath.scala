@@ -473,6 +473,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
           .find(_.reads.exists(c => (c - ProductMemory.readDelay) % ii == r))
           .fold(0)(_.slot(ii))
       )
+      // the read is the address register's clock; the output register and those in logic follow
       m -> FixedHw.delay(memory.read(decodedAhead(slots, 1).head), ProductMemory.readDelay - 1).asSInt
     }.toMap
 

@@ -32,17 +32,19 @@ final case class ProductMemory(unit: Int, members: IndexedSeq[ProductMemory.Cand
 
 object ProductMemory {
 
-  /**
-   * Clocks from a read's address to its word at the readers: the block RAM's address register, its output
-   * register (an M9K's own) and a register in logic, which the placer puts toward the readers. The word
-   * straight from the block RAM's output register crossed the die to its readers in one clock: the UR5
-   * latency recipe routed at 124.0 / 134.6 MHz on seeds 1 / 2, with the register 151.9 on seed 2
-   * (docs/timing-closure.md, "products read from block RAM").
-   */
-  val readDelay: Int = 3
+  /** The block RAM's own registers on a read: its address register and its output register (an M9K's). */
+  val blockRamRegisters: Int = 2
 
-  /** Of [[readDelay]], the registers in logic: a word's bits in logic elements per memory. */
-  val fabricRegisters: Int = readDelay - 2
+  /**
+   * Registers in logic after the block RAM's output register (a word's bits in logic elements each), which
+   * the placer puts toward the readers. The word straight from the block RAM's output register crossed the
+   * die to its readers in one clock: the UR5 latency recipe routed at 124.0 / 134.6 MHz on seeds 1 / 2, with
+   * one register 151.9 on seed 2 (docs/timing-closure.md, "products read from block RAM").
+   */
+  val fabricRegisters: Int = 1
+
+  /** Clocks from a read's address to its word at the readers. */
+  val readDelay: Int = blockRamRegisters + fabricRegisters
 
   /**
    * Widest word: an M9K's (256 x 36), so that each memory is one block at any interval up to 256 clocks.

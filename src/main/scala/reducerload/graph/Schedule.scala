@@ -973,10 +973,9 @@ final class Schedule(
       ProductMemory.allocate(
         ii,
         muls
-          .filterNot(id =>
-            settledEarlier(id) || analysis.productRounding(id).rounding != Rounding.Truncate || reads(
-              id.index
-            ).isEmpty
+          .filterNot(settledEarlier)
+          .filter(id =>
+            analysis.productRounding(id).rounding == Rounding.Truncate && reads(id.index).nonEmpty
           )
           .map { id =>
             val unit = slot(id).get.unit.get
