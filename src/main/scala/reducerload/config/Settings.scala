@@ -659,8 +659,8 @@ object Settings {
     "storage registers, clocks-per-sample >= 2: each multiplier unit writes its product into a block RAM every " +
       s"clock; truncated products read ${ProductMemory.readDelay} clocks or more after they are " +
       "ready, within the interval, are read from " +
-      "it, one per cycle, instead of a register each (fewer logic elements, a memory block per unit; no more " +
-      "latency)",
+      "it, one per cycle, instead of a register each, and the refinement moves reads there (fewer logic " +
+      "elements, a memory block per unit; no more latency)",
     Nil,
     _.schedule.productMemories
   )

@@ -40,7 +40,9 @@ object RefineNode {
    * value is captured `latency` cycles after its issue, unless `forwardable` and its one reader, an [[Own]]
    * operation, takes it off the unit's output the cycle before. A `chained` one (a product of an
    * [[Accumulation]], whose tree's sums are [[Fixed]]) leaves its unit in a residue of its own among its
-   * chain's, all within an interval, and is ready [[Accumulation.rootDelay]] before its root.
+   * chain's, all within an interval, and is ready [[Accumulation.rootDelay]] before its root. A `memory` one
+   * (`schedule.product-memories`: a truncated product) takes no register when every read lies in its
+   * [[ProductMemory]]'s window, one read per residue on its unit's read port.
    */
   final case class Shared(
       operands: IndexedSeq[Int],
@@ -49,7 +51,8 @@ object RefineNode {
       units: Range,
       swappable: Boolean,
       forwardable: Boolean,
-      chained: Option[Chained] = None
+      chained: Option[Chained] = None,
+      memory: Boolean = false
   ) extends RefineNode {
     require(operands.size == 2, s"RefineNode.Shared: ${operands.size} operands, a multiply has 2")
   }
@@ -76,8 +79,12 @@ final case class Refined(issue: IndexedSeq[Int], unit: IndexedSeq[Int], swapped:
  * interval its last reader needs it, and each unit port multiplexes the distinct (value, register) pairs its
  * operations read; long stretches wait in block RAM instead ([[HeldTaps]]). The cost is what those take in
  * logic elements: operand-multiplexer input bits beyond the first of each port (weight `muxWeight`), held
- * register bits, the first register of each value included unless it is forwarded (weight `heldWeight`), and
- * block-RAM delays (weight `tapWeight` each); [[LogicCost]] gives the LE prediction's.
+ * register bits, the first register of each value included unless it is forwarded or read from its unit's
+ * product memory (weight `heldWeight`), block-RAM delays (weight `tapWeight` each), and the product memories'
+ * read-port conflicts (each a mean product's register) and members alone on their unit (no memory for one:
+ * their registers); [[LogicCost]] gives the LE prediction's. With product memories the refinement so moves
+ * reads into the memories' windows and apart on their ports: the UR5 latency recipe's 91 members became 194
+ * (docs/timing-closure.md).
  *
  * @param interval
  *   clocks per sample (II >= 2)
@@ -107,7 +114,7 @@ final case class RefinementProblem(
   nodes.zipWithIndex.foreach { case (n, i) =>
     require(n.operands.forall(_ < i), s"RefinementProblem: node $i reads a later node")
     n match {
-      case Shared(_, _, _, _, _, _, Some(c)) =>
+      case Shared(_, _, _, _, _, _, Some(c), _) =>
         require(
           nodes.lift(c.root).exists(_.isInstanceOf[Fixed]),
           s"RefinementProblem: node $i chained to node ${c.root}, not a fixed node"
@@ -262,12 +269,58 @@ final case class RefinementProblem(
    */
   def cost(r: Refined): Double = {
     val (mux, held, taps) = bits(r)
-    muxWeight * mux + heldWeight * held + tapWeight * taps
+    muxWeight * mux + heldWeight * held + tapWeight * taps + conflictWeight * memoryConflicts(r) +
+      heldWeight * loneMemberBits(r)
+  }
+
+  /** Products in memory each on a unit, by unit. */
+  private def memoryMembers(r: Refined): Map[Int, Seq[Int]] = {
+    def issue(i: Int) = r.issue(i)
+    nodes.indices.filter(i => inMemory(i, issue)).groupBy(r.unit)
+  }
+
+  /**
+   * Bits of products in memory alone on their unit: [[ProductMemory.allocate]] builds no memory for one
+   * member, so each keeps its register.
+   */
+  def loneMemberBits(r: Refined): Long =
+    memoryMembers(r).values.collect { case Seq(i) => nodes(i).width.toLong }.sum
+
+  /**
+   * Reads of products in memory beyond the first in one residue of one unit's read port: each leaves a
+   * product out of its memory ([[ProductMemory.allocate]]), in a register after all.
+   */
+  def memoryConflicts(r: Refined): Int = {
+    def issue(i: Int) = r.issue(i)
+    val reads = memoryMembers(r).values.flatten.toSeq.flatMap { i =>
+      val ts = users(i).toSeq.map(issue) ++ (if (isOutput(i)) Seq(outputsBy) else Nil)
+      ts.map(t => (r.unit(i), Math.floorMod(t, interval))).distinct
+    }
+    reads.groupBy(identity).values.map(_.size - 1).sum
+  }
+
+  /** A read-port conflict's weight: the register a product left out of its memory takes (a mean one's). */
+  private val conflictWeight: Double = {
+    val ws = nodes.collect { case s: Shared if s.memory => s.width }
+    if (ws.isEmpty) 0.0 else heldWeight * ws.sum / ws.size
   }
 
   /** What a port reads for operand `x` in cycle `t`: the value's register of that interval, or a literal. */
   private def sourceKey(x: Int, t: Int, issue: Int => Int): Long =
     if (isLiteral(x)) -1L - x else x.toLong * RefinementProblem.stageSpan + (t - readyOf(x, issue)) / interval
+
+  /**
+   * Whether a product is read from its unit's product memory: a `memory` one whose every read lies in
+   * [[ProductMemory.Candidate.storable]]'s window (a read beyond one in a residue of the unit's port is a
+   * conflict, see [[memoryConflicts]]).
+   */
+  private def inMemory(i: Int, issue: Int => Int): Boolean = nodes(i) match {
+    case s: Shared if s.memory =>
+      val r = readyOf(i, issue)
+      val reads = users(i).toSeq.map(issue) ++ (if (isOutput(i)) Seq(outputsBy) else Nil)
+      reads.forall(t => t >= r + ProductMemory.readDelay && t <= r + interval)
+    case _ => false
+  }
 
   /** The last cycle a node is read: by its users at their issue, an output by the output stage. */
   private def lastRead(i: Int, issue: Int => Int): Int = {
@@ -283,6 +336,7 @@ final case class RefinementProblem(
     nodes(i) match {
       case Literal(_)                                                => (0L, 0)
       case node if (users(i).isEmpty && !isOutput(i)) || isForwarded => (0L, 0)
+      case node if inMemory(i, issue)                                => (0L, 0)
       case node =>
         val reads = users(i).toSeq.map(issue) ++ (if (isOutput(i)) Seq(outputsBy) else Nil)
         val taps = HeldTaps(interval, readyOf(i, issue), reads, memoryMinCycles)
@@ -325,6 +379,17 @@ final case class RefinementProblem(
     private val canForward = nodes.indices.map(forwardable).toArray
     private val canTake = nodes.indices.map(takesForwarded).toArray
     private val swappable = nodes.map { case s: Shared => s.swappable; case _ => false }.toArray
+    private val memory = nodes.map { case s: Shared => s.memory; case _ => false }.toArray
+    private def inMemory(i: Int): Boolean = memory(i) && {
+      val r = ready(i)
+      val us = users(i)
+      var ok = !isOutput(i) || (outputsBy >= r + ProductMemory.readDelay && outputsBy <= r + interval)
+      var k = 0
+      while (ok && k < us.length) {
+        val t = issue(us(k)); ok = t >= r + ProductMemory.readDelay && t <= r + interval; k += 1
+      }
+      ok
+    }
     // each chained multiply's chain (its members, itself included); unchained: empty
     private val chain: Array[Array[Int]] = nodes.map {
       case s: Shared => s.chained.fold(Array.empty[Int])(c => chains(c.root).toArray)
@@ -394,6 +459,7 @@ final case class RefinementProblem(
     /** The logic elements of a value's registers and block-RAM taps ([[HeldTaps]], without allocating). */
     private def held(i: Int): Double =
       if (kind(i) == 0 || (users(i).isEmpty && !isOutput(i)) || isForwarded(i)) 0.0
+      else if (inMemory(i)) 0.0
       else {
         val r = ready(i)
         val us = users(i)
@@ -426,6 +492,8 @@ final case class RefinementProblem(
       occupant(from)(r) = other
       if (other >= 0) { unit(other) = from; enter(other, 1) }
       enter(i, 1)
+      refresh(i)
+      if (other >= 0) refresh(other)
     }
     private def swapPorts(i: Int): Unit = { enter(i, -1); swapped(i) = !swapped(i); enter(i, 1) }
 
@@ -439,6 +507,10 @@ final case class RefinementProblem(
       if (kind(i) == 3) { unit(i) = u; occupant(u)(residue(t)) = i; enter(i, 1) }
       k = 0
       while (k < rs.length) { enter(rs(k), 1); k += 1 }
+      refresh(i)
+      val os = operands(i)
+      k = 0
+      while (k < os.length) { refresh(os(k)); k += 1 }
     }
 
     /**
@@ -468,6 +540,59 @@ final case class RefinementProblem(
 
     (0 until n).foreach(i => if (kind(i) == 3) { occupant(unit(i))(residue(issue(i))) = i; enter(i, 1) })
 
+    // each unit's memory read port: the reads of products in memory in each residue, the reads beyond one
+    // over all ports, and each product's unit and residues as counted (-1: not in memory); each unit's
+    // members and their bits, and the bits of members alone on their unit (loneMemberBits)
+    private val memUse = Array.fill(unitCount, interval)(0)
+    private var memConflicts = 0L
+    private val memMembers = new Array[Int](unitCount)
+    private val memBits = new Array[Long](unitCount)
+    private var memLoneBits = 0L
+    private def lone(u: Int): Long = if (memMembers(u) == 1) memBits(u) else 0L
+    private def join(u: Int, i: Int, sign: Int): Unit = {
+      val before = lone(u)
+      memMembers(u) += sign; memBits(u) += sign * width(i)
+      memLoneBits += lone(u) - before
+    }
+    private def memPenalty: Double = conflictWeight * memConflicts + heldWeight * memLoneBits
+    private val memUnit = Array.fill(n)(-1)
+    private val memCount = new Array[Int](n)
+    private val memRes: Array[Array[Int]] = Array.tabulate(n)(i => new Array[Int](users(i).length + 1))
+    private def unregister(i: Int): Unit = if (memUnit(i) >= 0) {
+      val u = memUnit(i)
+      var k = 0
+      while (k < memCount(i)) {
+        val r = memRes(i)(k); val c = memUse(u)(r)
+        if (c >= 2) memConflicts -= 1
+        memUse(u)(r) = c - 1; k += 1
+      }
+      join(u, i, -1)
+      memUnit(i) = -1; memCount(i) = 0
+    }
+    private def addRead(i: Int, u: Int, t: Int): Unit = {
+      val r = residue(t)
+      var k = 0
+      var dup = false
+      while (k < memCount(i)) { if (memRes(i)(k) == r) dup = true; k += 1 }
+      if (!dup) {
+        memRes(i)(memCount(i)) = r; memCount(i) += 1
+        val x = memUse(u)(r)
+        if (x >= 1) memConflicts += 1
+        memUse(u)(r) = x + 1
+      }
+    }
+    private def register(i: Int): Unit = if (kind(i) == 3 && inMemory(i)) {
+      val u = unit(i)
+      memUnit(i) = u
+      join(u, i, 1)
+      if (isOutput(i)) addRead(i, u, outputsBy)
+      val us = users(i)
+      var k = 0
+      while (k < us.length) { addRead(i, u, issue(us(k))); k += 1 }
+    }
+    private def refresh(i: Int): Unit = if (memory(i)) { unregister(i); register(i) }
+    (0 until n).foreach(refresh)
+
     def run(steps: Long): Refined = {
       val movable = (0 until n).filter(i => kind(i) >= 2).toArray
       if (movable.isEmpty || steps <= 0) return start
@@ -493,8 +618,9 @@ final case class RefinementProblem(
               muxBits(from) + muxBits(to) + accumulatorBits(i) + (if (other >= 0) accumulatorBits(other)
                                                                   else 0L)
             val before = bits
+            val p0 = memPenalty
             rebind(i, to)
-            if (!accept(muxWeight * (bits - before))) rebind(i, from)
+            if (!accept(muxWeight * (bits - before) + memPenalty - p0)) rebind(i, from)
           }
         } else if (move == 1) {
           if (swappable(i)) {
@@ -558,9 +684,10 @@ final case class RefinementProblem(
               if (to != -2) {
                 val (t0, u0) = (issue(i), unit(i))
                 val before = local(i, to)
+                val p0 = memPenalty
                 retime(i, t, to)
                 val after = local(i, u0)
-                if (!accept(after - before)) retime(i, t0, u0)
+                if (!accept(after - before + memPenalty - p0)) retime(i, t0, u0)
               }
             }
           }

@@ -79,7 +79,7 @@ object Scheduler {
  *   registers storage at 2 clocks per sample or more: each multiplier unit writes its product into a block
  *   RAM every clock, and truncated products read [[ProductMemory.readDelay]] clocks or more after they are
  *   ready, within the interval, are read from it instead of a register of their own, one read per cycle
- *   ([[ProductMemory]])
+ *   ([[ProductMemory]]); the refinement moves reads into those windows, apart on the read ports
  */
 final case class ScheduleRequest(
     clocksPerSample: Option[Int] = None,
@@ -775,7 +775,8 @@ final class Schedule(
               forwardable = forwardableToReader(id),
               chained = accumulationOf
                 .get(id)
-                .map(a => Chained(a.root.index, analysis(a.root).format.width))
+                .map(a => Chained(a.root.index, analysis(a.root).format.width)),
+              memory = request.productMemories && !accumulationOf.contains(id) && truncated(id)
             )
           case op =>
             val latency = state.ready(id.index).get - state.slots(id.index).get.issue
@@ -974,9 +975,7 @@ final class Schedule(
         ii,
         muls
           .filterNot(settledEarlier)
-          .filter(id =>
-            analysis.productRounding(id).rounding == Rounding.Truncate && reads(id.index).nonEmpty
-          )
+          .filter(id => truncated(id) && reads(id.index).nonEmpty)
           .map { id =>
             val unit = slot(id).get.unit.get
             ProductMemory.Candidate(
@@ -990,6 +989,10 @@ final class Schedule(
             )
           }
       )
+
+  /** A product its unit's memory may hold: truncated, so a slice of the word is what its register holds. */
+  private def truncated(id: NodeId): Boolean = analysis.productRounding(id).rounding == Rounding.Truncate
+
   lazy val productMemoryOf: Map[NodeId, ProductMemory] =
     productMemories.flatMap(m => m.members.map(_.id -> m)).toMap
 

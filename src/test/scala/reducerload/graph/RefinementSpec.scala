@@ -101,6 +101,16 @@ class RefinementSpec extends AnyFlatSpec {
     (mux, held.map(_._1).sum, held.map(_._2).sum)
   }
 
+  /** A 12-bit product of latency 2 on `units`, neither swappable nor forwardable. */
+  private def product(
+      x: Int,
+      y: Int,
+      units: Range,
+      chained: Option[Chained] = None,
+      memory: Boolean = false
+  ) =
+    Shared(IndexedSeq(x, y), 2, 12, units, swappable = false, forwardable = false, chained, memory)
+
   private def weighted(p: RefinementProblem, b: (Long, Long, Int)) =
     p.muxWeight * b._1 + p.heldWeight * b._2 + p.tapWeight * b._3
 
@@ -114,10 +124,10 @@ class RefinementSpec extends AnyFlatSpec {
       Literal(8), // 3 b
       Literal(8), // 4 c
       Literal(8), // 5 d
-      Shared(IndexedSeq(0, 2), 2, 12, 0 until 2, swappable = false, forwardable = false), // 6 x*a
-      Shared(IndexedSeq(1, 3), 2, 12, 0 until 2, swappable = false, forwardable = false), // 7 y*b
-      Shared(IndexedSeq(0, 4), 2, 12, 0 until 2, swappable = false, forwardable = false), // 8 x*c
-      Shared(IndexedSeq(1, 5), 2, 12, 0 until 2, swappable = false, forwardable = false) // 9 y*d
+      product(0, 2, 0 until 2), // 6 x*a
+      product(1, 3, 0 until 2), // 7 y*b
+      product(0, 4, 0 until 2), // 8 x*c
+      product(1, 5, 0 until 2) // 9 y*d
     )
     val p = RefinementProblem(2, nodes, Seq(6, 7, 8, 9), 7, _ => IndexedSeq(10, 8), 1.0, 1.0)
     val start = Refined(
@@ -140,8 +150,6 @@ class RefinementSpec extends AnyFlatSpec {
       // input per unit beyond the first), z*c on its own; started on two units. Gathered on one, they add
       // 10 + 8 operand multiplexer bits and save 40.
       val chain = Some(Chained(9, 40))
-      def product(x: Int, y: Int, chained: Option[Chained]) =
-        Shared(IndexedSeq(x, y), 2, 12, 0 until 2, swappable = false, forwardable = false, chained = chained)
       val nodes = IndexedSeq(
         Fixed(0, 10), // 0 x
         Fixed(0, 10), // 1 y
@@ -149,9 +157,9 @@ class RefinementSpec extends AnyFlatSpec {
         Literal(8), // 3 a
         Literal(8), // 4 b
         Literal(8), // 5 c
-        product(0, 3, chain), // 6 x*a
-        product(1, 4, chain), // 7 y*b
-        product(2, 5, None), // 8 z*c
+        product(0, 3, 0 until 2, chain), // 6 x*a
+        product(1, 4, 0 until 2, chain), // 7 y*b
+        product(2, 5, 0 until 2), // 8 z*c
         Fixed(10, 14) // 9 the root
       )
       val p = RefinementProblem(4, nodes, Seq(8, 9), 10, _ => IndexedSeq(10, 8), 1.0, 1.0)
@@ -188,6 +196,68 @@ class RefinementSpec extends AnyFlatSpec {
     checkValid(p, best)
     assert((best.issue(4) - ready(p, best, 2)) / 2 == 0, s"issues ${best.issue}")
     assert(weighted(p, bits(p, best)) < weighted(p, bits(p, start)))
+  }
+
+  it should "move the reads of products into their unit's memory window, apart on its read port" in {
+    // II 6, one unit, latency 2: p = x*a issued in 0 (ready 2), q = y*b issued in 1 (ready 3), read by v = p + z
+    // and w = q + z in the cycles they are ready, so each product takes a register; both are outputs by 12. In
+    // memory, p is read in 5..8 and q in 6..9 (ProductMemory.readDelay = 3 after ready, within the interval),
+    // in two residues of the one read port: then neither takes a register.
+    assert(ProductMemory.readDelay == 3)
+    val nodes = IndexedSeq(
+      Fixed(0, 10), // 0 x
+      Fixed(0, 10), // 1 y
+      Fixed(0, 10), // 2 z
+      Literal(8), // 3 a
+      Literal(8), // 4 b
+      product(0, 3, 0 until 1, memory = true), // 5 p
+      product(1, 4, 0 until 1, memory = true), // 6 q
+      Own(IndexedSeq(5, 2), 1, 13), // 7 v
+      Own(IndexedSeq(6, 2), 1, 13) // 8 w
+    )
+    val p = RefinementProblem(6, nodes, Seq(7, 8), 12, _ => IndexedSeq(10, 8), 1.0, 1.0)
+    val start = Refined(
+      IndexedSeq(-1, -1, -1, -1, -1, 0, 1, 2, 3),
+      IndexedSeq(-1, -1, -1, -1, -1, 0, 0, -1, -1),
+      IndexedSeq.fill(nodes.size)(false)
+    )
+    checkValid(p, start)
+    assert(p.memoryConflicts(start) == 0)
+    val best = p.anneal(start, 20000, 1L)
+    checkValid(p, best)
+    val reads = Seq(7, 8).map(best.issue)
+    reads.zip(Seq(5, 6)).foreach { case (t, x) =>
+      assert(t >= ready(p, best, x) + 3 && t <= ready(p, best, x) + 6, s"issues ${best.issue}")
+    }
+    assert(reads.map(_ % 6).distinct.size == 2, s"issues ${best.issue}")
+    assert(p.memoryConflicts(best) == 0)
+    // in memory, p and q take none of the registers counted here (12 bits each per interval to their read)
+    val saved = Seq(5 -> 7, 6 -> 8).map { case (x, v) =>
+      ((best.issue(v) - ready(p, best, x)) / 6 + 1) * 12.0
+    }
+    assert(p.cost(best) == weighted(p, bits(p, best)) - saved.sum)
+    // both read by one addition in one cycle: one of them stays out of the memory, a conflict
+    val sum = p.copy(nodes = nodes.take(7) :+ Own(IndexedSeq(5, 6), 1, 13), outputs = Seq(7))
+    val late = Refined(
+      IndexedSeq(-1, -1, -1, -1, -1, 0, 1, 7),
+      IndexedSeq(-1, -1, -1, -1, -1, 0, 0, -1),
+      IndexedSeq.fill(8)(false)
+    )
+    checkValid(sum, late)
+    assert(sum.memoryConflicts(late) == 1)
+    // on two units each product is alone: no memory for one member, so each keeps its register
+    val two = p.copy(nodes = nodes.map {
+      case s: Shared => s.copy(units = 0 until 2)
+      case n         => n
+    })
+    val apart = Refined(
+      IndexedSeq(-1, -1, -1, -1, -1, 0, 1, 5, 6),
+      IndexedSeq(-1, -1, -1, -1, -1, 0, 1, -1, -1),
+      IndexedSeq.fill(nodes.size)(false)
+    )
+    checkValid(two, apart)
+    assert(two.loneMemberBits(apart) == 2 * 12)
+    assert(two.cost(apart) == weighted(two, bits(two, apart)))
   }
 
   /** A random problem and a valid start: each node at the first cycle its operands allow and a unit frees. */
