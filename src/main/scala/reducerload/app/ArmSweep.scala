@@ -99,6 +99,12 @@ object ArmSweep {
     composeParallelAxes = true
   )
 
+  /** Issue 33's latency point with products read from block RAM (`schedule.product-memories`). */
+  private val memories = parallel.copy(
+    name = "memories66-t1e-3",
+    request = parallel.request.copy(productMemories = true)
+  )
+
   /**
    * The schedule axis: intervals from one clock to hundreds, and the fewest clocks within an EP4CE30's 66
    * blocks; then two of them with the fraction bits fitted to 1e-3 N·m (`numeric.target-error`); then the
@@ -111,9 +117,11 @@ object ArmSweep {
    * products reassociated and runs of parallel axes crossed in one rotation, no product forwarded
    * (`datapath.compose-parallel-axes`: issue 33's latency point without forwarding), and that point with the
    * sums of products that lengthen no path summed on accumulators (`schedule.accumulate-slack = 0`: fewer LEs
-   * at the same latency); then values in block-RAM banks (`schedule.storage = memory`) at 1e-3 N·m from 32 to
-   * 512 clocks (88: the UR5 design that meets issue 12's targets; 114: the Panda's, and at 114 with 5 adder
-   * units, which the Panda's latency target needs).
+   * at the same latency), and that point with the products read a few clocks after they are ready taken from
+   * a block RAM per unit (`schedule.product-memories`), alone and with the rest in shared registers
+   * (`schedule.share-registers`: fewer LEs again); then values in block-RAM banks (`schedule.storage =
+   * memory`) at 1e-3 N·m from 32 to 512 clocks (88: the UR5 design that meets issue 12's targets; 114: the
+   * Panda's, and at 114 with 5 adder units, which the Panda's latency target needs).
    */
   val schedules: Seq[Point] =
     Seq(1, 4, 16, 64, 256).map(c => Point(s"ii$c", ScheduleRequest(clocksPerSample = Some(c)))) ++ Seq(
@@ -138,6 +146,11 @@ object ArmSweep {
       parallel.copy(
         name = "accumulate66-t1e-3",
         request = parallel.request.copy(accumulateSlack = Some(0))
+      ),
+      memories,
+      memories.copy(
+        name = "memories-shared66-t1e-3",
+        request = memories.request.copy(shareRegisters = true)
       )
     ) ++
       Seq(32, 64, 88, 114, 128, 512).map(c =>
