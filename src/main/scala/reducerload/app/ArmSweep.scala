@@ -275,12 +275,16 @@ object ArmSweep {
   /**
    * Whether a row's design routes on the clock proxy: registers storage above
    * [[reducerload.graph.Schedule.directMaxClocks]] clocks per sample routes only with registered routes and
-   * no product forwarded past them (docs/timing-closure.md: the UR5's direct designs at 17-18 clocks did not
-   * route at all, nor did its registered-routes designs with `schedule.forward-slack = 0`); a row of no point
-   * of this sweep counts as direct.
+   * no product forwarded past them, and not with shared registers (docs/timing-closure.md: the UR5's direct
+   * designs at 17-18 clocks did not route at all, nor did its registered-routes designs with
+   * `schedule.forward-slack = 0`; with shared registers the router is slow: the UR5's latency recipe with
+   * product memories routed on one seed of two, the Panda's did not within an hour); a row of no point of
+   * this sweep counts as direct.
    */
   def routes(row: Map[String, String]): Boolean =
-    pointOf(row("schedule")).exists(p => p.routed && p.request.forwardSlack.isEmpty) ||
+    pointOf(row("schedule")).exists(p =>
+      p.routed && p.request.forwardSlack.isEmpty && !p.request.shareRegisters
+    ) ||
       row("storage") != Storage.Registers.name ||
       row("clocks_per_sample").toInt <= reducerload.graph.Schedule.directMaxClocks
 
