@@ -47,6 +47,13 @@ object ProductMemory {
   val readDelay: Int = blockRamRegisters + fabricRegisters
 
   /**
+   * Whether a product ready in cycle `ready` can be read from its memory in cycle `read` at `interval` clocks
+   * per sample: its slot is written before the read's address and not again, by the next sample, before it.
+   */
+  def inWindow(ready: Int, read: Int, interval: Int): Boolean =
+    read >= ready + readDelay && read <= ready + interval
+
+  /**
    * Widest word: an M9K's (256 x 36), so that each memory is one block at any interval up to 256 clocks.
    */
   val maxWordBits: Int = 36
@@ -78,7 +85,7 @@ object ProductMemory {
     def slot(interval: Int): Int = (ready - 1) % interval
 
     /** Whether every read lies where a memory can serve it at `interval` clocks per sample. */
-    def storable(interval: Int): Boolean = reads.forall(r => r >= ready + readDelay && r <= ready + interval)
+    def storable(interval: Int): Boolean = reads.forall(inWindow(ready, _, interval))
   }
 
   /**

@@ -83,8 +83,7 @@ final case class Refined(issue: IndexedSeq[Int], unit: IndexedSeq[Int], swapped:
  * product memory (weight `heldWeight`), block-RAM delays (weight `tapWeight` each), and the product memories'
  * read-port conflicts (each a mean product's register) and members alone on their unit (no memory for one:
  * their registers); [[LogicCost]] gives the LE prediction's. With product memories the refinement so moves
- * reads into the memories' windows and apart on their ports: the UR5 latency recipe's 91 members became 194
- * (docs/timing-closure.md).
+ * reads into the memories' windows and apart on their ports (docs/timing-closure.md).
  *
  * @param interval
  *   clocks per sample (II >= 2)
@@ -293,8 +292,7 @@ final case class RefinementProblem(
   def memoryConflicts(r: Refined): Int = {
     def issue(i: Int) = r.issue(i)
     val reads = memoryMembers(r).values.flatten.toSeq.flatMap { i =>
-      val ts = users(i).toSeq.map(issue) ++ (if (isOutput(i)) Seq(outputsBy) else Nil)
-      ts.map(t => (r.unit(i), Math.floorMod(t, interval))).distinct
+      readCycles(i, issue).map(t => (r.unit(i), Math.floorMod(t, interval))).distinct
     }
     reads.groupBy(identity).values.map(_.size - 1).sum
   }
@@ -316,11 +314,13 @@ final case class RefinementProblem(
    */
   private def inMemory(i: Int, issue: Int => Int): Boolean = nodes(i) match {
     case s: Shared if s.memory =>
-      val r = readyOf(i, issue)
-      val reads = users(i).toSeq.map(issue) ++ (if (isOutput(i)) Seq(outputsBy) else Nil)
-      reads.forall(t => t >= r + ProductMemory.readDelay && t <= r + interval)
+      readCycles(i, issue).forall(ProductMemory.inWindow(readyOf(i, issue), _, interval))
     case _ => false
   }
+
+  /** The cycles a node is read in: by its users at their issue, an output by the output stage. */
+  private def readCycles(i: Int, issue: Int => Int): Seq[Int] =
+    users(i).toSeq.map(issue) ++ (if (isOutput(i)) Seq(outputsBy) else Nil)
 
   /** The last cycle a node is read: by its users at their issue, an output by the output stage. */
   private def lastRead(i: Int, issue: Int => Int): Int = {
@@ -338,8 +338,7 @@ final case class RefinementProblem(
       case node if (users(i).isEmpty && !isOutput(i)) || isForwarded => (0L, 0)
       case node if inMemory(i, issue)                                => (0L, 0)
       case node =>
-        val reads = users(i).toSeq.map(issue) ++ (if (isOutput(i)) Seq(outputsBy) else Nil)
-        val taps = HeldTaps(interval, readyOf(i, issue), reads, memoryMinCycles)
+        val taps = HeldTaps(interval, readyOf(i, issue), readCycles(i, issue), memoryMinCycles)
         (taps.registerBits(node.width), taps.delayed.size)
     }
 
@@ -383,11 +382,9 @@ final case class RefinementProblem(
     private def inMemory(i: Int): Boolean = memory(i) && {
       val r = ready(i)
       val us = users(i)
-      var ok = !isOutput(i) || (outputsBy >= r + ProductMemory.readDelay && outputsBy <= r + interval)
+      var ok = !isOutput(i) || ProductMemory.inWindow(r, outputsBy, interval)
       var k = 0
-      while (ok && k < us.length) {
-        val t = issue(us(k)); ok = t >= r + ProductMemory.readDelay && t <= r + interval; k += 1
-      }
+      while (ok && k < us.length) { ok = ProductMemory.inWindow(r, issue(us(k)), interval); k += 1 }
       ok
     }
     // each chained multiply's chain (its members, itself included); unchained: empty
