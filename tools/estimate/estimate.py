@@ -15,9 +15,11 @@ Method (see README.md beside this file; it is an estimate, not a Quartus fit):
   4. The remaining logic is mapped to 4-input LUTs by ABC (`abc -lut 4`): one LE each. ABC's count
      moves by half between Yosys releases, so this step's Yosys is pinned (requirements-le.txt).
   5. Registers: a register at a multiplier's output or feeding only multipliers is the embedded
-     multiplier's own input/output register, one at a RAM's output is the RAM's output register (no
-     LE); a register whose input is a LUT or adder output packs into that LE; every other register
-     (delay lines, register-to-register) takes an LE of its own.
+     multiplier's own input/output register; an M9K read port holds two, its address register and its
+     output register (a register feeding only RAM addresses is the first; Yosys puts the word's first
+     register in the port, so a register after it is in the logic unless the address was not
+     registered); none takes an LE. A register whose input is a LUT or adder output packs into that LE;
+     every other register (delay lines, register-to-register) takes an LE of its own.
   6. Memory bits: the size of every `$mem` cell; M9K blocks: each `$mem` in the fewest 9-kbit
      M9Ks of one shape (256x36, 512x18, 1024x9, 2048x4, 4096x2 or 8192x1; width and depth rounded up
      to it; times the read ports, one copy each), ROMs and small delays included (an EP4CE30 has 66).
@@ -234,10 +236,10 @@ def cyclone_estimate(files, top, work, by_name=False):
     # Outputs of multipliers and memories: a register right there is the block's own output register.
     block_out = set()
     for c in cells.values():
-        if c["type"] in ("MUL_BB", "MEM_BB"):
-            for port, conn in c["connections"].items():
-                if port in ("Y", "RD_DATA"):
-                    block_out.update(bits_of(conn))
+        if c["type"] == "MUL_BB":
+            block_out.update(bits_of(c["connections"]["Y"]))
+    address_registers, word_out = m9k_read_registers(cells, loads)
+    block_out |= word_out
     packable, in_blocks, own = 0, 0, {}
     names, driver = (net_names(mapped), drivers(cells)) if by_name else ({}, {})
     for name, c in cells.items():
@@ -246,7 +248,9 @@ def cyclone_estimate(files, top, work, by_name=False):
             d = bits_of(c["connections"]["D"])
             q = bits_of(c["connections"]["Q"])
             readers = {r for b in q for r in loads.get(b, [])}
-            if d and d[0] in block_out:
+            if name in address_registers:
+                in_blocks += 1  # RAM address register
+            elif d and d[0] in block_out:
                 in_blocks += 1  # multiplier / RAM output register
             elif readers and all(r[1] == "MUL_BB" for r in readers):
                 in_blocks += 1  # multiplier input register
@@ -270,6 +274,42 @@ def cyclone_estimate(files, top, work, by_name=False):
     return r
 
 
+def param(c, key):
+    v = c.get("parameters", {}).get(key, 0)
+    return int(v, 2) if isinstance(v, str) else int(v)
+
+
+def m9k_read_registers(cells, loads):
+    """The registers an M9K read port holds: its address register and its output register, two at most.
+    Yosys (`memory_dff`) merges one register into a read port, the word's when there is one, and leaves a
+    register before the address (Chisel's synchronous read) in the logic: such a register, loading nothing
+    but memory addresses, is the block's address register, and then the port's own register is the output
+    register, so a register on the word after it is in the logic. Returns the address registers' cell names
+    and the word bits whose next register is still the block's."""
+    ff_of = {}
+    for name, c in cells.items():
+        if is_ff(c["type"]):
+            for b in bits_of(c["connections"]["Q"]):
+                ff_of[b] = name
+    address_registers, word_out = set(), set()
+    for c in cells.values():
+        if c["type"] != "MEM_BB":
+            continue
+        ports, abits, width = param(c, "RD_PORTS"), param(c, "ABITS"), param(c, "WIDTH")
+        clocked = param(c, "RD_CLK_ENABLE")
+        address, data = c["connections"]["RD_ADDR"], c["connections"]["RD_DATA"]
+        for k in range(ports):
+            a = bits_of(address[k * abits:(k + 1) * abits])
+            ffs = {ff_of.get(b) for b in a}
+            registered = bool(a) and None not in ffs and not any(
+                loads.get(q) for f in ffs for q in bits_of(cells[f]["connections"]["Q"]))
+            if registered:
+                address_registers |= ffs
+            if ((clocked >> k) & 1) + registered < 2:
+                word_out.update(bits_of(data[k * width:(k + 1) * width]))
+    return address_registers, word_out
+
+
 def net_names(module):
     """The design's name of each net bit: a named wire's rather than one Yosys made or a port's, the shortest."""
     best = {}
@@ -286,7 +326,7 @@ def drivers(cells):
     out = {}
     for c in cells.values():
         for port, conn in c["connections"].items():
-            if c.get("port_directions", {}).get(port) == "output" or port in ("Q", "Y"):
+            if c.get("port_directions", {}).get(port) == "output" or port in ("Q", "Y", "RD_DATA"):
                 for b in bits_of(conn):
                     out[b] = c["type"]
     return out

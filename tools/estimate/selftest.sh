@@ -30,6 +30,19 @@ if own != [("c#", "a register", 8), ("r", "a port or constant", 4)]:
     sys.exit(f"estimate selftest (--registers): got {own}")
 print("estimate selftest: kept copies ok")
 PY
+# A memory read as Chisel reads it (address register, word), then a register in the logic: the M9K holds the
+# address and output registers, the register after them takes an LE per bit (8), the adder 9.
+python3 "$here/estimate.py" --top est_ram_word --no-fmax --registers --json "$out" "$here/testdata/est_ram_word.sv" >/dev/null
+python3 - "$out" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+want = dict(registers_in_blocks=5, registers_unpacked=8, les=17, m9k_blocks=1)
+bad = {k: (r[k], v) for k, v in want.items() if r[k] != v}
+own = [(x["name"], x["bits"]) for x in r["registers_own_le"]]
+if bad or own != [("fabric", 8)]:
+    sys.exit(f"estimate selftest (memory word): got/expected {bad}, registers with an LE {own}")
+print("estimate selftest: memory word registers ok")
+PY
 # A block-RAM delay whose word an adder reads: Yosys takes the word's register into the RAM and leaves
 # the read address register in the fabric; the flow moves that register into the DP16KD and gives it
 # its output register, as an M9K has (needs the ECP5 tools: installed into the venv on first use).
