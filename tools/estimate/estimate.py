@@ -197,10 +197,8 @@ def cyclone_estimate(files, top, work, by_name=False):
     coarse = json.load(open(os.path.join(work, "coarse.json")))["modules"][top]["cells"]
     alu_bits, mults, mult_adder_bits, mem_bits, m9k = 0, 0, 0, 0, 0
     for c in coarse.values():
-        p = c.get("parameters", {})
-        width = lambda k: int(p.get(k, "0"), 2) if isinstance(p.get(k), str) else int(p.get(k, 0))
         if c["type"] == "$alu":
-            alu_bits += width("Y_WIDTH")
+            alu_bits += param(c, "Y_WIDTH")
         elif c["type"] in ("MUL_BB", "$macc"):
             a, b = effective_width(c["connections"]["A"]), effective_width(c["connections"]["B"])
             blocks = math.ceil(a / 18) * math.ceil(b / 18)
@@ -208,8 +206,8 @@ def cyclone_estimate(files, top, work, by_name=False):
             if blocks > 1:
                 mult_adder_bits += (blocks - 1) * (a + b - 18)
         elif c["type"] in ("$mem", "$mem_v2"):
-            mem_bits += width("SIZE") * width("WIDTH")
-            m9k += m9k_blocks(width("WIDTH"), width("SIZE")) * max(1, width("RD_PORTS"))
+            mem_bits += param(c, "SIZE") * param(c, "WIDTH")
+            m9k += m9k_blocks(param(c, "WIDTH"), param(c, "SIZE")) * max(1, param(c, "RD_PORTS"))
 
     mapped = json.load(open(os.path.join(work, "mapped.json")))["modules"][top]
     cells = mapped["cells"]
@@ -275,6 +273,7 @@ def cyclone_estimate(files, top, work, by_name=False):
 
 
 def param(c, key):
+    """A cell's integer parameter (Yosys writes them as binary strings), 0 when absent."""
     v = c.get("parameters", {}).get(key, 0)
     return int(v, 2) if isinstance(v, str) else int(v)
 
