@@ -329,7 +329,11 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
     if (ii == 1)
       reads.distinct.sorted
         .foldLeft((Map.empty[Int, T], stage0, ready)) { case ((taps, v, t), r) =>
-          val d = MemoryDelay.balanced(v, r - t, p.memoryDelayMinCycles)
+          val d =
+            if (MemoryDelay.inBlockRam(r - t, p.memoryDelayMinCycles)) {
+              val fabric = ArmDatapath.delayFabricRegisters(schedule, r - t)
+              MemoryDelay.shared(v, delayPointer(r - t - fabric), fabric)
+            } else FixedHw.delay(v, r - t)
           (taps + (r -> d), d, r)
         }
         ._1
@@ -338,7 +342,7 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       val taps = HeldTaps(ii, ready, reads, if (p.banked.isEmpty && inBlockRam) p.memoryDelayMinCycles else 0)
       val stages = (1 to taps.chain).scanLeft(stage0)((prev, _) => RegEnable(prev, enable(ready - 1)))
       val delayed = taps.delayed.map { k =>
-        val fabric = ArmDatapath.delayFabricRegisters(routed, k * ii)
+        val fabric = ArmDatapath.delayFabricRegisters(schedule, k * ii)
         k -> MemoryDelay.shared(stage0, delayPointer(k * ii - fabric), fabric)
       }.toMap
       reads.map { r =>
@@ -697,13 +701,15 @@ object ArmDatapath {
 
   /**
    * Registers in logic after a block-RAM delay of `cycles` clocks of a held value, the delay a clock shorter
-   * in block RAM: one with registered routes, where the block RAM keeps its shortest delay. The block RAM's
-   * own output register sits by the block RAM, and its word went across the chip into a reader's group
-   * multiplexer: that route limited the README's UR5 on three seeds of four (docs/timing-closure.md, "a
-   * register after each block-RAM delay"); a register in logic is placed toward the readers.
+   * in block RAM: one with registered routes or at one sample per clock, where the block RAM keeps its
+   * shortest delay. The block RAM's own output register sits by the block RAM, and its word went across the
+   * chip into a reader's group multiplexer (the README's UR5 on three seeds of four) or, at one sample per
+   * clock, through a LUT into a far multiplier's input register (the joint-3 default on seed 1):
+   * docs/timing-closure.md, "a register after each block-RAM delay" and "one sample per clock"; a register in
+   * logic is placed toward the readers.
    */
-  def delayFabricRegisters(routed: Boolean, cycles: Int): Int =
-    if (routed && cycles - 1 >= MemoryDelay.minCycles) 1 else 0
+  def delayFabricRegisters(s: Schedule, cycles: Int): Int =
+    if ((s.routed || s.clocksPerSample == 1) && cycles - 1 >= MemoryDelay.minCycles) 1 else 0
 
   /** Sources per first-level multiplexer with registered routes: a 4:1 multiplexer is two LUT4s per bit. */
   val routeGroup: Int = 4

@@ -107,7 +107,7 @@ object ResourceModel {
       val taps = reads.distinct.sorted
       (ready +: taps).zip(taps).collect {
         case (t, r) if MemoryDelay.inBlockRam(r - t, p.memoryDelayMinCycles) =>
-          MemoryArray.delay(what, r - t, width)
+          MemoryArray.delay(what, r - t - ArmDatapath.delayFabricRegisters(p.schedule, r - t), width)
       }
     }
 
@@ -139,7 +139,7 @@ object ResourceModel {
         // feed (the open-tool estimate did not grow with them: docs/timing-closure.md)
         def delays(what: String, width: Int, taps: HeldTaps) = taps.delayed.map { k =>
           val cycles = k * s.clocksPerSample
-          MemoryArray.delay(what, cycles - ArmDatapath.delayFabricRegisters(s.routed, cycles), width)
+          MemoryArray.delay(what, cycles - ArmDatapath.delayFabricRegisters(s, cycles), width)
         }
         val g = p.graph
         val values =
@@ -277,7 +277,10 @@ object ResourceModel {
       Seq(registerBits, multiplexerBits, cordicBits, partialProductBits, selectBits, bankBits)
   }
 
-  /** Register bits of the values held at II = 1 outside block-RAM delays (ArmDatapath.held). */
+  /**
+   * Register bits of the values held at II = 1 (ArmDatapath.held): a block-RAM delay counts its output
+   * register and its register in logic (ArmDatapath.delayFabricRegisters).
+   */
   private def registerBitsAtOne(p: ArmParams): Long = {
     val s = p.schedule
     def line(width: Int, ready: Int, reads: Seq[Int]): Long = {
@@ -285,7 +288,9 @@ object ResourceModel {
       (ready +: taps)
         .zip(taps)
         .map { case (t, r) =>
-          if (MemoryDelay.inBlockRam(r - t, p.memoryDelayMinCycles)) 1L else (r - t).toLong
+          if (MemoryDelay.inBlockRam(r - t, p.memoryDelayMinCycles))
+            1L + ArmDatapath.delayFabricRegisters(s, r - t)
+          else (r - t).toLong
         }
         .sum * width
     }
