@@ -705,8 +705,8 @@ object ArmDatapath {
    * shortest delay. The block RAM's own output register sits by the block RAM, and its word went across the
    * chip into a reader's group multiplexer (the README's UR5 on three seeds of four) or, at one sample per
    * clock, through a LUT into a far multiplier's input register (the joint-3 default on seed 1):
-   * docs/timing-closure.md, "a register after each block-RAM delay" and "one sample per clock"; a register in
-   * logic is placed toward the readers.
+   * docs/timing-closure.md, "a register after each block-RAM delay" and "a register after the block-RAM
+   * delays at one sample per clock"; a register in logic is placed toward the readers.
    */
   def delayFabricRegisters(s: Schedule, cycles: Int): Int =
     if ((s.routed || s.clocksPerSample == 1) && cycles - 1 >= MemoryDelay.minCycles) 1 else 0

@@ -93,7 +93,7 @@ object ResourceModel {
   /**
    * A value held from `ready` to each of `reads` at II = 1: one delay line, a block-RAM delay
    * (pipeline.MemoryDelay, `MemoryDelay.depth`) for each stretch of `datapath.memory-delay-min-cycles` or
-   * more (ArmDatapath.held).
+   * more, its last clock in logic (ArmDatapath.held, ArmDatapath.delayFabricRegisters).
    */
   private def heldArrays(
       p: ArmParams,
