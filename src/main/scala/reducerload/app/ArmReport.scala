@@ -221,6 +221,10 @@ final case class ArmReport(
            else
              s"; ${schedule.productMemoryOf.size} products read from ${schedule.productMemories.size} block RAMs " +
                "their units write (schedule.product-memories)") +
+          (if (schedule.sinCosMemories.isEmpty) ""
+           else
+             s"; ${schedule.sinCosMemoryOf.size} sin/cos reads from ${schedule.sinCosMemories.size} block RAMs " +
+               "the CORDIC units write (schedule.sin-cos-memories)") +
           (if (forwardedPastRoutes == 0) ""
            else
              s"; $forwardedPastRoutes products taken off their units by their one adder " +

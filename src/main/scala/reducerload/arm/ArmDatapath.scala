@@ -481,6 +481,29 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
       m -> FixedHw.delay(memory.read(decodedAhead(slots, 1).head), ProductMemory.readDelay - 1).asSInt
     }.toMap
 
+    /**
+     * Each CORDIC unit's sin / cos memory ([[reducerload.graph.SinCosMemory]]), its word as read: the unit's
+     * output written every clock at a pointer of its own (a counter modulo the depth, so the memory, its
+     * pointer and its subtraction can sit together), read at the pointer minus how far back the value read
+     * [[ProductMemory.readDelay]] clocks later was written (decoded from the phase flags as the product
+     * memories' slots are), through the block RAM's output register into a register in logic in that cycle.
+     */
+    val sinCosWords: IndexedSeq[SInt] = schedule.sinCosMemories.map { m =>
+      val out = cordicOutputs(m.unit)
+      val v = (if (m.fn == TrigFn.Cos) out.cos else out.sin).asUInt
+      val memory = SyncReadMem(SinCosMemory.depth, UInt(v.getWidth.W))
+      val bits = log2Ceil(SinCosMemory.depth)
+      val pointer = RegInit(0.U(bits.W))
+      pointer := pointer + 1.U
+      memory.write(pointer, v)
+      // in residue r how far back the value read in cycle r + readDelay was written (residues no read takes: 0)
+      val back = (0 until ii).map(r =>
+        m.reads.find(o => (o.cycle - ProductMemory.readDelay) % ii == r).fold(0)(_.back)
+      )
+      val address = (pointer - decodedAhead(back, 1).head)(bits - 1, 0)
+      FixedHw.delay(memory.read(address), ProductMemory.readDelay - 1).asSInt
+    }
+
     /** `v`, with `fracBits` fraction bits, raised to `f`'s (exactly) and sign-extended to `f`'s width. */
     def alignedTo(v: SInt, fracBits: Int, f: FixedFormat): SInt =
       (v << (f.fracBits - fracBits)).asSInt.pad(f.width)
@@ -569,7 +592,16 @@ class ArmDatapath(val p: ArmParams)(implicit multiplierImpl: MultiplierImpl) ext
         case Trig(fn, a) =>
           val out = cordicOutputs(schedule.angleSlot(a).unit.get)
           val v = if (fn == TrigFn.Cos) out.cos else out.sin
-          kept(if (schedule.capturesCordic) RegEnable(v, enable(ready.get - 1)) else v)
+          // reads a sin/cos memory serves take its word; the others the value's register, if any are left
+          val own = schedule.ownReads(id)
+          val fromMemory = schedule
+            .reads(id.index)
+            .filterNot(own.contains)
+            .map(c => c -> sinCosWords(schedule.sinCosMemoryOf((id, c))))
+          (if (own.isEmpty) Map.empty[Int, SInt]
+           else
+             held(if (schedule.capturesCordic) RegEnable(v, enable(ready.get - 1)) else v, ready.get, own)) ++
+            fromMemory
         case Add(a, b) => kept(register(aligned(a, issue) + aligned(b, issue), issue))
         case Sub(a, b) => kept(register(aligned(a, issue) - aligned(b, issue), issue))
         case Neg(a)    => kept(register(-aligned(a, issue), issue))

@@ -197,8 +197,8 @@ final case class ArmParams(
   /**
    * How each value reaches its reads in a shared registers datapath ([[HeldTaps]]; None: a constant, a
    * product forwarded to its one reader, a product or a sum below the root of an accumulated tree, a product
-   * read from its unit's [[reducerload.graph.ProductMemory]], or a design with one clock per sample or memory
-   * storage).
+   * read from its unit's [[reducerload.graph.ProductMemory]], a sin or cos read only from
+   * [[reducerload.graph.SinCosMemory]]s, or a design with one clock per sample or memory storage).
    */
   def heldTaps(id: NodeId): Option[HeldTaps] =
     if (
@@ -206,7 +206,7 @@ final case class ArmParams(
       schedule.accumulation(id).exists(_.root != id) || schedule.productMemoryOf.contains(id)
     ) None
     else
-      (schedule(id), schedule.reads(id.index)) match {
+      (schedule(id), schedule.ownReads(id)) match {
         case (Some(ready), reads) if reads.nonEmpty =>
           Some(HeldTaps(schedule.clocksPerSample, ready, reads, memoryDelayMinCycles))
         case _ => None
@@ -217,14 +217,16 @@ final case class ArmParams(
    * register and its chain, the stretches in block RAM left out ([[HeldTaps]]), and the registers products
    * take turns in ([[reducerload.graph.SharedRegister]]) once each, the readers' copies
    * ([[reducerload.graph.Schedule.readerCopies]]), the accumulators of accumulated trees (each as wide as its
-   * root) and the registers in logic after each [[reducerload.graph.ProductMemory]].
+   * root) and the registers in logic after each [[reducerload.graph.ProductMemory]] and
+   * [[reducerload.graph.SinCosMemory]].
    */
   def heldRegisterBits: Long =
     unsharedTaps.map { case (id, taps) => taps.registerBits(analysis(id).format.width) }.sum +
       schedule.sharedRegisters.map(_.width.toLong).sum +
       schedule.accumulations.map(a => analysis(a.root).format.width.toLong).sum +
       schedule.readerCopies.map { case (id, units) => units.size.toLong * analysis(id).format.width }.sum +
-      schedule.productMemories.map(_.width.toLong * ProductMemory.fabricRegisters).sum
+      schedule.productMemories.map(_.width.toLong * ProductMemory.fabricRegisters).sum +
+      schedule.sinCosMemories.map(m => sinCosWidth(m).toLong * ProductMemory.fabricRegisters).sum
 
   /**
    * Registers holding values in a shared registers datapath (each of a chain, a shared one once, a reader's
@@ -232,7 +234,11 @@ final case class ArmParams(
    */
   def heldRegisters: Int =
     unsharedTaps.map(_._2.registers).sum + schedule.sharedRegisters.size + schedule.readerCopyCount +
-      schedule.accumulations.size + schedule.productMemories.size * ProductMemory.fabricRegisters
+      schedule.accumulations.size +
+      (schedule.productMemories.size + schedule.sinCosMemories.size) * ProductMemory.fabricRegisters
+
+  /** Bits of a [[reducerload.graph.SinCosMemory]]'s word: its values'. */
+  def sinCosWidth(m: reducerload.graph.SinCosMemory): Int = analysis(m.reads.head.value).format.width
 
   /** The held values with registers of their own, and their taps. */
   private def unsharedTaps: Seq[(NodeId, HeldTaps)] =

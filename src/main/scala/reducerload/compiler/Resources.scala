@@ -14,6 +14,7 @@ import reducerload.graph.{
   PlacedOp,
   ProductAlignment,
   Schedule,
+  SinCosMemory,
   UnitKind
 }
 import reducerload.monitor.MonitorParams
@@ -152,7 +153,9 @@ object ResourceModel {
           )
         )
         val products = s.productMemories.map(m => MemoryArray("product memory", s.clocksPerSample, m.width))
-        values ++ angles ++ products
+        val sinCos =
+          s.sinCosMemories.map(m => MemoryArray("sin/cos memory", SinCosMemory.depth, p.sinCosWidth(m)))
+        values ++ angles ++ products ++ sinCos
     }
     cordic ++ storage
   }

@@ -665,6 +665,17 @@ object Settings {
     _.schedule.productMemories
   )
 
+  val scheduleSinCosMemories = new Switch(
+    "schedule.sin-cos-memories",
+    "",
+    "storage registers, clocks-per-sample >= 2: each CORDIC unit writes its sine and its cosine into block RAMs " +
+      s"every clock; sin and cos reads ${ProductMemory.readDelay} clocks or more after the value is ready are " +
+      "read from them, one per cycle and memory, instead of the value's registers (fewer logic elements and, " +
+      "with block-RAM delays, fewer memory blocks; no more latency)",
+    Nil,
+    _.schedule.sinCosMemories
+  )
+
   val scheduleReaderCopies = new Switch(
     "schedule.reader-copies",
     "",
@@ -908,6 +919,7 @@ object Settings {
     scheduleScheduler,
     scheduleShareRegisters,
     scheduleProductMemories,
+    scheduleSinCosMemories,
     scheduleReaderCopies,
     scheduleForwardSlack,
     scheduleAccumulateSlack,
@@ -1074,7 +1086,8 @@ object Settings {
           v(scheduleReaderCopies),
           v(scheduleForwardSlack),
           v(scheduleAccumulateSlack),
-          v(scheduleProductMemories)
+          v(scheduleProductMemories),
+          v(scheduleSinCosMemories)
         ),
         monitor = MonitorSettings(
           enabled = v(monitorEnabled),

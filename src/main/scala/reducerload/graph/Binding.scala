@@ -2,12 +2,15 @@ package reducerload.graph
 
 /**
  * What a shared unit's operand port selects from: a value's register (a node's, at one stage of its chain of
- * registers written once per sample) or a constant's code.
+ * registers written once per sample), a constant's code, or the word of a block RAM a CORDIC unit writes.
  */
 sealed trait PortSource
 object PortSource {
   final case class Held(node: NodeId, stage: Int) extends PortSource
   final case class Literal(node: NodeId) extends PortSource
+
+  /** The word register of [[Schedule.sinCosMemories]]' `memory`: every value it serves, one input. */
+  final case class SinCosWord(memory: Int) extends PortSource
 }
 
 /**

@@ -80,6 +80,10 @@ object Scheduler {
  *   RAM every clock, and truncated products read [[ProductMemory.readDelay]] clocks or more after they are
  *   ready, within the interval, are read from it instead of a register of their own, one read per cycle
  *   ([[ProductMemory]]); the refinement moves reads into those windows, apart on the read ports
+ * @param sinCosMemories
+ *   registers storage at 2 clocks per sample or more: each CORDIC unit writes its sine and its cosine into
+ *   block RAMs every clock, and sin/cos reads [[ProductMemory.readDelay]] clocks or more after they are ready
+ *   are read from them instead of the value's registers, one read per cycle and memory ([[SinCosMemory]])
  */
 final case class ScheduleRequest(
     clocksPerSample: Option[Int] = None,
@@ -96,7 +100,8 @@ final case class ScheduleRequest(
     readerCopies: Boolean = false,
     forwardSlack: Option[Int] = None,
     accumulateSlack: Option[Int] = None,
-    productMemories: Boolean = false
+    productMemories: Boolean = false,
+    sinCosMemories: Boolean = false
 ) {
   require(
     listOrder.isEmpty || stored == Storage.Memory || listOrder.contains(ListOrder.ByHeight),
@@ -915,6 +920,7 @@ final class Schedule(
    * width are the same bits of the same register, so one input).
    */
   def muxSource(x: NodeId, issue: Int): PortSource = (portSource(x, issue), sharedRegisterOf.get(x)) match {
+    case _ if sinCosMemoryOf.contains((x, issue)) => PortSource.SinCosWord(sinCosMemoryOf((x, issue)))
     case (PortSource.Held(_, 0), Some(shared)) =>
       val width = analysis(x).format.width
       PortSource.Held(shared.members.find(analysis(_).format.width == width).get, 0)
@@ -997,6 +1003,41 @@ final class Schedule(
     productMemories.flatMap(m => m.members.map(_.id -> m)).toMap
 
   /**
+   * Block RAMs the CORDIC units write their sines and cosines into (`schedule.sin-cos-memories`; registers
+   * storage at 2 clocks per sample or more): every read of a sin or cos within [[SinCosMemory.inWindow]], the
+   * reads of one multiplier port kept together where they can be (after the binding: no cycle or unit moves).
+   */
+  lazy val sinCosMemories: IndexedSeq[SinCosMemory] =
+    if (!request.sinCosMemories || dedicated || request.stored != Storage.Registers) IndexedSeq.empty
+    else {
+      val trigReads = for {
+        id <- ids
+        Trig(fn, angle) <- Seq(graph(id))
+        t = ready(id.index).get
+        c <- reads(id.index)
+        if SinCosMemory.inWindow(t, c)
+      } yield SinCosMemory.Read(angleSlot(angle).unit.get, fn, id, t, c)
+      val mulPorts: Map[(NodeId, Int), Seq[SinCosMemory.MulPort]] = (for {
+        (bound, u) <- mulBindings.zipWithIndex
+        (_, id) <- bound
+        (x, k) <- ports(id).zipWithIndex
+      } yield (x, issue(id)) -> SinCosMemory.MulPort(u, k)).groupMap(_._1)(_._2)
+      SinCosMemory.allocate(ii, trigReads, r => mulPorts.getOrElse((r.value, r.cycle), Nil))
+    }
+
+  /** The [[sinCosMemories]] index serving each read (value, cycle) they take. */
+  lazy val sinCosMemoryOf: Map[(NodeId, Int), Int] =
+    sinCosMemories.zipWithIndex.flatMap { case (m, k) => m.reads.map(r => (r.value, r.cycle) -> k) }.toMap
+
+  /**
+   * The cycles a node is read in from its own registers: [[reads]] but those a [[SinCosMemory]] serves (a sin
+   * or cos read only from memories has no register).
+   */
+  def ownReads(id: NodeId): Seq[Int] =
+    if (sinCosMemories.isEmpty) reads(id.index)
+    else reads(id.index).filterNot(c => sinCosMemoryOf.contains((id, c)))
+
+  /**
    * Each shared multiply's unit: the refinement's, or with registers storage the list scheduler's (the
    * solver's) binding improved so that the units' operand multiplexers have the fewest inputs
    * ([[BindingProblem]]; no cycle changes); dedicated units and memory storage (whose banks are bound with
@@ -1075,7 +1116,7 @@ final class Schedule(
         if !isConst(x) && !forwarded(x)
         if !graph(x).isInstanceOf[Trig] || capturesCordic
         offset = issue(id) - ready(x.index).get
-        if offset < ii
+        if offset < ii && !sinCosMemoryOf.contains((x, issue(id)))
       } yield (x, u, offset)
       early
         .groupBy(_._1)
@@ -1098,7 +1139,8 @@ final class Schedule(
    * stages).
    */
   def readsCopy(x: NodeId, u: Int, issue: Int): Boolean =
-    issue - ready(x.index).get < ii && readerCopies.get(x).exists(_.contains(u))
+    issue - ready(x.index).get < ii && readerCopies.get(x).exists(_.contains(u)) &&
+      !sinCosMemoryOf.contains((x, issue))
 
   /** Multiplies bound to each multiplier unit, with their residues. */
   lazy val mulBindings: IndexedSeq[Seq[(Int, NodeId)]] = {
@@ -1126,7 +1168,7 @@ final class Schedule(
   def heldBits: Long = ids
     .filterNot(forwarded)
     .map { id =>
-      val last = reads(id.index).maxOption
+      val last = ownReads(id).maxOption
       (apply(id), last) match {
         case (Some(t), Some(l)) =>
           (if (ii == 1) (l - t + 1).toLong else ((l - t) / ii + 1).toLong) * analysis(id).format.width

@@ -71,6 +71,10 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       s"$robot: schedule.product-memories asked, no product memory"
     )
     assert(
+      !schedule.sinCosMemories || p.schedule.sinCosMemories.nonEmpty,
+      s"$robot: schedule.sin-cos-memories asked, no sin/cos memory"
+    )
+    assert(
       !schedule.readerCopies || p.schedule.readerCopies.nonEmpty,
       s"$robot: schedule.reader-copies asked, no reader's copy"
     )
@@ -100,7 +104,10 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       (if (p.schedule.accumulations.isEmpty) ""
        else s" ${p.schedule.accumulations.size} trees accumulated") +
       (if (p.schedule.productMemories.isEmpty) ""
-       else s" ${p.schedule.productMemoryOf.size} products in ${p.schedule.productMemories.size} memories")
+       else s" ${p.schedule.productMemoryOf.size} products in ${p.schedule.productMemories.size} memories") +
+      (if (p.schedule.sinCosMemories.isEmpty) ""
+       else
+         s" ${p.schedule.sinCosMemoryOf.size} sin/cos reads from ${p.schedule.sinCosMemories.size} memories")
     ArmChecks.run(
       this,
       label,
@@ -162,7 +169,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
   }
 
   it should "share units on planar3 at 2, 3, 4 and 40 clocks per sample (registered routes at 3 and 40, " +
-    "readers' copies at 4, shared registers or product memories at 40, accumulators at 3 and 40), " +
+    "readers' copies at 4, shared registers or product memories at 40, accumulators at 3 and 40, sin/cos " +
+    "memories at 40), " +
     "bit-exact under back-pressure" in {
       runRobot("planar3", 44L, ScheduleRequest(clocksPerSample = Some(2)))
       runRobot(
@@ -186,7 +194,12 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
       runRobot(
         "planar3",
         60L,
-        ScheduleRequest(clocksPerSample = Some(40), shareRegisters = true, accumulateSlack = Some(8)),
+        ScheduleRequest(
+          clocksPerSample = Some(40),
+          shareRegisters = true,
+          accumulateSlack = Some(8),
+          sinCosMemories = true
+        ),
         routed = true
       )
     }
@@ -271,8 +284,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
     }
 
   it should "cross the UR5's parallel axes in issue 33's latency recipe (18 clocks per sample, 66 blocks, " +
-    "registered routes, the solver's schedule, reassociated, accumulators, product memories, shared " +
-    "registers, 1e-3 N·m), bit-exact under back-pressure" in {
+    "registered routes, CP-SAT, reassociated, accumulators, product and sin/cos memories, " +
+    "shared registers, 1e-3 N·m), bit-exact under back-pressure" in {
       runRobot(
         "ur5",
         69L,
@@ -284,7 +297,8 @@ class ArmDatapathSpec extends AnyFlatSpec with ChiselScalatestTester {
           scheduler = Scheduler.CpSat,
           accumulateSlack = Some(9),
           productMemories = true,
-          shareRegisters = true
+          shareRegisters = true,
+          sinCosMemories = true
         ),
         targetError = Seq(1e-3),
         reassociate = Reassociation.SumsAndProducts,

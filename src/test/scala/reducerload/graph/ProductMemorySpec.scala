@@ -1,9 +1,7 @@
 package reducerload.graph
 
 import org.scalatest.flatspec.AnyFlatSpec
-import reducerload.compiler.Compiler
 import reducerload.fixedpoint.Rounding
-import reducerload.testutil.ArmGolden
 
 /**
  * Block RAMs units write their products into (`schedule.product-memories`): the allocation on cases known by
@@ -55,22 +53,8 @@ class ProductMemorySpec extends AnyFlatSpec {
     assert(e.getMessage.contains("1 to 36 bits"))
   }
 
-  private lazy val ur5 = ArmGolden.of("ur5").head.config
-
   it should "find every member in its slot whenever it is read, on the UR5's latency recipe" in {
-    val p = Compiler.arm(
-      ur5.copy(
-        targetError = Seq(1e-3),
-        schedule = ScheduleRequest(
-          clocksPerSample = Some(18),
-          maxMultipliers = Some(66),
-          listOrder = Some(ListOrder.ByHeight),
-          productMemories = true
-        ),
-        datapath =
-          ur5.datapath.copy(reassociate = Reassociation.SumsAndProducts, registeredRoutes = Some(true))
-      )
-    )
+    val p = Ur5LatencyRecipe(ScheduleRequest(productMemories = true))
     val s = p.schedule
     val ii = s.clocksPerSample
     assert(s.productMemories.nonEmpty, "no product memory")
