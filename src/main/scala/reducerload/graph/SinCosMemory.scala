@@ -40,28 +40,30 @@ object SinCosMemory {
     )
 
     /** Clocks from the write (`ready - 1`) to the read's address (`cycle - readDelay`). */
-    def back: Int = cycle - ProductMemory.readDelay - (ready - 1)
+    def back: Int = backOf(ready, cycle)
   }
 
   /**
    * Whether a value ready in cycle `ready` can be read from memory in cycle `read`: after the block RAM's and
    * the logic's registers, and before the pointer comes round to its word again.
    */
-  def inWindow(ready: Int, read: Int): Boolean =
-    read >= ready + ProductMemory.readDelay && read - ProductMemory.readDelay - (ready - 1) < depth
+  def inWindow(ready: Int, read: Int): Boolean = backOf(ready, read) >= 1 && backOf(ready, read) < depth
+
+  /** Clocks from the write of a value ready in `ready` to the address of its read in `read`. */
+  private def backOf(ready: Int, read: Int): Int = read - ProductMemory.readDelay - (ready - 1)
 
   /**
    * The memories serving `reads` at `interval` clocks per sample, per unit and function: each read in the
-   * first memory whose residue is free, the reads of one multiplier port (`portOf`, None for other readers)
+   * first memory whose residue is free, the reads of one multiplier port (`portOf`; none for other readers)
    * together where the residues allow (the port then has one multiplexer input for them), ports with the most
    * reads first; a new memory where none is free.
    */
   def allocate(interval: Int, reads: Seq[Read], portOf: Read => Seq[MulPort]): IndexedSeq[SinCosMemory] =
     reads
-      .groupBy(r => (r.unit, r.fn.name))
+      .groupBy(r => (r.unit, r.fn))
       .toIndexedSeq
-      .sortBy(_._1)
-      .flatMap { case ((unit, _), group) =>
+      .sortBy { case ((unit, fn), _) => (unit, fn.name) }
+      .flatMap { case ((unit, fn), group) =>
         val byPort = group.flatMap(r => portOf(r).map(_ -> r)).groupMap(_._1)(_._2)
         val order =
           byPort.toSeq.sortBy { case (port, rs) => (-rs.size, port.unit, port.port) }.map(_._2) :+ group
@@ -84,7 +86,7 @@ object SinCosMemory {
             }
           }
         }
-        memories.map(m => SinCosMemory(unit, group.head.fn, m.toIndexedSeq.sortBy(_._1).map(_._2)))
+        memories.map(m => SinCosMemory(unit, fn, m.toIndexedSeq.sortBy(_._1).map(_._2)))
       }
 
   /** Port `port` (0 the wide, 1 the narrow) of multiplier unit `unit`. */
