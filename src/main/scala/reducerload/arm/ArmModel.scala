@@ -90,12 +90,19 @@ final class ArmModel(val p: ArmParams) {
       s.q.map(angleCode),
       s.qd.map(code(_, numerics.velocityPortFormat)),
       s.qdd.map(code(_, numerics.accelerationPortFormat)),
-      (p.payload.fold(Map.empty[Signal.Parameter, Double])(_.values(p.chain, payload)) ++
-        p.gravity.fold(Map.empty[Signal.Parameter, Double])(_.values(gravity))).map { case (sig, v) =>
+      parameterValues(payload, gravity).map { case (sig, v) =>
         sig -> code(v, numerics.parameterFormats(sig))
       }
     )
   }
+
+  /**
+   * The run-time parameters' values (SI units) for `payload` and `gravity`, as [[encode]] codes them: what a
+   * double-precision reference of the graph takes ([[reducerload.graph.GraphReference]]).
+   */
+  def parameterValues(payload: RigidBody, gravity: Vec3): Map[Signal.Parameter, Double] =
+    p.payload.fold(Map.empty[Signal.Parameter, Double])(_.values(p.chain, payload)) ++
+      p.gravity.fold(Map.empty[Signal.Parameter, Double])(_.values(gravity))
 
   /** Torques in N·m. */
   def torques(out: ArmOutputCodes): IndexedSeq[Double] = out.tau.map(p.analysis.outputPortFormat.toDouble)
