@@ -1,7 +1,7 @@
 package reducerload.arm
 
 import reducerload.fixedpoint.{FixedFormat, Rounding}
-import reducerload.graph.{GraphModel, SampleCodes, Signal}
+import reducerload.graph.{GraphModel, GraphReference, SampleCodes, Signal}
 import reducerload.robot.{RigidBody, Vec3}
 
 /**
@@ -107,5 +107,13 @@ final class ArmModel(val p: ArmParams) {
   /** Torques in N·m. */
   def torques(out: ArmOutputCodes): IndexedSeq[Double] = out.tau.map(p.analysis.outputPortFormat.toDouble)
 
+  /** Torques (N·m) of a sample with no payload, as [[encode]] codes it. */
   def evaluate(s: ArmSample): IndexedSeq[Double] = torques(evaluate(encode(s)))
+
+  /**
+   * The graph's torques in double precision for the sample [[evaluate]] computes (no payload, the chain's
+   * gravity): what the derived error bound bounds the distance from.
+   */
+  def reference(s: ArmSample): IndexedSeq[Double] =
+    GraphReference.outputs(p.graph, s.q, s.qd, s.qdd, parameterValues(RigidBody.massless, p.chain.gravity))
 }

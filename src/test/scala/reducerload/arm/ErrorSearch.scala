@@ -1,8 +1,6 @@
 package reducerload.arm
 
 import reducerload.app.Cli
-import reducerload.graph.GraphReference
-import reducerload.robot.RigidBody
 import reducerload.util.InputError
 
 /**
@@ -19,7 +17,7 @@ import reducerload.util.InputError
  *   golden/robots/ur5_robot.urdf --tip tool0 --max-acceleration 15 --target-error 1e-3"
  * }}}
  *
- * The search's own flags come first; the rest are a design as `run emit` takes it.
+ * The search's own flags may stand anywhere on the line; the rest are a design as `run emit` takes it.
  */
 object ErrorSearch {
 
@@ -32,16 +30,12 @@ object ErrorSearch {
   def apply(p: ArmParams, seed: Long, samples: Int, climbs: Int): IndexedSeq[Found] = {
     require(samples > 0 && climbs >= 0, s"ErrorSearch: $samples samples and $climbs climbs")
     val model = new ArmModel(p)
-    val parameters = model.parameterValues(RigidBody.massless, p.chain.gravity)
     val joints = p.chain.size
     val limits =
       Seq(p.numerics.velocityLimits, p.numerics.accelerationLimits).map(_.map(_ * inside).toIndexedSeq)
     val rng = new scala.util.Random(seed)
     def errors(s: ArmSample): IndexedSeq[Double] =
-      model.evaluate(s).zip(GraphReference.outputs(p.graph, s.q, s.qd, s.qdd, parameters)).map {
-        case (a, b) =>
-          math.abs(a - b)
-      }
+      model.evaluate(s).zip(model.reference(s)).map { case (a, b) => math.abs(a - b) }
     def angles = IndexedSeq.fill(joints)(rng.between(-math.Pi, math.Pi))
     def within(l: IndexedSeq[Double]) = l.map(x => rng.between(-x, x))
     def atLimits(l: IndexedSeq[Double]) = l.map(x => if (rng.nextBoolean()) x else -x)
@@ -71,16 +65,22 @@ object ErrorSearch {
   }
 
   def main(args: Array[String]): Unit = {
-    def flag(name: String, default: Long): Long = args.indexOf(name) match {
+    def refuse(message: String): Nothing = {
+      System.err.println(s"error: command line: $message")
+      sys.exit(2)
+    }
+    def flag(name: String, default: Long, least: Long): Long = args.indexOf(name) match {
       case -1 => default
       case i =>
-        args.lift(i + 1).flatMap(_.toLongOption).getOrElse {
-          System.err.println(s"error: $name takes a whole number")
-          sys.exit(2)
-        }
+        args
+          .lift(i + 1)
+          .flatMap(_.toLongOption)
+          .filter(v => v >= least && v <= Int.MaxValue)
+          .getOrElse(refuse(s"$name takes a whole number from $least to ${Int.MaxValue}"))
     }
     val own = Set("--seed", "--samples", "--climbs")
-    val (seed, samples, climbs) = (flag("--seed", 1), flag("--samples", 3000), flag("--climbs", 1500))
+    val (seed, samples, climbs) =
+      (flag("--seed", 1, Int.MinValue), flag("--samples", 3000, 1), flag("--climbs", 1500, 0))
     val design = args.indices.filterNot(i => own(args(i)) || (i > 0 && own(args(i - 1)))).map(args(_))
     val p =
       try Cli.parse("emit", design, Nil).compiled.arm
