@@ -119,9 +119,11 @@ object ArmSweep {
    * sums of products that lengthen no path summed on accumulators (`schedule.accumulate-slack = 0`: fewer LEs
    * at the same latency), and that point with the products read a few clocks after they are ready taken from
    * a block RAM per unit (`schedule.product-memories`), alone and with the rest in shared registers
-   * (`schedule.share-registers`: fewer LEs again); then values in block-RAM banks (`schedule.storage =
-   * memory`) at 1e-3 N·m from 32 to 512 clocks (88: the UR5 design that meets issue 12's targets; 114: the
-   * Panda's, and at 114 with 5 adder units, which the Panda's latency target needs).
+   * (`schedule.share-registers`: fewer LEs again), and with the sines and cosines read a few clocks after
+   * they are ready taken from block RAMs too (`schedule.sin-cos-memories`: the smallest); then values in
+   * block-RAM banks (`schedule.storage = memory`) at 1e-3 N·m from 32 to 512 clocks (88: the UR5 design that
+   * meets issue 12's targets; 114: the Panda's, and at 114 with 5 adder units, which the Panda's latency
+   * target needs).
    */
   val schedules: Seq[Point] =
     Seq(1, 4, 16, 64, 256).map(c => Point(s"ii$c", ScheduleRequest(clocksPerSample = Some(c)))) ++ Seq(
@@ -151,6 +153,10 @@ object ArmSweep {
       memories.copy(
         name = "memories-shared66-t1e-3",
         request = memories.request.copy(shareRegisters = true)
+      ),
+      memories.copy(
+        name = "memories-sincos66-t1e-3",
+        request = memories.request.copy(shareRegisters = true, sinCosMemories = true)
       )
     ) ++
       Seq(32, 64, 88, 114, 128, 512).map(c =>
