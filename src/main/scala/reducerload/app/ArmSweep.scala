@@ -105,6 +105,12 @@ object ArmSweep {
     request = parallel.request.copy(productMemories = true)
   )
 
+  /** The products that stay out of the memories in shared registers (`schedule.share-registers`). */
+  private val memoriesShared = memories.copy(
+    name = "memories-shared66-t1e-3",
+    request = memories.request.copy(shareRegisters = true)
+  )
+
   /**
    * The schedule axis: intervals from one clock to hundreds, and the fewest clocks within an EP4CE30's 66
    * blocks; then two of them with the fraction bits fitted to 1e-3 N·m (`numeric.target-error`); then the
@@ -150,13 +156,10 @@ object ArmSweep {
         request = parallel.request.copy(accumulateSlack = Some(0))
       ),
       memories,
-      memories.copy(
-        name = "memories-shared66-t1e-3",
-        request = memories.request.copy(shareRegisters = true)
-      ),
-      memories.copy(
+      memoriesShared,
+      memoriesShared.copy(
         name = "memories-sincos66-t1e-3",
-        request = memories.request.copy(shareRegisters = true, sinCosMemories = true)
+        request = memoriesShared.request.copy(sinCosMemories = true)
       )
     ) ++
       Seq(32, 64, 88, 114, 128, 512).map(c =>

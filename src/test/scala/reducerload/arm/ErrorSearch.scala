@@ -69,18 +69,23 @@ object ErrorSearch {
       System.err.println(s"error: command line: $message")
       sys.exit(2)
     }
-    def flag(name: String, default: Long, least: Long): Long = args.indexOf(name) match {
+    def flag(name: String, default: Long, least: Long, most: Long): Long = args.indexOf(name) match {
       case -1 => default
       case i =>
         args
           .lift(i + 1)
           .flatMap(_.toLongOption)
-          .filter(v => v >= least && v <= Int.MaxValue)
-          .getOrElse(refuse(s"$name takes a whole number from $least to ${Int.MaxValue}"))
+          .filter(v => v >= least && v <= most)
+          .getOrElse(refuse(s"$name takes a whole number from $least to $most"))
     }
+    def count(name: String, default: Int, least: Int): Int = flag(name, default, least, Int.MaxValue).toInt
     val own = Set("--seed", "--samples", "--climbs")
     val (seed, samples, climbs) =
-      (flag("--seed", 1, Int.MinValue), flag("--samples", 3000, 1), flag("--climbs", 1500, 0))
+      (
+        flag("--seed", 1, Long.MinValue, Long.MaxValue),
+        count("--samples", 3000, 1),
+        count("--climbs", 1500, 0)
+      )
     val design = args.indices.filterNot(i => own(args(i)) || (i > 0 && own(args(i - 1)))).map(args(_))
     val p =
       try Cli.parse("emit", design, Nil).compiled.arm
@@ -93,7 +98,7 @@ object ErrorSearch {
     println()
     println("| joint | derived bound (N·m) | largest error found | found / bound |")
     println("| --- | --- | --- | --- |")
-    ErrorSearch(p, seed, samples.toInt, climbs.toInt).zipWithIndex.foreach { case (f, j) =>
+    ErrorSearch(p, seed, samples, climbs).zipWithIndex.foreach { case (f, j) =>
       println(f"| ${j + 1} | ${f.bound}%.3e | ${f.error}%.3e | ${f.error / f.bound}%.2f |")
     }
   }
